@@ -1,0 +1,51 @@
+/* algo_deferred.c — 1+1-pass deferred blending (SPEC §4.2, [ZP] §3.2, Fig. 6, 11).
+ *
+ *   geometry pass, for k = 0 … K−1:
+ *       clear I_k; draw S_k with depth test LESS and depth write on,
+ *       test value z = d_f, or z̃ + ρ/n with Voronoi depth ([ZP] Eq. 14);
+ *       each surviving fragment replaces the pixel with (w·c, w) and d_f (Eq. 4)
+ *   compositing pass (one full-screen operation over I_0 … I_{K−1}):
+ *       d = min_k d_f(k); sum the I_k with d_f(k) ≤ d + ε_t; normalise
+ */
+#include "spr_algo.h"
+
+#include <stdlib.h>
+
+spr_result spr__algo_deferred(spr__run *run, int *final_target)
+{
+    spr_backend *b = run->b;
+    const spr_groups *g = run->desc->groups;
+    int K = g ? g->K : 1;
+    int *I = malloc((size_t)(K + 1) * sizeof(int));
+    if (!I) return spr__fail(run->err, SPR_E_NOMEM, "deferred: out of memory");
+    spr_result r = SPR_OK;
+    for (int k = 0; k <= K && !r; k++) r = spr_backend_target_create(b, &I[k]);
+    if (r) {
+        r = spr__fail(run->err, r, "deferred: %s", b->err.msg);
+        goto done;
+    }
+    spr_draw_desc d = {.cloud = run->cloud};
+    spr_pass_state_defaults(&d.state);
+    d.state.kernel = run->desc->kernel;
+    d.state.depth_value = run->desc->voronoi ? SPR_DEPTH_VORONOI : SPR_DEPTH_PLAIN;
+    d.state.lowres = run->lowres;
+    d.state.eps_t = run->eps_t;
+    d.state.depth_func = SPR_FUNC_LESS;
+    d.state.depth_write = 1;
+    d.state.blend = SPR_BLEND_REPLACE;
+    d.state.write_mask = SPR_WRITE_ALL;
+    for (int k = 0; k < K; k++) {
+        /* S_k: the memberships of group k, in submission order */
+        d.indices = g ? g->members + g->start[k] : NULL;
+        d.count = g ? g->start[k + 1] - g->start[k] : run->cloud->n;
+        if ((r = spr__run_draw(run, "geometry", k, I[k], &d))) goto done;
+    }
+    spr_composite_desc c = {SPR_COMP_DEFERRED, I, K, I[K], run->eps_t,
+                            {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
+    if ((r = spr__run_composite(run, "composite", &c))) goto done;
+    run->out->K = K;
+    *final_target = I[K];
+done:
+    free(I);
+    return r;
+}

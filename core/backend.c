@@ -1,0 +1,125 @@
+/* backend.c — argument validation in front of every backend (STYLE 4). */
+#include "spr_backend.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const plane_names[SPR_PLANE__COUNT] = {"color", "depth", "test", "id", "count"};
+
+int spr_plane_channels(spr_plane p) { return p == SPR_PLANE_COLOR ? 4 : 1; }
+const char *spr_plane_name(spr_plane p) { return (unsigned)p < SPR_PLANE__COUNT ? plane_names[p] : "?"; }
+
+void spr_pass_state_defaults(spr_pass_state *s)
+{
+    memset(s, 0, sizeof *s);
+    s->write_mask = SPR_WRITE_ALL;
+    s->lowres.n = 1.0f;
+    s->lowres.inv_n = 1.0f;
+    s->lowres.d_max = 1.0f;
+}
+
+static int live(const spr_backend *b, int t)
+{
+    return t >= 0 && t < b->n_targets && b->target_live[t];
+}
+
+static spr_result bad(spr_backend *b, const char *fmt, int v)
+{
+    return spr__fail(&b->err, SPR_E_ARG, fmt, v);
+}
+
+spr_result spr__backend_add_target(spr_backend *b, int *out_target)
+{
+    for (int t = 0; t < b->n_targets; t++)
+        if (!b->target_live[t]) { b->target_live[t] = 1; *out_target = t; return SPR_OK; }
+    unsigned char *nl = realloc(b->target_live, (size_t)b->n_targets + 1);
+    if (!nl) return spr__fail(&b->err, SPR_E_NOMEM, "%s: out of memory for a target", b->name);
+    b->target_live = nl;
+    b->target_live[b->n_targets] = 1;
+    *out_target = b->n_targets++;
+    return SPR_OK;
+}
+
+spr_result spr_backend_set_view(spr_backend *b, const spr_view *v)
+{
+    if (v->width < 1 || v->height < 1 || v->width > SPR_MAX_IMAGE_SIDE || v->height > SPR_MAX_IMAGE_SIDE)
+        return bad(b, "view: width %d outside the supported range", v->width);
+    for (int t = 0; t < b->n_targets; t++)
+        if (b->target_live[t]) return bad(b, "view: cannot change the view while target %d exists", t);
+    b->view = *v;
+    return b->set_view(b, v);
+}
+
+spr_result spr_backend_target_create(spr_backend *b, int *out_target)
+{
+    if (b->view.width < 1) return bad(b, "target: no view set (%d)", 0);
+    return b->target_create(b, out_target);
+}
+
+void spr_backend_target_destroy(spr_backend *b, int target)
+{
+    if (live(b, target)) {
+        b->target_destroy(b, target);
+        b->target_live[target] = 0;
+    }
+}
+
+spr_result spr_backend_clear(spr_backend *b, int target, const float color[4])
+{
+    if (!live(b, target)) return bad(b, "clear: no target %d", target);
+    return b->clear(b, target, color);
+}
+
+spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
+{
+    if (!live(b, target)) return bad(b, "draw: no target %d", target);
+    if (!d->cloud) return bad(b, "draw: no cloud (%d)", 0);
+    const spr_pass_state *s = &d->state;
+    if ((unsigned)s->kernel >= SPR_KERNEL__COUNT) return bad(b, "draw: kernel %d unknown", (int)s->kernel);
+    if ((unsigned)s->depth_value >= SPR_DEPTH__COUNT) return bad(b, "draw: depth value %d unknown", (int)s->depth_value);
+    if ((unsigned)s->depth_func >= SPR_FUNC__COUNT) return bad(b, "draw: depth func %d unknown", (int)s->depth_func);
+    if ((unsigned)s->blend >= SPR_BLEND__COUNT) return bad(b, "draw: blend %d unknown", (int)s->blend);
+    if ((unsigned)s->output >= SPR_OUT__COUNT) return bad(b, "draw: output %d unknown", (int)s->output);
+    if ((s->depth_value == SPR_DEPTH_LOWRES || s->depth_value == SPR_DEPTH_VORONOI) &&
+        !(s->lowres.d_max > s->lowres.d_min && s->lowres.n >= 1.0f))
+        return bad(b, "draw: low-precision depth needs d_max > d_min and n >= 1 (%d)", 0);
+    size_t count = d->indices ? d->count : d->cloud->n;
+    if (d->indices)
+        for (size_t i = 0; i < count; i++)
+            if (d->indices[i] >= d->cloud->n) return bad(b, "draw: index %d beyond the cloud", (int)d->indices[i]);
+    spr_draw_stats dummy;
+    memset(st ? st : &dummy, 0, sizeof dummy);
+    return b->draw_splats(b, target, d, st ? st : &dummy);
+}
+
+spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c)
+{
+    if ((unsigned)c->op >= SPR_COMP__COUNT) return bad(b, "composite: op %d unknown", (int)c->op);
+    if (c->n_inputs < 1 || c->n_inputs > SPR_MAX_COMPOSITE_INPUTS)
+        return bad(b, "composite: %d inputs", c->n_inputs);
+    if (c->op == SPR_COMP_NORMALIZE && c->n_inputs != 1) return bad(b, "composite: normalize takes 1 input, got %d", c->n_inputs);
+    for (int i = 0; i < c->n_inputs; i++) {
+        if (!live(b, c->inputs[i])) return bad(b, "composite: no input target %d", c->inputs[i]);
+        if (c->inputs[i] == c->output) return bad(b, "composite: target %d is both input and output", c->output);
+    }
+    if (!live(b, c->output)) return bad(b, "composite: no output target %d", c->output);
+    return b->composite(b, c);
+}
+
+spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out)
+{
+    if (!live(b, target)) return bad(b, "read: no target %d", target);
+    if ((unsigned)p >= SPR_PLANE__COUNT) return bad(b, "read: plane %d unknown", (int)p);
+    return b->read_plane(b, target, p, out);
+}
+
+void spr_backend_destroy(spr_backend *b)
+{
+    if (!b) return;
+    for (int t = 0; t < b->n_targets; t++)
+        if (b->target_live[t]) b->target_destroy(b, t);
+    free(b->target_live);
+    b->target_live = NULL;
+    b->n_targets = 0;
+    b->destroy(b);
+}

@@ -1,0 +1,212 @@
+/* camera.c — view matrices in double, the shared float M, pixel bounds. */
+#include "spr_camera.h"
+
+#include <math.h>
+#include <string.h>
+
+void spr_camera_defaults(spr_camera_desc *c)
+{
+    memset(c, 0, sizeof *c);
+    c->width = 512;
+    c->height = 512;
+    c->fov_deg = 30.0;
+    c->up[1] = 1.0;
+}
+
+static double len3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+
+void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b)
+{
+    double center[3], radius = 0.0;
+    for (int k = 0; k < 3; k++) {
+        center[k] = 0.5 * (b->lo[k] + b->hi[k]);
+        double h = 0.5 * (b->hi[k] - b->lo[k]);
+        radius += h * h;
+    }
+    radius = sqrt(radius) + b->max_radius;
+    if (!(radius > 0.0)) radius = 1.0;
+    int have_eye = c->eye[0] != 0.0 || c->eye[1] != 0.0 || c->eye[2] != 0.0;
+    int have_target = c->target[0] != 0.0 || c->target[1] != 0.0 || c->target[2] != 0.0;
+    if (!have_target) memcpy(c->target, center, sizeof center);
+    if (!have_eye) {
+        double half = c->ortho_height > 0.0 ? 0.0 : 0.5 * c->fov_deg * M_PI / 180.0;
+        double dist = half > 0.0 ? 1.05 * radius / sin(half) : 3.0 * radius;
+        memcpy(c->eye, c->target, sizeof c->eye);
+        c->eye[2] += dist;
+        if (c->ortho_height <= 0.0 && c->fov_deg <= 0.0) c->fov_deg = 30.0;
+    }
+    if (c->near_plane == 0.0 && c->far_plane == 0.0) {
+        double to_center[3] = {center[0] - c->eye[0], center[1] - c->eye[1], center[2] - c->eye[2]};
+        double dist = len3(to_center);
+        double nearp = dist - 1.02 * radius, farp = dist + 1.02 * radius;
+        if (nearp < 1e-3 * radius) nearp = 1e-3 * radius;
+        c->near_plane = nearp;
+        c->far_plane = farp;
+    }
+    if (c->ortho_height == 0.0 && c->fov_deg == 0.0) c->fov_deg = 30.0;
+}
+
+void spr__mat4_mul(const double a[16], const double b[16], double out[16])
+{
+    double r[16];
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++)
+            r[4 * i + j] = a[4 * i] * b[j] + a[4 * i + 1] * b[4 + j] + a[4 * i + 2] * b[8 + j] +
+                           a[4 * i + 3] * b[12 + j];
+    memcpy(out, r, sizeof r);
+}
+
+int spr__mat4_inverse(const double m[16], double out[16])
+{
+    double a[4][8];
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 8; j++) a[i][j] = j < 4 ? m[4 * i + j] : (j - 4 == i ? 1.0 : 0.0);
+    for (int col = 0; col < 4; col++) {
+        int piv = col;
+        for (int i = col + 1; i < 4; i++)
+            if (fabs(a[i][col]) > fabs(a[piv][col])) piv = i;
+        if (a[piv][col] == 0.0) return -1;
+        if (piv != col)
+            for (int j = 0; j < 8; j++) { double t = a[col][j]; a[col][j] = a[piv][j]; a[piv][j] = t; }
+        double inv = 1.0 / a[col][col];
+        for (int j = 0; j < 8; j++) a[col][j] *= inv;
+        for (int i = 0; i < 4; i++) {
+            if (i == col || a[i][col] == 0.0) continue;
+            double f = a[i][col];
+            for (int j = 0; j < 8; j++) a[i][j] -= f * a[col][j];
+        }
+    }
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) out[4 * i + j] = a[i][4 + j];
+    return 0;
+}
+
+spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err)
+{
+    memset(v, 0, sizeof *v);
+    if (c->width < 1 || c->height < 1 || c->width > SPR_MAX_IMAGE_SIDE || c->height > SPR_MAX_IMAGE_SIDE)
+        return spr__fail(err, SPR_E_ARG, "camera: image size %dx%d outside 1..%d", c->width, c->height,
+                         SPR_MAX_IMAGE_SIDE);
+    if (!(c->near_plane > 0.0) && c->ortho_height <= 0.0)
+        return spr__fail(err, SPR_E_ARG, "camera: --near must be > 0 for a perspective camera (got %g)", c->near_plane);
+    if (!(c->far_plane > c->near_plane) || !isfinite(c->far_plane))
+        return spr__fail(err, SPR_E_ARG, "camera: --far (%g) must be finite and greater than --near (%g)",
+                         c->far_plane, c->near_plane);
+    double f[3], s[3], u[3];
+    for (int k = 0; k < 3; k++) f[k] = c->target[k] - c->eye[k];
+    double lf = len3(f);
+    if (!(lf > 0.0) || !isfinite(lf)) return spr__fail(err, SPR_E_ARG, "camera: --eye and --target coincide");
+    for (int k = 0; k < 3; k++) f[k] /= lf;
+    s[0] = f[1] * c->up[2] - f[2] * c->up[1];
+    s[1] = f[2] * c->up[0] - f[0] * c->up[2];
+    s[2] = f[0] * c->up[1] - f[1] * c->up[0];
+    double ls = len3(s);
+    if (!(ls > 1e-12)) return spr__fail(err, SPR_E_ARG, "camera: --up is parallel to the view direction");
+    for (int k = 0; k < 3; k++) s[k] /= ls;
+    u[0] = s[1] * f[2] - s[2] * f[1];
+    u[1] = s[2] * f[0] - s[0] * f[2];
+    u[2] = s[0] * f[1] - s[1] * f[0];
+    double V[16] = {s[0],  s[1],  s[2],  -(s[0] * c->eye[0] + s[1] * c->eye[1] + s[2] * c->eye[2]),
+                    u[0],  u[1],  u[2],  -(u[0] * c->eye[0] + u[1] * c->eye[1] + u[2] * c->eye[2]),
+                    -f[0], -f[1], -f[2], f[0] * c->eye[0] + f[1] * c->eye[1] + f[2] * c->eye[2],
+                    0,     0,     0,     1};
+    double P[16] = {0};
+    double aspect = (double)c->width / (double)c->height;
+    double n = c->near_plane, fa = c->far_plane;
+    if (c->ortho_height > 0.0) {
+        double hh = 0.5 * c->ortho_height, hw = hh * aspect;
+        P[0] = 1.0 / hw;
+        P[5] = 1.0 / hh;
+        P[10] = -2.0 / (fa - n);
+        P[11] = -(fa + n) / (fa - n);
+        P[15] = 1.0;
+        v->ortho = 1;
+    } else {
+        if (!(c->fov_deg > 0.0 && c->fov_deg < 180.0))
+            return spr__fail(err, SPR_E_ARG, "camera: --fov %g outside (0, 180) degrees", c->fov_deg);
+        double ft = 1.0 / tan(0.5 * c->fov_deg * M_PI / 180.0);
+        P[0] = ft / aspect;
+        P[5] = ft;
+        P[10] = (fa + n) / (n - fa);
+        P[11] = 2.0 * fa * n / (n - fa);
+        P[14] = -1.0;
+    }
+    double PV[16], Minv[16];
+    spr__mat4_mul(P, V, PV);
+    if (spr__mat4_inverse(PV, Minv) != 0) return spr__fail(err, SPR_E_ARG, "camera: P·V is singular");
+    for (int i = 0; i < 16; i++) v->M[i] = (float)Minv[i];
+    memcpy(v->PV, PV, sizeof PV);
+    memcpy(v->V, V, sizeof V);
+    v->width = c->width;
+    v->height = c->height;
+    v->ndc_sx = (float)(2.0 / c->width);
+    v->ndc_sy = (float)(2.0 / c->height);
+    v->near_plane = n;
+    v->far_plane = fa;
+    return SPR_OK;
+}
+
+float spr_view_eps_t(const spr_view *v, double eps_world)
+{
+    return (float)(eps_world / (v->far_plane - v->near_plane));
+}
+
+void spr_lowres_make(const spr_view *v, const spr_bounds *b, float eps_t, double n_override, spr_lowres *out)
+{
+    double tmin = INFINITY, tmax = -INFINITY, r = b->max_radius;
+    for (int corner = 0; corner < 8; corner++) {
+        double p[3];
+        for (int k = 0; k < 3; k++) p[k] = (corner >> k & 1) ? b->hi[k] + r : b->lo[k] - r;
+        double z_eye = v->V[8] * p[0] + v->V[9] * p[1] + v->V[10] * p[2] + v->V[11];
+        double t = (-z_eye - v->near_plane) / (v->far_plane - v->near_plane);
+        if (t < 0.0) t = 0.0;
+        if (t > 1.0) t = 1.0;
+        if (t < tmin) tmin = t;
+        if (t > tmax) tmax = t;
+    }
+    out->d_min = (float)tmin;
+    out->d_max = (float)tmax;
+    if (!(out->d_max > out->d_min)) out->d_max = nextafterf(out->d_min, 2.0f);
+    double n = n_override > 0.0 ? n_override
+                                : ceil(((double)out->d_max - (double)out->d_min) / (double)eps_t);
+    if (!(n >= 1.0)) n = 1.0;
+    if (n > 16777216.0) n = 16777216.0; /* float must hold n exactly */
+    out->n = (float)n;
+    out->inv_n = (float)(1.0 / n);
+}
+
+int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], float r,
+                         int *x0, int *y0, int *x1, int *y1)
+{
+    const double *PV = v->PV;
+    double ext[3];
+    for (int k = 0; k < 3; k++) {
+        double nk = n[k], s = 1.0 - nk * nk;
+        ext[k] = (double)r * sqrt(s > 0.0 ? s : 0.0) * 1.001 + 1e-7 * (double)r;
+    }
+    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    int full = 0;
+    for (int corner = 0; corner < 8 && !full; corner++) {
+        double q[3];
+        for (int k = 0; k < 3; k++) q[k] = (double)p[k] + ((corner >> k & 1) ? ext[k] : -ext[k]);
+        double cw = PV[12] * q[0] + PV[13] * q[1] + PV[14] * q[2] + PV[15];
+        if (!(cw > 1e-9 * (v->far_plane))) { full = 1; break; }
+        double cx = (PV[0] * q[0] + PV[1] * q[1] + PV[2] * q[2] + PV[3]) / cw;
+        double cy = (PV[4] * q[0] + PV[5] * q[1] + PV[6] * q[2] + PV[7]) / cw;
+        if (cx < xmin) xmin = cx;
+        if (cx > xmax) xmax = cx;
+        if (cy < ymin) ymin = cy;
+        if (cy > ymax) ymax = cy;
+    }
+    int W = v->width, H = v->height;
+    if (full) { *x0 = 0; *y0 = 0; *x1 = W - 1; *y1 = H - 1; return 1; }
+    /* ndc → pixel-centre coordinate: x + 0.5 = (ndc + 1)·W/2; one pixel of slack. */
+    double fx0 = floor((xmin + 1.0) * 0.5 * W - 0.5) - 1.0, fx1 = ceil((xmax + 1.0) * 0.5 * W - 0.5) + 1.0;
+    double fy0 = floor((ymin + 1.0) * 0.5 * H - 0.5) - 1.0, fy1 = ceil((ymax + 1.0) * 0.5 * H - 0.5) + 1.0;
+    if (fx1 < 0.0 || fy1 < 0.0 || fx0 > W - 1 || fy0 > H - 1) return 0;
+    *x0 = fx0 < 0.0 ? 0 : (int)fx0;
+    *y0 = fy0 < 0.0 ? 0 : (int)fy0;
+    *x1 = fx1 > W - 1 ? W - 1 : (int)fx1;
+    *y1 = fy1 > H - 1 ? H - 1 : (int)fy1;
+    return 1;
+}

@@ -1,0 +1,103 @@
+/* cloud.c — allocation, validation and bounds of splat clouds. */
+#include "spr_cloud.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+spr_result spr_cloud_alloc(spr_cloud *c, size_t n)
+{
+    memset(c, 0, sizeof *c);
+    if (n > SPR_MAX_SPLATS) return SPR_E_TOO_LARGE;
+    size_t m = n ? n : 1;
+    c->pos = malloc(3 * m * sizeof(float));
+    c->nrm = malloc(3 * m * sizeof(float));
+    c->radius = malloc(m * sizeof(float));
+    c->color = malloc(3 * m * sizeof(float));
+    c->alpha = malloc(m * sizeof(float));
+    if (!c->pos || !c->nrm || !c->radius || !c->color || !c->alpha) {
+        spr_cloud_free(c);
+        return SPR_E_NOMEM;
+    }
+    c->n = n;
+    for (size_t i = 0; i < n; i++) {
+        c->pos[3 * i] = c->pos[3 * i + 1] = c->pos[3 * i + 2] = 0.0f;
+        c->nrm[3 * i] = c->nrm[3 * i + 1] = 0.0f;
+        c->nrm[3 * i + 2] = 1.0f;
+        c->color[3 * i] = c->color[3 * i + 1] = c->color[3 * i + 2] = 0.8f;
+        c->radius[i] = 0.0f;
+        c->alpha[i] = 1.0f;
+    }
+    return SPR_OK;
+}
+
+void spr_cloud_free(spr_cloud *c)
+{
+    free(c->pos);
+    free(c->nrm);
+    free(c->radius);
+    free(c->color);
+    free(c->alpha);
+    memset(c, 0, sizeof *c);
+}
+
+spr_result spr__normalize3(float *n)
+{
+    double x = n[0], y = n[1], z = n[2];
+    double l = sqrt(x * x + y * y + z * z);
+    if (!(l > 0.0) || !isfinite(l)) return SPR_E_VALUE;
+    n[0] = (float)(x / l);
+    n[1] = (float)(y / l);
+    n[2] = (float)(z / l);
+    return SPR_OK;
+}
+
+spr_result spr_cloud_validate(const spr_cloud *c, const char *what, spr_error *err)
+{
+    for (size_t i = 0; i < c->n; i++) {
+        const float *p = c->pos + 3 * i, *nv = c->nrm + 3 * i, *col = c->color + 3 * i;
+        for (int k = 0; k < 3; k++) {
+            if (!isfinite(p[k]))
+                return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: non-finite coordinate %c", what, i, "xyz"[k]);
+            if (!isfinite(nv[k]))
+                return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: non-finite normal", what, i);
+            if (!(col[k] >= 0.0f && col[k] <= 1.0f))
+                return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: colour outside [0,1]", what, i);
+        }
+        double l2 = (double)nv[0] * nv[0] + (double)nv[1] * nv[1] + (double)nv[2] * nv[2];
+        if (fabs(l2 - 1.0) > 1e-5)
+            return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: normal is not unit length", what, i);
+        if (!isfinite(c->radius[i]) || !(c->radius[i] > 0.0f))
+            return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: radius %g is not positive and finite", what, i,
+                             (double)c->radius[i]);
+        if (!(c->alpha[i] >= 0.0f && c->alpha[i] <= 1.0f))
+            return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: opacity outside [0,1]", what, i);
+    }
+    return SPR_OK;
+}
+
+void spr_cloud_bounds(const spr_cloud *c, spr_bounds *b)
+{
+    for (int k = 0; k < 3; k++) { b->lo[k] = INFINITY; b->hi[k] = -INFINITY; }
+    b->max_radius = 0.0;
+    b->min_radius = c->n ? INFINITY : 0.0;
+    double sum = 0.0;
+    for (size_t i = 0; i < c->n; i++) {
+        for (int k = 0; k < 3; k++) {
+            double v = c->pos[3 * i + k];
+            if (v < b->lo[k]) b->lo[k] = v;
+            if (v > b->hi[k]) b->hi[k] = v;
+        }
+        double r = c->radius[i];
+        if (r > b->max_radius) b->max_radius = r;
+        if (r < b->min_radius) b->min_radius = r;
+        sum += r;
+    }
+    if (!c->n) for (int k = 0; k < 3; k++) b->lo[k] = b->hi[k] = 0.0;
+    b->mean_radius = c->n ? sum / (double)c->n : 0.0;
+}
+
+void spr_cloud_color_by_normal(spr_cloud *c)
+{
+    for (size_t i = 0; i < 3 * c->n; i++) c->color[i] = 0.5f * c->nrm[i] + 0.5f;
+}

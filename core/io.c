@@ -1,0 +1,262 @@
+/* io.c — spr_load(): format dispatch and completion of missing attributes. */
+#include "spr_io.h"
+#include "spr_pca.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void spr_load_defaults(spr_load_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->points = 20000;
+    d->radius_k = 8;
+    d->radius_rho = 1.0;
+    d->normal_k = 10;
+}
+
+static const char *ext_of(const char *path)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    return dot && (!slash || dot > slash) ? dot + 1 : "";
+}
+
+static int ieq(const char *a, const char *b)
+{
+    for (; *a && *b; a++, b++)
+        if ((*a | 32) != (*b | 32)) return 0;
+    return *a == *b;
+}
+
+size_t spr__mesh_normals(const spr__mesh *m, spr_cloud *c)
+{
+    double *acc = calloc(3 * c->n, sizeof(double));
+    if (!acc) return c->n;
+    for (size_t t = 0; t < m->nt; t++) {
+        const uint32_t *v = m->tri + 3 * t;
+        const float *a = c->pos + 3 * (size_t)v[0], *b = c->pos + 3 * (size_t)v[1], *d = c->pos + 3 * (size_t)v[2];
+        double e1[3] = {(double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2]};
+        double e2[3] = {(double)d[0] - a[0], (double)d[1] - a[1], (double)d[2] - a[2]};
+        /* |e1 × e2| = 2·area: summing raw cross products weights by area. */
+        double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int k = 0; k < 3; k++)
+            for (int j = 0; j < 3; j++) acc[3 * (size_t)v[k] + j] += n[j];
+    }
+    size_t missing = 0;
+    for (size_t i = 0; i < c->n; i++) {
+        double l = sqrt(acc[3 * i] * acc[3 * i] + acc[3 * i + 1] * acc[3 * i + 1] + acc[3 * i + 2] * acc[3 * i + 2]);
+        if (l > 0.0 && isfinite(l)) {
+            for (int j = 0; j < 3; j++) c->nrm[3 * i + j] = (float)(acc[3 * i + j] / l);
+        } else {
+            c->nrm[3 * i] = c->nrm[3 * i + 1] = c->nrm[3 * i + 2] = 0.0f;
+            missing++;
+        }
+    }
+    free(acc);
+    return missing;
+}
+
+spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, spr_error *err)
+{
+    if (c->n < 3) return spr__fail(err, SPR_E_VALUE, "normals: %zu points are too few for PCA", c->n);
+    if ((size_t)k >= c->n) k = (int)c->n - 1;
+    spr_knn *kn;
+    spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
+    if (r) return r;
+    uint32_t *idx = malloc(c->n * (size_t)k * sizeof(uint32_t));
+    double *dist = malloc(c->n * (size_t)k * sizeof(double));
+    if (!idx || !dist) { r = spr__fail(err, SPR_E_NOMEM, "normals: out of memory"); goto done; }
+    if ((r = spr_knn_query_all(kn, k, threads, idx, dist, err))) goto done;
+    spr_bounds b;
+    spr_cloud_bounds(c, &b);
+    for (size_t i = 0; i < c->n; i++) {
+        float *nv = c->nrm + 3 * i;
+        if (!all && (nv[0] != 0.0f || nv[1] != 0.0f || nv[2] != 0.0f)) continue;
+        double mean[3] = {c->pos[3 * i], c->pos[3 * i + 1], c->pos[3 * i + 2]};
+        int m = 1;
+        for (int j = 0; j < k; j++) {
+            uint32_t o = idx[i * k + j];
+            if (o == UINT32_MAX) continue;
+            for (int d = 0; d < 3; d++) mean[d] += c->pos[3 * (size_t)o + d];
+            m++;
+        }
+        for (int d = 0; d < 3; d++) mean[d] /= m;
+        double A[6] = {0};
+        for (int j = -1; j < k; j++) {
+            uint32_t o = j < 0 ? (uint32_t)i : idx[i * k + j];
+            if (o == UINT32_MAX) continue;
+            double q[3] = {c->pos[3 * (size_t)o] - mean[0], c->pos[3 * (size_t)o + 1] - mean[1], c->pos[3 * (size_t)o + 2] - mean[2]};
+            A[0] += q[0] * q[0]; A[1] += q[0] * q[1]; A[2] += q[0] * q[2];
+            A[3] += q[1] * q[1]; A[4] += q[1] * q[2]; A[5] += q[2] * q[2];
+        }
+        double ev[3], evec[9];
+        spr_eigen3_sym(A, ev, evec);
+        /* Orientation [decision, SPEC §1]: away from the bounding-box centre. */
+        double out = 0.0;
+        for (int d = 0; d < 3; d++) out += evec[d] * (c->pos[3 * i + d] - 0.5 * (b.lo[d] + b.hi[d]));
+        double s = out < 0.0 ? -1.0 : 1.0;
+        for (int d = 0; d < 3; d++) nv[d] = (float)(s * evec[d]);
+        if (spr__normalize3(nv)) { r = spr__fail(err, SPR_E_VALUE, "normals: splat %zu: PCA gave no normal", i); goto done; }
+    }
+done:
+    free(idx);
+    free(dist);
+    spr_knn_free(kn);
+    return r;
+}
+
+spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, spr_error *err)
+{
+    if (c->n < 2) return spr__fail(err, SPR_E_VALUE, "radii: %zu points: no neighbour to size a splat", c->n);
+    if ((size_t)k >= c->n) k = (int)c->n - 1;
+    spr_knn *kn;
+    spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
+    if (r) return r;
+    uint32_t *idx = malloc(c->n * (size_t)k * sizeof(uint32_t));
+    double *dist = malloc(c->n * (size_t)k * sizeof(double));
+    if (!idx || !dist) { r = spr__fail(err, SPR_E_NOMEM, "radii: out of memory"); goto done; }
+    if ((r = spr_knn_query_all(kn, k, threads, idx, dist, err))) goto done;
+    double floor_r = INFINITY;
+    for (size_t i = 0; i < c->n; i++) {
+        double d = rho * dist[i * k + k - 1];
+        if (d > 0.0 && d < floor_r) floor_r = d;
+        c->radius[i] = (float)d;
+    }
+    /* Points whose k-th neighbour coincides with them (duplicates) get the
+     * smallest positive radius of the cloud instead of 0. */
+    for (size_t i = 0; i < c->n; i++)
+        if (!(c->radius[i] > 0.0f)) c->radius[i] = isfinite(floor_r) ? (float)floor_r : 1.0f;
+done:
+    free(idx);
+    free(dist);
+    spr_knn_free(kn);
+    return r;
+}
+
+static spr_result complete(spr_cloud *c, const spr__mesh *mesh, const spr_load_desc *d, const char *path, spr_error *err)
+{
+    spr_result r;
+    if (!(c->flags & SPR_SRC_NORMALS)) {
+        size_t missing = c->n;
+        if (mesh && mesh->nt) {
+            missing = spr__mesh_normals(mesh, c);
+            c->flags |= SPR_SRC_FACES;
+        }
+        spr_progress_report(&d->progress, "normals", 0, c->n);
+        if (missing && (r = spr__pca_normals(c, d->normal_k, 0, d->threads, err))) return r;
+    }
+    if (!(c->flags & SPR_SRC_RADII)) {
+        spr_progress_report(&d->progress, "radii", 0, c->n);
+        if ((r = spr__knn_radii(c, d->radius_k, d->radius_rho, d->threads, err))) return r;
+    }
+    if (!(c->flags & SPR_SRC_COLORS)) spr_cloud_color_by_normal(c);
+    spr_progress_report(&d->progress, "load", c->n, c->n);
+    return spr_cloud_validate(c, path, err);
+}
+
+spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, spr_error *err)
+{
+    spr_load_desc d;
+    if (din) d = *din; else spr_load_defaults(&d);
+    if (!d.points) d.points = 20000;
+    if (d.radius_k <= 0) d.radius_k = 8;
+    if (!(d.radius_rho > 0.0)) d.radius_rho = 1.0;
+    if (d.normal_k <= 0) d.normal_k = 10;
+    spr__mesh mesh = {0};
+    spr_result r;
+    memset(c, 0, sizeof *c);
+    spr_progress_report(&d.progress, "load", 0, 1);
+    if (strncmp(path, "builtin:", 8) == 0) {
+        r = spr__builtin(path + 8, d.points, c, err);
+    } else {
+        const char *e = ext_of(path);
+        if (ieq(e, "ply")) r = spr__load_ply(path, c, &mesh, err);
+        else if (ieq(e, "off")) r = spr__load_off(path, c, &mesh, err);
+        else if (ieq(e, "xyz") || ieq(e, "pwn")) r = spr__load_xyz(path, c, err);
+        else r = spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz or .pwn)", path, e);
+    }
+    if (r) return r;
+    if (c->n == 0) { spr_cloud_free(c); spr__mesh_free(&mesh); return spr__fail(err, SPR_E_FORMAT, "%s: no points", path); }
+    r = complete(c, &mesh, &d, path, err);
+    spr__mesh_free(&mesh);
+    if (r) spr_cloud_free(c);
+    return r;
+}
+
+/* splitmix64: small, well-known, reproducible everywhere. */
+static uint64_t splitmix(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+static double uniform01(uint64_t *s) { return (double)(splitmix(s) >> 11) * 0x1.0p-53; }
+
+spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_load_desc *din, spr_cloud *out, spr_error *err)
+{
+    spr_load_desc d;
+    if (din) d = *din; else spr_load_defaults(&d);
+    if (d.radius_k <= 0) d.radius_k = 8;
+    if (!(d.radius_rho > 0.0)) d.radius_rho = 1.0;
+    memset(out, 0, sizeof *out);
+    if (n < 2 || n > SPR_MAX_SPLATS) return spr__fail(err, SPR_E_ARG, "sample: --points %zu outside 2..%u", n, SPR_MAX_SPLATS);
+    spr_cloud m;
+    spr__mesh mesh;
+    const char *e = ext_of(path);
+    spr_result r = ieq(e, "off") ? spr__load_off(path, &m, &mesh, err)
+                   : ieq(e, "ply") ? spr__load_ply(path, &m, &mesh, err)
+                                   : spr__fail(err, SPR_E_FORMAT, "%s: sampling needs a mesh (.off or .ply with faces)", path);
+    if (r) return r;
+    if (!mesh.nt) { spr_cloud_free(&m); return spr__fail(err, SPR_E_FORMAT, "%s: mesh has no faces to sample", path); }
+    double *cum = malloc(mesh.nt * sizeof(double));
+    if (!cum || (r = spr_cloud_alloc(out, n))) {
+        free(cum);
+        spr_cloud_free(&m);
+        spr__mesh_free(&mesh);
+        return spr__fail(err, SPR_E_NOMEM, "sample: out of memory");
+    }
+    double total = 0.0;
+    for (size_t t = 0; t < mesh.nt; t++) {
+        const float *a = m.pos + 3 * (size_t)mesh.tri[3 * t], *b = m.pos + 3 * (size_t)mesh.tri[3 * t + 1],
+                    *c = m.pos + 3 * (size_t)mesh.tri[3 * t + 2];
+        double e1[3] = {(double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2]};
+        double e2[3] = {(double)c[0] - a[0], (double)c[1] - a[1], (double)c[2] - a[2]};
+        double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2], z = e1[0] * e2[1] - e1[1] * e2[0];
+        total += 0.5 * sqrt(x * x + y * y + z * z);
+        cum[t] = total;
+    }
+    uint64_t s = seed;
+    for (size_t i = 0; i < n; i++) {
+        if ((i & 0xFFFF) == 0) spr_progress_report(&d.progress, "sample", i, n);
+        double u = uniform01(&s) * total;
+        size_t lo = 0, hi = mesh.nt - 1;
+        while (lo < hi) {
+            size_t mid = lo + (hi - lo) / 2;
+            if (cum[mid] > u) hi = mid; else lo = mid + 1;
+        }
+        const uint32_t *tv = mesh.tri + 3 * lo;
+        const float *a = m.pos + 3 * (size_t)tv[0], *b = m.pos + 3 * (size_t)tv[1], *c = m.pos + 3 * (size_t)tv[2];
+        double r1 = sqrt(uniform01(&s)), r2 = uniform01(&s);
+        double wa = 1.0 - r1, wb = r1 * (1.0 - r2), wc = r1 * r2;
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            out->pos[3 * i + k] = (float)(wa * a[k] + wb * b[k] + wc * c[k]);
+            e1[k] = (double)b[k] - a[k];
+            e2[k] = (double)c[k] - a[k];
+        }
+        out->nrm[3 * i] = (float)(e1[1] * e2[2] - e1[2] * e2[1]);
+        out->nrm[3 * i + 1] = (float)(e1[2] * e2[0] - e1[0] * e2[2]);
+        out->nrm[3 * i + 2] = (float)(e1[0] * e2[1] - e1[1] * e2[0]);
+        if (spr__normalize3(out->nrm + 3 * i)) { out->nrm[3 * i] = out->nrm[3 * i + 1] = 0.0f; out->nrm[3 * i + 2] = 1.0f; }
+    }
+    free(cum);
+    spr_cloud_free(&m);
+    spr__mesh_free(&mesh);
+    out->flags = 0;
+    spr_progress_report(&d.progress, "radii", 0, n);
+    if ((r = spr__knn_radii(out, d.radius_k, d.radius_rho, d.threads, err))) { spr_cloud_free(out); return r; }
+    spr_cloud_color_by_normal(out);
+    if ((r = spr_cloud_validate(out, path, err))) spr_cloud_free(out);
+    return r;
+}

@@ -1,0 +1,369 @@
+/* io_ply.c — PLY reader (ascii, binary LE/BE) and binary PLY writer.
+ *
+ * Written here rather than taken from a library: Debian has no maintained C
+ * PLY reader we could depend on (rply is not packaged), and we need byte
+ * offsets in every error message and a size check before any allocation.
+ */
+#include "spr_io.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { T_NONE, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_F32, T_F64 } ply_type;
+
+typedef struct ply_prop {
+    char name[64];
+    ply_type type;
+    ply_type count_type; /* T_NONE for scalars */
+} ply_prop;
+
+typedef struct ply_elem {
+    char name[64];
+    unsigned long long count;
+    ply_prop props[64];
+    int nprops;
+} ply_elem;
+
+enum { F_ASCII, F_LE, F_BE };
+
+static ply_type type_from(const char *s)
+{
+    static const struct { const char *n; ply_type t; } tab[] = {
+        {"char", T_I8},   {"int8", T_I8},     {"uchar", T_U8},   {"uint8", T_U8},   {"short", T_I16},
+        {"int16", T_I16}, {"ushort", T_U16},  {"uint16", T_U16}, {"int", T_I32},    {"int32", T_I32},
+        {"uint", T_U32},  {"uint32", T_U32},  {"float", T_F32},  {"float32", T_F32}, {"double", T_F64},
+        {"float64", T_F64}};
+    for (size_t i = 0; i < sizeof tab / sizeof tab[0]; i++)
+        if (strcmp(s, tab[i].n) == 0) return tab[i].t;
+    return T_NONE;
+}
+
+static int type_size(ply_type t)
+{
+    static const int sz[] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
+    return sz[t];
+}
+
+/* Decode one binary value at p (size known valid). */
+static double bin_value(const unsigned char *p, ply_type t, int big)
+{
+    unsigned char b[8];
+    int n = type_size(t);
+    for (int i = 0; i < n; i++) b[i] = big ? p[n - 1 - i] : p[i];
+    switch (t) {
+    case T_I8: return (double)(int8_t)b[0];
+    case T_U8: return (double)b[0];
+    case T_I16: { int16_t v; memcpy(&v, b, 2); return v; }
+    case T_U16: { uint16_t v; memcpy(&v, b, 2); return v; }
+    case T_I32: { int32_t v; memcpy(&v, b, 4); return v; }
+    case T_U32: { uint32_t v; memcpy(&v, b, 4); return v; }
+    case T_F32: { float v; memcpy(&v, b, 4); return v; }
+    case T_F64: { double v; memcpy(&v, b, 8); return v; }
+    default: return 0.0;
+    }
+}
+
+/* Role of a vertex property in the cloud. */
+enum { R_NONE, R_X, R_Y, R_Z, R_NX, R_NY, R_NZ, R_R, R_G, R_B, R_A, R_RADIUS };
+
+static int role_of(const char *n)
+{
+    static const struct { const char *n; int r; } tab[] = {
+        {"x", R_X}, {"y", R_Y}, {"z", R_Z}, {"nx", R_NX}, {"ny", R_NY}, {"nz", R_NZ},
+        {"normal_x", R_NX}, {"normal_y", R_NY}, {"normal_z", R_NZ},
+        {"red", R_R}, {"green", R_G}, {"blue", R_B}, {"alpha", R_A},
+        {"diffuse_red", R_R}, {"diffuse_green", R_G}, {"diffuse_blue", R_B}, {"diffuse_alpha", R_A},
+        {"radius", R_RADIUS}, {"scale", R_RADIUS}, {"size", R_RADIUS}};
+    for (size_t i = 0; i < sizeof tab / sizeof tab[0]; i++)
+        if (strcmp(n, tab[i].n) == 0) return tab[i].r;
+    return R_NONE;
+}
+
+/* Cursor over the body for both encodings. */
+typedef struct cursor {
+    const char *path;
+    const unsigned char *p, *end, *base;
+    int fmt;
+    size_t line;
+    spr_error *err;
+} cursor;
+
+static spr_result read_value(cursor *cu, ply_type t, double *out, const char *what, unsigned long long index)
+{
+    if (cu->fmt == F_ASCII) {
+        while (cu->p < cu->end && (*cu->p == ' ' || *cu->p == '\t' || *cu->p == '\r' || *cu->p == '\n')) {
+            if (*cu->p == '\n') cu->line++;
+            cu->p++;
+        }
+        if (cu->p >= cu->end)
+            return spr__fail(cu->err, SPR_E_TRUNCATED, "%s:%zu: file ends inside %s %llu", cu->path, cu->line, what, index);
+        char tmp[64];
+        size_t k = 0;
+        while (cu->p < cu->end && k < sizeof tmp - 1 && !(*cu->p == ' ' || *cu->p == '\t' || *cu->p == '\r' || *cu->p == '\n'))
+            tmp[k++] = (char)*cu->p++;
+        tmp[k] = 0;
+        char *e;
+        errno = 0;
+        double v = strtod(tmp, &e);
+        if (e == tmp || *e)
+            return spr__fail(cu->err, SPR_E_FORMAT, "%s:%zu: %s %llu: expected a number, found \"%s\"", cu->path, cu->line,
+                             what, index, tmp);
+        *out = v;
+        return SPR_OK;
+    }
+    int n = type_size(t);
+    if ((size_t)(cu->end - cu->p) < (size_t)n)
+        return spr__fail(cu->err, SPR_E_TRUNCATED, "%s: byte %zu: file ends inside %s %llu", cu->path,
+                         (size_t)(cu->p - cu->base), what, index);
+    *out = bin_value(cu->p, t, cu->fmt == F_BE);
+    cu->p += n;
+    return SPR_OK;
+}
+
+static double color_scale(ply_type t) { return t == T_U8 || t == T_I8 ? 1.0 / 255.0 : (t == T_U16 || t == T_I16 ? 1.0 / 65535.0 : 1.0); }
+
+static spr_result parse_header(const char *path, const char *buf, size_t len, int *fmt, ply_elem *el, int *nel,
+                               size_t *body, spr_error *err)
+{
+    size_t pos = 0, line = 0;
+    *nel = 0;
+    int seen_format = 0;
+    while (pos < len) {
+        line++;
+        size_t eol = pos;
+        while (eol < len && buf[eol] != '\n') eol++;
+        if (eol == len) break;
+        char l[512];
+        size_t ll = eol - pos < sizeof l - 1 ? eol - pos : sizeof l - 1;
+        memcpy(l, buf + pos, ll);
+        l[ll] = 0;
+        if (ll && l[ll - 1] == '\r') l[--ll] = 0;
+        pos = eol + 1;
+        if (line == 1) {
+            if (strcmp(l, "ply") != 0) return spr__fail(err, SPR_E_FORMAT, "%s:1: not a PLY file (expected \"ply\")", path);
+            continue;
+        }
+        char w0[64] = "", w1[64] = "", w2[64] = "", w3[64] = "", w4[64] = "";
+        int nw = sscanf(l, "%63s %63s %63s %63s %63s", w0, w1, w2, w3, w4);
+        if (nw <= 0) continue;
+        if (!strcmp(w0, "comment") || !strcmp(w0, "obj_info")) continue;
+        if (!strcmp(w0, "end_header")) {
+            if (!seen_format) return spr__fail(err, SPR_E_FORMAT, "%s:%zu: header has no format line", path, line);
+            *body = pos;
+            return SPR_OK;
+        }
+        if (!strcmp(w0, "format")) {
+            if (!strcmp(w1, "ascii")) *fmt = F_ASCII;
+            else if (!strcmp(w1, "binary_little_endian")) *fmt = F_LE;
+            else if (!strcmp(w1, "binary_big_endian")) *fmt = F_BE;
+            else return spr__fail(err, SPR_E_FORMAT, "%s:%zu: unknown format \"%s\"", path, line, w1);
+            seen_format = 1;
+        } else if (!strcmp(w0, "element")) {
+            if (*nel >= 16) return spr__fail(err, SPR_E_FORMAT, "%s:%zu: too many elements", path, line);
+            char *e;
+            errno = 0;
+            unsigned long long cnt = strtoull(w2, &e, 10);
+            if (nw < 3 || e == w2 || *e || errno || w2[0] == '-')
+                return spr__fail(err, SPR_E_FORMAT, "%s:%zu: element \"%s\" has no valid count", path, line, w1);
+            ply_elem *E = &el[(*nel)++];
+            memset(E, 0, sizeof *E);
+            snprintf(E->name, sizeof E->name, "%s", w1);
+            E->count = cnt;
+        } else if (!strcmp(w0, "property")) {
+            if (!*nel) return spr__fail(err, SPR_E_FORMAT, "%s:%zu: property before any element", path, line);
+            ply_elem *E = &el[*nel - 1];
+            if (E->nprops >= 64) return spr__fail(err, SPR_E_FORMAT, "%s:%zu: too many properties", path, line);
+            ply_prop *P = &E->props[E->nprops++];
+            if (!strcmp(w1, "list")) {
+                P->count_type = type_from(w2);
+                P->type = type_from(w3);
+                snprintf(P->name, sizeof P->name, "%s", w4);
+                if (nw < 5 || P->count_type == T_NONE || P->type == T_NONE || P->count_type == T_F32 || P->count_type == T_F64)
+                    return spr__fail(err, SPR_E_FORMAT, "%s:%zu: malformed list property", path, line);
+            } else {
+                P->type = type_from(w1);
+                P->count_type = T_NONE;
+                snprintf(P->name, sizeof P->name, "%s", w2);
+                if (nw < 3 || P->type == T_NONE)
+                    return spr__fail(err, SPR_E_FORMAT, "%s:%zu: unknown property type \"%s\"", path, line, w1);
+            }
+        } else {
+            return spr__fail(err, SPR_E_FORMAT, "%s:%zu: unexpected header line \"%s\"", path, line, w0);
+        }
+    }
+    return spr__fail(err, SPR_E_TRUNCATED, "%s: header has no end_header line", path);
+}
+
+spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err)
+{
+    char *buf;
+    size_t len;
+    spr_result r = spr__read_file(path, &buf, &len, err);
+    if (r) return r;
+    int fmt = F_ASCII, nel = 0;
+    ply_elem el[16];
+    size_t body = 0;
+    memset(mesh, 0, sizeof *mesh);
+    memset(c, 0, sizeof *c);
+    r = parse_header(path, buf, len, &fmt, el, &nel, &body, err);
+    if (r) goto fail;
+    int vi = -1;
+    for (int e = 0; e < nel; e++)
+        if (!strcmp(el[e].name, "vertex")) { vi = e; break; }
+    if (vi < 0) { r = spr__fail(err, SPR_E_FORMAT, "%s: no \"vertex\" element", path); goto fail; }
+    ply_elem *V = &el[vi];
+    if (V->count > SPR_MAX_SPLATS) {
+        r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %llu vertices (limit %u)", path, V->count, SPR_MAX_SPLATS);
+        goto fail;
+    }
+    int role[64], have = 0;
+    ply_type ctype[64];
+    size_t vsize = 0;
+    int fixed = 1;
+    for (int k = 0; k < V->nprops; k++) {
+        role[k] = V->props[k].count_type == T_NONE ? role_of(V->props[k].name) : R_NONE;
+        ctype[k] = V->props[k].type;
+        if (role[k]) have |= 1 << role[k];
+        if (V->props[k].count_type != T_NONE) fixed = 0;
+        vsize += (size_t)type_size(V->props[k].type);
+        if ((role[k] >= R_R && role[k] <= R_A) && (ctype[k] == T_I32 || ctype[k] == T_U32)) {
+            r = spr__fail(err, SPR_E_FORMAT, "%s: colour property \"%s\" has a 32-bit integer type", path, V->props[k].name);
+            goto fail;
+        }
+    }
+    if ((have & ((1 << R_X) | (1 << R_Y) | (1 << R_Z))) != ((1 << R_X) | (1 << R_Y) | (1 << R_Z))) {
+        r = spr__fail(err, SPR_E_FORMAT, "%s: vertex element lacks x, y or z", path);
+        goto fail;
+    }
+    /* Size check before allocating: every element before the vertices has a
+     * minimum size too, but the vertex block alone must fit in the body. */
+    if (fmt != F_ASCII && fixed && V->count * vsize > len - body) {
+        r = spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: header declares %llu vertices (%llu bytes) but only %zu bytes follow",
+                      path, body, V->count, V->count * (unsigned long long)vsize, len - body);
+        goto fail;
+    }
+    if (fmt == F_ASCII && V->count > (len - body) / 2 + 1) {
+        r = spr__fail(err, SPR_E_TRUNCATED, "%s: header declares %llu vertices but the file has only %zu bytes of data",
+                      path, V->count, len - body);
+        goto fail;
+    }
+    r = spr_cloud_alloc(c, (size_t)V->count);
+    if (r) { spr__fail(err, r, "%s: cannot allocate %llu splats", path, V->count); goto fail; }
+    cursor cu = {path, (const unsigned char *)buf + body, (const unsigned char *)buf + len, (const unsigned char *)buf,
+                 fmt, 0, err};
+    /* header line count for ascii error positions */
+    for (size_t i = 0; i < body; i++) cu.line += buf[i] == '\n';
+    cu.line++;
+    for (int e = 0; e < nel; e++) {
+        ply_elem *E = &el[e];
+        int is_face = !strcmp(E->name, "face");
+        if (is_face) {
+            if (E->count > SPR_MAX_SPLATS * 4ull) { r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %llu faces", path, E->count); goto fail; }
+        }
+        for (unsigned long long i = 0; i < E->count; i++) {
+            for (int k = 0; k < E->nprops; k++) {
+                const ply_prop *P = &E->props[k];
+                double v;
+                if (P->count_type != T_NONE) {
+                    double cnt;
+                    if ((r = read_value(&cu, P->count_type, &cnt, E->name, i))) goto fail;
+                    if (cnt < 0 || cnt > 1024) { r = spr__fail(err, SPR_E_FORMAT, "%s: %s %llu: list length %g", path, E->name, i, cnt); goto fail; }
+                    uint32_t idx[1024];
+                    for (int j = 0; j < (int)cnt; j++) {
+                        if ((r = read_value(&cu, P->type, &v, E->name, i))) goto fail;
+                        idx[j] = v >= 0 && v < (double)V->count ? (uint32_t)v : UINT32_MAX;
+                    }
+                    if (is_face && (!strcmp(P->name, "vertex_indices") || !strcmp(P->name, "vertex_index")) && cnt >= 3) {
+                        for (int j = 0; j < (int)cnt; j++)
+                            if (idx[j] == UINT32_MAX) { r = spr__fail(err, SPR_E_FORMAT, "%s: face %llu: vertex index out of range", path, i); goto fail; }
+                        size_t add = (size_t)cnt - 2;
+                        uint32_t *nt = realloc(mesh->tri, (mesh->nt + add) * 3 * sizeof(uint32_t));
+                        if (!nt) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); goto fail; }
+                        mesh->tri = nt;
+                        for (size_t j = 0; j < add; j++) {
+                            mesh->tri[3 * mesh->nt] = idx[0];
+                            mesh->tri[3 * mesh->nt + 1] = idx[j + 1];
+                            mesh->tri[3 * mesh->nt + 2] = idx[j + 2];
+                            mesh->nt++;
+                        }
+                    }
+                    continue;
+                }
+                if ((r = read_value(&cu, P->type, &v, E->name, i))) goto fail;
+                if (e != vi) continue;
+                size_t s = (size_t)i;
+                switch (role[k]) {
+                case R_X: case R_Y: case R_Z:
+                    if (!isfinite(v)) {
+                        r = cu.fmt == F_ASCII
+                                ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %zu: coordinate %s is not finite", path, cu.line, s, P->name)
+                                : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %zu: coordinate %s is not finite", path,
+                                            (size_t)(cu.p - cu.base) - type_size(P->type), s, P->name);
+                        goto fail;
+                    }
+                    c->pos[3 * s + role[k] - R_X] = (float)v;
+                    break;
+                case R_NX: case R_NY: case R_NZ: c->nrm[3 * s + role[k] - R_NX] = (float)v; break;
+                case R_R: case R_G: case R_B: c->color[3 * s + role[k] - R_R] = (float)(v * color_scale(ctype[k])); break;
+                case R_A: c->alpha[s] = (float)(v * color_scale(ctype[k])); break;
+                case R_RADIUS:
+                    if (!(v > 0.0) || !isfinite(v)) {
+                        r = cu.fmt == F_ASCII
+                                ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %zu: radius %g is not positive and finite", path, cu.line, s, v)
+                                : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %zu: radius %g is not positive and finite", path,
+                                            (size_t)(cu.p - cu.base) - type_size(P->type), s, v);
+                        goto fail;
+                    }
+                    c->radius[s] = (float)v;
+                    break;
+                default: break;
+                }
+            }
+            if (e == vi && (have & (1 << R_NX))) {
+                if (spr__normalize3(c->nrm + 3 * (size_t)i)) {
+                    r = spr__fail(err, SPR_E_VALUE, "%s: vertex %llu: zero or non-finite normal", path, i);
+                    goto fail;
+                }
+            }
+        }
+    }
+    mesh->nv = c->n;
+    c->flags = ((have & (1 << R_NX)) ? SPR_SRC_NORMALS : 0) | ((have & (1 << R_R)) ? SPR_SRC_COLORS : 0) |
+               ((have & (1 << R_RADIUS)) ? SPR_SRC_RADII : 0) | ((have & (1 << R_A)) ? SPR_SRC_ALPHA : 0);
+    if (!(have & (1 << R_NX)))
+        for (size_t i = 0; i < 3 * c->n; i++) c->nrm[i] = 0.0f;
+    free(buf);
+    return SPR_OK;
+fail:
+    free(buf);
+    spr_cloud_free(c);
+    spr__mesh_free(mesh);
+    return r;
+}
+
+static int write_ply_body(FILE *f, const void *user)
+{
+    const spr_cloud *c = user;
+    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment written by splatref\nelement vertex %zu\n"
+               "property float x\nproperty float y\nproperty float z\n"
+               "property float nx\nproperty float ny\nproperty float nz\n"
+               "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n"
+               "property float radius\nend_header\n", c->n);
+    for (size_t i = 0; i < c->n; i++) {
+        unsigned char rec[6 * 4 + 4 + 4];
+        float fv[6] = {c->pos[3 * i], c->pos[3 * i + 1], c->pos[3 * i + 2], c->nrm[3 * i], c->nrm[3 * i + 1], c->nrm[3 * i + 2]};
+        memcpy(rec, fv, 24); /* host is little-endian (checked in CMake) */
+        for (int k = 0; k < 3; k++) rec[24 + k] = (unsigned char)lrintf(c->color[3 * i + k] * 255.0f);
+        rec[27] = (unsigned char)lrintf(c->alpha[i] * 255.0f);
+        memcpy(rec + 28, &c->radius[i], 4);
+        if (fwrite(rec, sizeof rec, 1, f) != 1) return -1;
+    }
+    return 0;
+}
+
+spr_result spr_write_ply(const char *path, const spr_cloud *c, spr_error *err)
+{
+    return spr__write_atomic(path, write_ply_body, c, err);
+}

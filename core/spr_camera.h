@@ -1,0 +1,64 @@
+/* spr_camera.h — camera, pixels and rays shared by every backend (SPEC §2).
+ *
+ * The host builds V (gluLookAt) and P (gluPerspective or glOrtho) in double,
+ * inverts P·V in double and rounds M = (P·V)^-1 to float once: every backend
+ * receives the same float bits (spr_view).  Per-pixel arithmetic lives in
+ * spr_fragment.h.
+ */
+#ifndef SPR_CAMERA_H
+#define SPR_CAMERA_H
+
+#include "spr_cloud.h"
+#include "spr_result.h"
+
+/* Camera descriptor; zero fields take the defaults of spr_camera_defaults(). */
+typedef struct spr_camera_desc {
+    double eye[3], target[3], up[3];
+    double fov_deg;       /* vertical field of view, perspective */
+    double ortho_height;  /* > 0 selects glOrtho with this height */
+    double near_plane, far_plane;
+    int width, height;
+} spr_camera_desc;
+
+/* What every backend gets: float bits computed once on the host. */
+typedef struct spr_view {
+    int width, height;
+    float M[16];          /* (P·V)^-1, row-major, rounded from double */
+    float ndc_sx, ndc_sy; /* 2/W and 2/H as floats: ndc = (x + 0.5)·sx − 1 */
+    double PV[16];        /* P·V in double (host-side bounds only) */
+    double V[16];         /* view matrix in double */
+    double near_plane, far_plane;
+    int ortho;
+} spr_view;
+
+/* Defaults: 512×512, fov 30°, up +y; eye/target/near/far 0 = "frame the model". */
+void spr_camera_defaults(spr_camera_desc *c);
+/* Place eye on the +z side of the bounding sphere of b and set tight near/far
+ * for every field the caller left zero. */
+void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b);
+/* Build the view; SPR_E_ARG for a degenerate camera (names the field). */
+spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err);
+/* World tolerance → ray-parameter tolerance: ε/(far − near) in double → float. */
+float spr_view_eps_t(const spr_view *v, double eps_world);
+
+/* Low-precision depth parameters of SPEC §3.3 ([ZP] Eq. 10). */
+typedef struct spr_lowres {
+    float d_min, d_max;  /* depth range of the enlarged box of the centres */
+    float n;             /* quantisation steps, as float */
+    float inv_n;         /* float nearest to 1.0/n */
+} spr_lowres;
+/* n_override > 0 fixes n; otherwise n = max(1, ceil((d_max − d_min)/ε_t)). */
+void spr_lowres_make(const spr_view *v, const spr_bounds *b, float eps_t, double n_override, spr_lowres *out);
+
+/* Conservative pixel rectangle covered by splat (p, n, r): fills x0..x1,
+ * y0..y1 (inclusive, clipped to the viewport); returns 0 when empty.  Computed
+ * in double from the splat's bounding box; coverage itself is decided per
+ * pixel by the exact test, so this only has to be conservative. */
+int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], float r,
+                         int *x0, int *y0, int *x1, int *y1);
+
+/* 4×4 row-major double helpers (exposed for tests). */
+void spr__mat4_mul(const double a[16], const double b[16], double out[16]);
+int spr__mat4_inverse(const double m[16], double out[16]);
+
+#endif

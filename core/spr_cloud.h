@@ -1,0 +1,54 @@
+/* spr_cloud.h — the splat cloud (SPEC §1).
+ *
+ * Structure of arrays, one entry per splat, in submission order (the input
+ * order is the order every backend draws in, SPEC §3.4).  Invariants after
+ * spr_cloud_validate(): every value is finite, normals have unit length
+ * (renormalised in double), radii are > 0, colours and opacity lie in [0,1].
+ */
+#ifndef SPR_CLOUD_H
+#define SPR_CLOUD_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "spr_result.h"
+
+/* Where the cloud's attributes came from (reported by `splatref info`). */
+typedef enum spr_source_flags {
+    SPR_SRC_NORMALS = 1u << 0,  /* normals read from the file */
+    SPR_SRC_COLORS  = 1u << 1,  /* colours read from the file */
+    SPR_SRC_RADII   = 1u << 2,  /* radii read from the file */
+    SPR_SRC_ALPHA   = 1u << 3,  /* opacity read from the file */
+    SPR_SRC_FACES   = 1u << 4   /* normals from mesh faces */
+} spr_source_flags;
+
+typedef struct spr_cloud {
+    size_t n;
+    float *pos;     /* 3n: x y z */
+    float *nrm;     /* 3n: unit normal */
+    float *radius;  /* n */
+    float *color;   /* 3n: r g b in [0,1] */
+    float *alpha;   /* n: opacity in [0,1] */
+    unsigned flags; /* spr_source_flags */
+} spr_cloud;
+
+/* Allocate n splats (normals +z, colour 0.8, alpha 1, radius 0); 0 or SPR_E_NOMEM. */
+spr_result spr_cloud_alloc(spr_cloud *c, size_t n);
+/* Release the arrays; safe on a zeroed cloud. */
+void spr_cloud_free(spr_cloud *c);
+/* Check every invariant above; names `what` (a file) and the first bad splat. */
+spr_result spr_cloud_validate(const spr_cloud *c, const char *what, spr_error *err);
+/* Renormalise normal i in double; SPR_E_VALUE for a zero or non-finite normal. */
+spr_result spr__normalize3(float *n);
+
+/* Axis-aligned bounds of the centres and the largest radius. */
+typedef struct spr_bounds {
+    double lo[3], hi[3];
+    double max_radius, mean_radius, min_radius;
+} spr_bounds;
+void spr_cloud_bounds(const spr_cloud *c, spr_bounds *b);
+
+/* Colour every splat by its normal, c = 0.5·n + 0.5 (used when a file has no
+ * colours: flat colours would show only a silhouette without shading). */
+void spr_cloud_color_by_normal(spr_cloud *c);
+
+#endif

@@ -1,0 +1,66 @@
+/* spr_io.h — reading and writing splat clouds (SPEC §1).
+ *
+ * spr_load() accepts PLY (ascii, binary little/big endian), OFF meshes,
+ * XYZ/PWN point files and the built-in models "builtin:NAME".  Missing
+ * normals come from mesh faces (area-weighted) or from PCA of the k nearest
+ * neighbours oriented away from the bounding-box centre; missing radii are
+ * ρ·d_k (distance to the k-th neighbour); missing colours are 0.5·n + 0.5.
+ * Every failure is one line naming the file and the line or byte offset;
+ * nothing is partially returned.
+ */
+#ifndef SPR_IO_H
+#define SPR_IO_H
+
+#include <stdio.h>
+#include "spr_cloud.h"
+#include "spr_knn.h"
+#include "spr_result.h"
+
+typedef struct spr_load_desc {
+    size_t points;       /* size of built-in models (0 = 20000) */
+    int radius_k;        /* k of the radius rule (0 = 8) */
+    double radius_rho;   /* ρ of the radius rule (0 = 1.0) */
+    int normal_k;        /* k of PCA normals (0 = 10) */
+    int threads;         /* for neighbour searches (0 = all cores) */
+    spr_progress progress;
+} spr_load_desc;
+void spr_load_defaults(spr_load_desc *d);
+
+/* Load `path` into c (allocated here; free with spr_cloud_free). */
+spr_result spr_load(const char *path, const spr_load_desc *d, spr_cloud *c, spr_error *err);
+
+/* Write a binary little-endian PLY (x y z nx ny nz float, red green blue
+ * alpha uchar, radius float) through a temporary file renamed into place. */
+spr_result spr_write_ply(const char *path, const spr_cloud *c, spr_error *err);
+
+/* Resample a mesh (OFF or PLY with faces) to n points: triangles chosen by
+ * area, uniform barycentrics, face normals, colours by normal, radii by the
+ * radius rule; fixed seed, so the same call gives the same cloud. */
+spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_load_desc *d, spr_cloud *c,
+                           spr_error *err);
+
+/* Names of the built-in models, NULL-terminated. */
+extern const char *const spr_builtin_names[];
+
+/* ---- internal, shared by the loaders ---- */
+typedef struct spr__mesh {
+    size_t nv, nt;
+    uint32_t *tri;  /* 3·nt vertex indices (polygons fanned) */
+} spr__mesh;
+void spr__mesh_free(spr__mesh *m);
+spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *err);
+spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err);
+spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err);
+spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err);
+spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err);
+/* Area-weighted face normals; returns the count of vertices left without one. */
+size_t spr__mesh_normals(const spr__mesh *m, spr_cloud *c);
+/* PCA normals (k neighbours) for splats whose normal is zero (all when `all`). */
+spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, spr_error *err);
+/* r_i = ρ·d_k(i). */
+spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, spr_error *err);
+/* Write through a temporary name: open, let `fn` write, rename. */
+typedef int (*spr__writer_fn)(FILE *f, const void *user);
+spr_result spr__write_atomic(const char *path, spr__writer_fn fn, const void *user, spr_error *err);
+
+#endif

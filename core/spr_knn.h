@@ -1,0 +1,44 @@
+/* spr_knn.h — neighbour queries over splat centres through FLANN.
+ *
+ * Exact searches only (single kd-tree, unlimited checks), so results do not
+ * depend on random seeds.  Neighbour lists come back sorted by index, and
+ * kNN distances are recomputed in double from the float positions, so
+ * callers never see FLANN's internal ordering of ties.
+ */
+#ifndef SPR_KNN_H
+#define SPR_KNN_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "spr_result.h"
+
+typedef struct spr_knn spr_knn;
+
+/* Index over n points (3 floats each, kept by reference). */
+spr_result spr_knn_build(const float *pos, size_t n, spr_knn **out, spr_error *err);
+void spr_knn_free(spr_knn *k);
+
+/* k nearest neighbours of every point, the point itself excluded: idx[n·k]
+ * and dist[n·k] (double, ascending, ties by index).  Fewer than k points
+ * available: the remaining entries get idx = UINT32_MAX, dist = INFINITY. */
+spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, double *dist, spr_error *err);
+
+/* Neighbour graph in CSR form: for every i, all j ≠ i with |p_i − p_j| < radius
+ * (radius in world units), ascending j. */
+typedef struct spr_graph {
+    size_t n;
+    uint64_t *start;  /* n + 1 */
+    uint32_t *adj;
+} spr_graph;
+spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_graph *g, spr_error *err);
+void spr_graph_free(spr_graph *g);
+
+/* Progress callback used by long operations: done/total, a phase name. */
+typedef void (*spr_progress_fn)(void *user, const char *phase, size_t done, size_t total);
+typedef struct spr_progress { spr_progress_fn fn; void *user; } spr_progress;
+static inline void spr_progress_report(const spr_progress *p, const char *phase, size_t done, size_t total)
+{
+    if (p && p->fn) p->fn(p->user, phase, done, total);
+}
+
+#endif

@@ -1,0 +1,9 @@
+/* spr_pca.h — deterministic 3×3 symmetric eigensolver (cyclic Jacobi, SPEC §7.1). */
+#ifndef SPR_PCA_H
+#define SPR_PCA_H
+
+/* A = {a00, a01, a02, a11, a12, a22}.  Eigenvalues ascending in eval[0..2];
+ * evec[3k..3k+2] is the unit eigenvector of eval[k]. */
+void spr_eigen3_sym(const double A[6], double eval[3], double evec[9]);
+
+#endif

@@ -1,0 +1,54 @@
+/* sw_internal.h — private state of the CPU backend, shared by its stages. */
+#ifndef SW_INTERNAL_H
+#define SW_INTERNAL_H
+
+#include <stdint.h>
+#include "spr_backend.h"
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
+#define SW_TILE 32
+
+typedef struct sw_target {
+    float *color;     /* 4 per pixel */
+    float *depth;     /* stored d_f */
+    float *test;      /* test depth z */
+    uint32_t *id;
+    uint32_t *count;
+} sw_target;
+
+typedef struct sw_context {
+    spr_backend base; /* first: a sw_context is an spr_backend */
+    int threads;
+    float *ray;       /* 6 per pixel: o0, d (spr_pixel_ray), computed once per view */
+    sw_target *targets;
+    int cap;
+} sw_context;
+
+static inline sw_context *sw_ctx(spr_backend *b) { return (sw_context *)b; }
+
+/* Flush-to-zero / denormals-are-zero for the current thread, restored by sw_fp_leave. */
+static inline unsigned sw_fp_enter(void)
+{
+#if defined(__SSE__)
+    unsigned old = _mm_getcsr();
+    _mm_setcsr(old | 0x8040u); /* FTZ (bit 15) | DAZ (bit 6) */
+    return old;
+#else
+    return 0;
+#endif
+}
+static inline void sw_fp_leave(unsigned old)
+{
+#if defined(__SSE__)
+    _mm_setcsr(old);
+#else
+    (void)old;
+#endif
+}
+
+spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st);
+spr_result sw__composite(spr_backend *b, const spr_composite_desc *c);
+
+#endif

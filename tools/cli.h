@@ -1,0 +1,73 @@
+/* cli.h — shared pieces of the `splatref` command line.
+ *
+ * Each subcommand declares its options in a table; cli_parse() rejects
+ * anything not in it with one line and exit status 2.  Values are read with
+ * the cli_get_* helpers, which name the option in their error messages.
+ */
+#ifndef CLI_H
+#define CLI_H
+
+#include <stddef.h>
+#include "spr_algo.h"
+#include "spr_io.h"
+
+typedef struct cli_opt {
+    const char *name;   /* without the leading "--" */
+    const char *arg;    /* NULL for a flag, else the metavariable shown in --help */
+    const char *help;
+} cli_opt;
+
+#define CLI_MAX_OPTS 64
+typedef struct cli_args {
+    const char *cmd;
+    const cli_opt *opts;
+    const char *value[CLI_MAX_OPTS]; /* NULL = not given; flags get "1" */
+    const char *positional[4];
+    int n_positional;
+} cli_args;
+
+/* 0 on success, 1 when --help was printed, 2 after printing an error. */
+int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usage, int max_positional, int argc, char **argv);
+const char *cli_get(const cli_args *a, const char *name);
+int cli_flag(const cli_args *a, const char *name);
+/* The helpers print "splatref CMD: --NAME: …" and return −1 on bad values. */
+int cli_get_double(const cli_args *a, const char *name, double *out, double lo, double hi);
+int cli_get_int(const cli_args *a, const char *name, int *out, int lo, int hi);
+int cli_get_size(const cli_args *a, const char *name, size_t *out, size_t lo, size_t hi);
+int cli_get_vec3(const cli_args *a, const char *name, double out[3]);
+int cli_get_wh(const cli_args *a, const char *name, int *w, int *h);
+void cli_error(const cli_args *a, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Progress on stderr, only when it is a terminal and --quiet is absent. */
+spr_progress cli_progress(int quiet);
+
+/* Scene options shared by render and bench: model loading, camera, groups. */
+typedef struct cli_scene {
+    spr_cloud cloud;
+    spr_camera_desc cam;
+    spr_view view;
+    spr_groups groups;
+    int32_t *labels;
+    spr_group_stats gstats;
+    const char *group_method;
+    char model[1024];
+} cli_scene;
+void cli_scene_free(cli_scene *s);
+/* Build labels/groups for `method` ("none", "mgc", "hash") on s->cloud. */
+int cli_make_groups(const cli_args *a, cli_scene *s, const char *method, double c, const char *relax, int K, int threads,
+                    spr_progress prog);
+
+int cmd_render(int argc, char **argv);
+int cmd_info(int argc, char **argv);
+int cmd_sample(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
+
+/* Where the CGAL demo data lives: $SPLATREF_DATA, else ./data/cgal/data. */
+const char *cli_data_dir(void);
+
+#endif

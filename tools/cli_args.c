@@ -1,0 +1,178 @@
+/* cli_args.c — option table parsing and typed getters for the CLI. */
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+void cli_error(const cli_args *a, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "splatref %s: ", a->cmd);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+static void print_help(const char *cmd, const cli_opt *opts, const char *usage)
+{
+    printf("usage: splatref %s %s\n\n", cmd, usage);
+    for (const cli_opt *o = opts; o->name; o++) {
+        char left[64];
+        snprintf(left, sizeof left, "--%s%s%s", o->name, o->arg ? " " : "", o->arg ? o->arg : "");
+        printf("  %-24s %s\n", left, o->help);
+    }
+    printf("  %-24s %s\n", "--help", "show this text");
+}
+
+int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usage, int max_positional, int argc, char **argv)
+{
+    memset(a, 0, sizeof *a);
+    a->cmd = cmd;
+    a->opts = opts;
+    for (int i = 0; i < argc; i++) {
+        const char *s = argv[i];
+        if (!strcmp(s, "--help") || !strcmp(s, "-h")) {
+            print_help(cmd, opts, usage);
+            return 1;
+        }
+        if (strncmp(s, "--", 2) != 0) {
+            if (a->n_positional >= max_positional) {
+                cli_error(a, "unexpected argument '%s' (see splatref %s --help)", s, cmd);
+                return 2;
+            }
+            a->positional[a->n_positional++] = s;
+            continue;
+        }
+        const char *name = s + 2, *eq = strchr(name, '=');
+        size_t nl = eq ? (size_t)(eq - name) : strlen(name);
+        int k = 0;
+        for (; opts[k].name; k++)
+            if (strlen(opts[k].name) == nl && !strncmp(opts[k].name, name, nl)) break;
+        if (!opts[k].name) {
+            cli_error(a, "unknown option '--%.*s' (see splatref %s --help)", (int)nl, name, cmd);
+            return 2;
+        }
+        if (!opts[k].arg) {
+            if (eq) { cli_error(a, "--%s takes no value", opts[k].name); return 2; }
+            a->value[k] = "1";
+        } else if (eq) {
+            a->value[k] = eq + 1;
+        } else {
+            if (i + 1 >= argc) { cli_error(a, "--%s needs a value (%s)", opts[k].name, opts[k].arg); return 2; }
+            a->value[k] = argv[++i];
+        }
+    }
+    return 0;
+}
+
+const char *cli_get(const cli_args *a, const char *name)
+{
+    for (int k = 0; a->opts[k].name; k++)
+        if (!strcmp(a->opts[k].name, name)) return a->value[k];
+    return NULL;
+}
+
+int cli_flag(const cli_args *a, const char *name) { return cli_get(a, name) != NULL; }
+
+int cli_get_double(const cli_args *a, const char *name, double *out, double lo, double hi)
+{
+    const char *v = cli_get(a, name);
+    if (!v) return 0;
+    char *e;
+    double d = strtod(v, &e);
+    if (e == v || *e || !isfinite(d) || d < lo || d > hi) {
+        cli_error(a, "--%s: '%s' is not a number in [%g, %g]", name, v, lo, hi);
+        return -1;
+    }
+    *out = d;
+    return 1;
+}
+
+int cli_get_int(const cli_args *a, const char *name, int *out, int lo, int hi)
+{
+    const char *v = cli_get(a, name);
+    if (!v) return 0;
+    char *e;
+    errno = 0;
+    long d = strtol(v, &e, 10);
+    if (e == v || *e || errno || d < lo || d > hi) {
+        cli_error(a, "--%s: '%s' is not an integer in [%d, %d]", name, v, lo, hi);
+        return -1;
+    }
+    *out = (int)d;
+    return 1;
+}
+
+int cli_get_size(const cli_args *a, const char *name, size_t *out, size_t lo, size_t hi)
+{
+    const char *v = cli_get(a, name);
+    if (!v) return 0;
+    char *e;
+    errno = 0;
+    unsigned long long d = strtoull(v, &e, 10);
+    if (e == v || *e || errno || v[0] == '-' || d < lo || d > hi) {
+        cli_error(a, "--%s: '%s' is not a count in [%zu, %zu]", name, v, lo, hi);
+        return -1;
+    }
+    *out = (size_t)d;
+    return 1;
+}
+
+int cli_get_vec3(const cli_args *a, const char *name, double out[3])
+{
+    const char *v = cli_get(a, name);
+    if (!v) return 0;
+    double t[3];
+    char tail;
+    if (sscanf(v, "%lf,%lf,%lf%c", &t[0], &t[1], &t[2], &tail) != 3 || !isfinite(t[0]) || !isfinite(t[1]) || !isfinite(t[2])) {
+        cli_error(a, "--%s: '%s' is not three finite numbers x,y,z", name, v);
+        return -1;
+    }
+    memcpy(out, t, sizeof t);
+    return 1;
+}
+
+int cli_get_wh(const cli_args *a, const char *name, int *w, int *h)
+{
+    const char *v = cli_get(a, name);
+    if (!v) return 0;
+    int x, y;
+    char tail;
+    if (sscanf(v, "%dx%d%c", &x, &y, &tail) != 2 || x < 1 || y < 1 || x > SPR_MAX_IMAGE_SIDE || y > SPR_MAX_IMAGE_SIDE) {
+        cli_error(a, "--%s: '%s' is not WxH with sides in 1..%d", name, v, SPR_MAX_IMAGE_SIDE);
+        return -1;
+    }
+    *w = x;
+    *h = y;
+    return 1;
+}
+
+static void progress_tty(void *user, const char *phase, size_t done, size_t total)
+{
+    (void)user;
+    if (total > 1 && done < total)
+        fprintf(stderr, "\r%-20s %5.1f%%", phase, 100.0 * (double)done / (double)total);
+    else
+        fprintf(stderr, "\r%-20s      \r", phase);
+    if (done >= total) fprintf(stderr, "\r%-28s\r", "");
+    fflush(stderr);
+}
+
+spr_progress cli_progress(int quiet)
+{
+    spr_progress p = {NULL, NULL};
+    if (!quiet && isatty(2)) p.fn = progress_tty;
+    return p;
+}
+
+const char *cli_data_dir(void)
+{
+    const char *d = getenv("SPLATREF_DATA");
+    return d && *d ? d : "data/cgal/data";
+}

@@ -1,0 +1,147 @@
+/* cli_bench.c — `splatref bench`: fixed scenes, fixed sizes, 1 vs 2 threads.
+ *
+ * Figures are ratios measured within one run (the machine is shared and
+ * noisy): each configuration keeps the best of --reps renders.
+ */
+#include "cli.h"
+#include "spr_swrast.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const cli_opt bench_opts[] = {
+    {"scene", "NAME", "bunny | armadillo-1m | all (default all)"},
+    {"size", "WxH", "image size (default 1024x1024)"},
+    {"reps", "N", "renders per configuration, best kept (default 3)"},
+    {"points", "N", "size of the armadillo resampling (default 1000000)"},
+    {"quiet", NULL, "no progress on stderr"},
+    {NULL, NULL, NULL}};
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+typedef struct bench_run {
+    double ms;
+    uint64_t fragments;
+    char passes[512];
+} bench_run;
+
+static int run_config(spr_backend *b, const cli_scene *s, const spr_render_desc *rd, int reps, bench_run *best)
+{
+    best->ms = 1e300;
+    for (int r = 0; r < reps; r++) {
+        spr_render_result res;
+        spr_error err = {0};
+        double t0 = now_ms();
+        if (spr_render(b, &s->view, &s->cloud, rd, &res, &err)) {
+            fprintf(stderr, "splatref bench: %s\n", err.msg);
+            return -1;
+        }
+        double ms = now_ms() - t0;
+        if (ms < best->ms) {
+            best->ms = ms;
+            best->fragments = 0;
+            size_t o = 0;
+            best->passes[0] = 0;
+            double geometry = 0.0;
+            int ngeo = 0;
+            for (int p = 0; p < res.n_passes; p++) {
+                best->fragments += res.passes[p].stats.generated;
+                if (!strcmp(res.passes[p].name, "geometry")) { geometry += res.passes[p].ms; ngeo++; continue; }
+                o += (size_t)snprintf(best->passes + o, sizeof best->passes - o, "%s %.1f  ", res.passes[p].name, res.passes[p].ms);
+            }
+            if (ngeo) snprintf(best->passes + o, sizeof best->passes - o, "geometry x%d %.1f", ngeo, geometry);
+        }
+        spr_render_result_free(&res);
+    }
+    return 0;
+}
+
+static int bench_scene(const cli_args *a, const char *label, cli_scene *s, int reps, int quiet)
+{
+    spr_bounds bd;
+    spr_cloud_bounds(&s->cloud, &bd);
+    spr_camera_frame(&s->cam, &bd);
+    spr_error err = {0};
+    if (spr_view_make(&s->cam, &s->view, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
+    if (cli_make_groups(a, s, "hash", 1.0, NULL, 8, 0, cli_progress(quiet))) return -1;
+    printf("\nscene %s: %zu splats, %dx%d\n", label, s->cloud.n, s->view.width, s->view.height);
+    printf("  %-22s %7s %10s %12s %14s  %s\n", "algorithm", "threads", "ms", "splats/s", "fragments/s", "ms per pass");
+    static const struct { const char *name; spr_algo algo; int voronoi; } algos[] = {
+        {"pbr2p1", SPR_ALGO_PBR2P1, 0}, {"deferred hash K=8 +vor", SPR_ALGO_DEFERRED, 1}};
+    for (size_t i = 0; i < sizeof algos / sizeof algos[0]; i++) {
+        spr_render_desc rd = {0};
+        rd.algo = algos[i].algo;
+        rd.voronoi = algos[i].voronoi;
+        rd.groups = &s->groups;
+        bench_run run[2];
+        for (int t = 0; t < 2; t++) {
+            spr_backend *b = spr_swrast_create(t + 1, &err);
+            if (!b) { fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
+            int bad = run_config(b, s, &rd, reps, &run[t]);
+            spr_backend_destroy(b);
+            if (bad) return -1;
+            printf("  %-22s %7d %10.1f %12.3g %14.3g  %s\n", algos[i].name, t + 1, run[t].ms, s->cloud.n / (run[t].ms * 1e-3),
+                   run[t].fragments / (run[t].ms * 1e-3), run[t].passes);
+        }
+        printf("  %-22s speed-up 2 threads / 1 thread: %.2fx\n", algos[i].name, run[0].ms / run[1].ms);
+    }
+    return 0;
+}
+
+int cmd_bench(int argc, char **argv)
+{
+    cli_args a;
+    int pr = cli_parse(&a, "bench", bench_opts, "[--scene bunny|armadillo-1m|all] [--size WxH] [--reps N]", 0, argc, argv);
+    if (pr) return pr == 1 ? 0 : 2;
+    int W = 1024, H = 1024, reps = 3, quiet = cli_flag(&a, "quiet");
+    size_t npts = 1000000;
+    const char *scene = cli_get(&a, "scene") ? cli_get(&a, "scene") : "all";
+    if (cli_get_wh(&a, "size", &W, &H) < 0 || cli_get_int(&a, "reps", &reps, 1, 100) < 0 ||
+        cli_get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0)
+        return 2;
+    if (strcmp(scene, "all") && strcmp(scene, "bunny") && strcmp(scene, "armadillo-1m")) {
+        cli_error(&a, "--scene: '%s' is not bunny, armadillo-1m or all", scene);
+        return 2;
+    }
+    printf("splatref bench: CPU reference, best of %d, OpenMP threads 1 and 2\n", reps);
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    ld.progress = cli_progress(quiet);
+    spr_error err = {0};
+    char path[1200];
+    int rc = 0;
+    if (!strcmp(scene, "all") || !strcmp(scene, "bunny")) {
+        cli_scene s;
+        memset(&s, 0, sizeof s);
+        spr_camera_defaults(&s.cam);
+        s.cam.width = W;
+        s.cam.height = H;
+        snprintf(path, sizeof path, "%s/meshes/bunny00.off", cli_data_dir());
+        if (spr_load(path, &ld, &s.cloud, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
+        rc |= bench_scene(&a, "bunny00.off", &s, reps, quiet);
+        cli_scene_free(&s);
+    }
+    if (!rc && (!strcmp(scene, "all") || !strcmp(scene, "armadillo-1m"))) {
+        cli_scene s;
+        memset(&s, 0, sizeof s);
+        spr_camera_defaults(&s.cam);
+        s.cam.width = W;
+        s.cam.height = H;
+        snprintf(path, sizeof path, "%s/meshes/armadillo.off", cli_data_dir());
+        double t0 = now_ms();
+        if (spr_sample_mesh(path, npts, 1, &ld, &s.cloud, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
+        printf("\n(resampled armadillo.off to %zu points in %.0f ms)\n", s.cloud.n, now_ms() - t0);
+        char label[64];
+        snprintf(label, sizeof label, "armadillo resampled to %zu", npts);
+        rc |= bench_scene(&a, label, &s, reps, quiet);
+        cli_scene_free(&s);
+    }
+    return rc ? 2 : 0;
+}
