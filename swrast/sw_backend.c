@@ -53,6 +53,13 @@ static spr_result sw_target_create(spr_backend *b, int *out)
     }
     size_t np = (size_t)b->view.width * (size_t)b->view.height;
     sw_target *tg = &c->targets[t];
+    if (tg->color && tg->pixels == np) { /* memory kept from a destroyed target of this size */
+        static const float zero[4] = {0, 0, 0, 0};
+        *out = t;
+        return b->clear(b, t, zero);
+    }
+    free_target(tg);
+    tg->pixels = np;
     tg->color = malloc(np * 4 * sizeof(float));
     tg->depth = malloc(np * sizeof(float));
     tg->test = malloc(np * sizeof(float));
@@ -68,13 +75,18 @@ static spr_result sw_target_create(spr_backend *b, int *out)
     return b->clear(b, t, zero);
 }
 
-static void sw_target_destroy(spr_backend *b, int t) { free_target(&sw_ctx(b)->targets[t]); }
+/* Buffers stay allocated for the next target of the same size: algorithms
+ * create and destroy their targets every frame, and fresh pages would be
+ * faulted in serially on every render. */
+static void sw_target_destroy(spr_backend *b, int t) { (void)b; (void)t; }
 
 static spr_result sw_clear(spr_backend *b, int t, const float color[4])
 {
-    sw_target *tg = &sw_ctx(b)->targets[t];
-    size_t np = (size_t)b->view.width * (size_t)b->view.height;
-    for (size_t i = 0; i < np; i++) {
+    sw_context *c = sw_ctx(b);
+    sw_target *tg = &c->targets[t];
+    const long np = (long)b->view.width * b->view.height;
+#pragma omp parallel for num_threads(c->threads) schedule(static)
+    for (long i = 0; i < np; i++) {
         memcpy(tg->color + 4 * i, color, 4 * sizeof(float));
         tg->depth[i] = 1.0f;
         tg->test[i] = 1.0f;
@@ -103,6 +115,7 @@ static void sw_destroy(spr_backend *b)
 {
     sw_context *c = sw_ctx(b);
     free(c->ray);
+    for (int t = 0; t < c->cap; t++) free_target(&c->targets[t]);
     free(c->targets);
     free(c);
 }

@@ -16,6 +16,7 @@ typedef struct sw_target {
     float *test;      /* test depth z */
     uint32_t *id;
     uint32_t *count;
+    size_t pixels;    /* size the buffers were allocated for */
 } sw_target;
 
 typedef struct sw_context {

@@ -174,5 +174,7 @@ spr_progress cli_progress(int quiet)
 const char *cli_data_dir(void)
 {
     const char *d = getenv("SPLATREF_DATA");
-    return d && *d ? d : "data/cgal/data";
+    if (d && *d) return d;
+    if (access("data/cgal/data/meshes", F_OK) == 0) return "data/cgal/data";
+    return SPR_DEFAULT_DATA; /* the source tree this binary was built from */
 }

@@ -1,0 +1,210 @@
+/* test_algo.c — SPEC §4.1/§4.2 on hand scenes, Voronoi depth, and the
+ * deferred-vs-pbr2p1 agreement on the real bunny. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include "spr_fragment.h"
+#include "spr_image.h"
+#include "test_util.h"
+
+/* Hand camera, 4×4: splat A at z = 0 (t = 0.5) red, splat B at z = zb blue,
+ * both r = 0.5 around the axis, so both cover pixels (1..2, 1..2) with the
+ * same ρ² = 0.5 and weight w. */
+static void two_layers(spr_cloud *c, double zb)
+{
+    tu_cloud(c, 2, (double[]){0, 0, 0, 0, 0, zb}, 0.5f);
+    tu_set_color(c, 0, 1, 0, 0);
+    tu_set_color(c, 1, 0, 0, 1);
+}
+
+static void groups_one_each(spr_groups *g, int a_group)
+{
+    int32_t labels[2] = {a_group, 1 - a_group};
+    spr_error err;
+    ck_assert_int_eq(spr_groups_from_labels(labels, 2, 2, g, &err), SPR_OK);
+}
+
+static const float *px(const spr_render_result *r, int x, int y) { return r->rgba + 4 * (y * r->width + x); }
+
+START_TEST(pbr2p1_blends_inside_eps_only)
+{
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    spr_render_desc d = {.algo = SPR_ALGO_PBR2P1, .eps = 0.25, .background = {0.5f, 0.5f, 0.5f}}; /* ε_t = 0.125 */
+    spr_cloud c;
+    spr_render_result r;
+    two_layers(&c, -0.2); /* B at t = 0.6 ≤ 0.5 + 0.125: same surface */
+    tu_render(&v, &c, &d, 1, &r);
+    ck_assert_float_eq(r.eps_t, 0.125f);
+    ck_assert_double_eq_tol(px(&r, 1, 1)[0], 0.5, 1e-6); /* (w·red + w·blue)/(2w) */
+    ck_assert_double_eq_tol(px(&r, 1, 1)[2], 0.5, 1e-6);
+    ck_assert_float_eq(px(&r, 0, 0)[0], 0.5f);          /* background */
+    ck_assert_float_eq(px(&r, 0, 0)[3], 0.0f);
+    spr_render_result_free(&r);
+    spr_cloud_free(&c);
+    two_layers(&c, -0.5); /* B at t = 0.75 > 0.625: hidden */
+    tu_render(&v, &c, &d, 1, &r);
+    ck_assert_float_eq(px(&r, 2, 2)[0], 1.0f);
+    ck_assert_float_eq(px(&r, 2, 2)[2], 0.0f);
+    spr_render_result_free(&r);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(deferred_composite_inside_and_beyond_eps)
+{
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    for (int order = 0; order < 2; order++) {
+        spr_groups g;
+        groups_one_each(&g, order);
+        spr_render_desc d = {.algo = SPR_ALGO_DEFERRED, .eps = 0.25, .groups = &g};
+        spr_cloud c;
+        spr_render_result r;
+        two_layers(&c, -0.2);
+        tu_render(&v, &c, &d, 2, &r);
+        ck_assert_int_eq(r.K, 2);
+        ck_assert_int_eq(r.n_passes, 3); /* two geometry passes, one composite */
+        /* (w1·c1 + w2·c2)/(w1 + w2), with w1 = w2 here */
+        float w = spr_kernel_weight(SPR_KERNEL_GAUSS, 0.5f, sqrtf(0.5f));
+        ck_assert_double_eq_tol(px(&r, 1, 2)[0], (w * 1.0 + w * 0.0) / (w + w), 1e-6);
+        ck_assert_double_eq_tol(px(&r, 1, 2)[2], (w * 0.0 + w * 1.0) / (w + w), 1e-6);
+        spr_render_result_free(&r);
+        spr_cloud_free(&c);
+        two_layers(&c, -0.5);
+        tu_render(&v, &c, &d, 2, &r);
+        ck_assert_float_eq(px(&r, 1, 2)[0], 1.0f); /* the farther group is dropped */
+        ck_assert_float_eq(px(&r, 1, 2)[2], 0.0f);
+        spr_render_result_free(&r);
+        spr_cloud_free(&c);
+        spr_groups_free(&g);
+    }
+}
+END_TEST
+
+START_TEST(deferred_composite_unequal_weights)
+{
+    /* A centred on pixel (1,1), B on pixel (2,2): at pixel (1,1) w_A = w(0),
+     * w_B = w(ρ² = 0.5/0.64) — the composite is the weighted mean. */
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    spr_cloud c;
+    tu_cloud(&c, 2, (double[]){-0.25, -0.25, 0, 0.25, 0.25, -0.1}, 0.8f);
+    tu_set_color(&c, 0, 0.2f, 0.4f, 0.6f);
+    tu_set_color(&c, 1, 0.9f, 0.1f, 0.5f);
+    spr_groups g;
+    groups_one_each(&g, 0);
+    spr_render_desc d = {.algo = SPR_ALGO_DEFERRED, .eps = 0.5, .groups = &g, .kernel = SPR_KERNEL_EPANECHNIKOV};
+    spr_render_result r;
+    tu_render(&v, &c, &d, 1, &r);
+    double w1 = 1.0, w2 = 1.0 - (0.25 + 0.25) / 0.64;
+    double c1[3] = {0.2, 0.4, 0.6}, c2[3] = {0.9, 0.1, 0.5};
+    for (int k = 0; k < 3; k++) ck_assert_double_eq_tol(px(&r, 1, 1)[k], (w1 * c1[k] + w2 * c2[k]) / (w1 + w2), 1e-6);
+    spr_render_result_free(&r);
+    spr_groups_free(&g);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(voronoi_nearer_centre_wins_farther_layer_never)
+{
+    /* 16×16 hand view (pixel 0.125).  A at x = −0.25 and B at x = +0.25 in
+     * one layer and one group (both r = 0.6); C far behind (z = −0.9),
+     * submitted first and centred at the origin so it is nearer its own
+     * centre than A or B everywhere. */
+    spr_view v;
+    tu_hand_view(16, 16, &v);
+    spr_cloud c;
+    tu_cloud(&c, 3, (double[]){0, 0, -0.9, -0.25, 0, 0, 0.25, 0, 0}, 0.6f);
+    c.radius[0] = 0.9f;
+    spr_render_desc d = {.algo = SPR_ALGO_DEFERRED, .voronoi = 1, .eps = 0.2, .kernel = SPR_KERNEL_CONSTANT};
+    tu_set_color(&c, 0, 0, 0, 1);
+    tu_set_color(&c, 1, 1, 0, 0);
+    tu_set_color(&c, 2, 0, 1, 0);
+    spr_render_result r;
+    tu_render(&v, &c, &d, 2, &r);
+    int checked = 0;
+    for (int y = 0; y < 16; y++)
+        for (int x = 0; x < 16; x++) {
+            double wx = -1.0 + (x + 0.5) / 8.0, wy = -1.0 + (y + 0.5) / 8.0;
+            double da = hypot(wx + 0.25, wy) / 0.6, db = hypot(wx - 0.25, wy) / 0.6;
+            if (da >= 0.999 && db >= 0.999) continue; /* only pixels inside A or B */
+            const float *p = px(&r, x, y);
+            ck_assert_msg(p[2] == 0.0f, "far layer won at (%d,%d)", x, y);
+            if (da < 0.999 && db < 0.999) {
+                int want_a = da < db;
+                ck_assert_msg(p[0] == (want_a ? 1.0f : 0.0f) && p[1] == (want_a ? 0.0f : 1.0f),
+                              "pixel (%d,%d): splat %s should win", x, y, want_a ? "A" : "B");
+                checked++;
+            }
+        }
+    ck_assert_int_gt(checked, 20);
+    spr_render_result_free(&r);
+    /* Without Voronoi the first submitted of A and B wins everywhere they overlap. */
+    d.voronoi = 0;
+    tu_render(&v, &c, &d, 2, &r);
+    ck_assert_float_eq(px(&r, 9, 8)[0], 1.0f); /* x = 0.1875: nearer B, but A came first */
+    spr_render_result_free(&r);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(bunny_deferred_matches_pbr2p1)
+{
+    spr_cloud c;
+    tu_load("meshes/bunny00.off", &c);
+    spr_bounds bd;
+    spr_cloud_bounds(&c, &bd);
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    spr_camera_frame(&cam, &bd);
+    spr_view v;
+    spr_error err;
+    ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+    spr_mgc_desc md;
+    spr_mgc_defaults(&md);
+    md.c = 0.4;
+    int32_t *lab = malloc(c.n * sizeof *lab);
+    spr_group_stats gs;
+    ck_assert_int_eq(spr_group_mgc(&c, &md, lab, &gs, &err), SPR_OK);
+    spr_groups g;
+    ck_assert_int_eq(spr_groups_from_labels(lab, c.n, gs.K, &g, &err), SPR_OK);
+    spr_render_desc dd = {.algo = SPR_ALGO_DEFERRED, .voronoi = 1, .groups = &g};
+    spr_render_desc dp = {.algo = SPR_ALGO_PBR2P1};
+    spr_render_result rd, rp;
+    tu_render(&v, &c, &dd, 2, &rd);
+    tu_render(&v, &c, &dp, 2, &rp);
+    size_t covered = 0, holes = 0;
+    double sum = 0.0;
+    for (size_t i = 0; i < (size_t)v.width * v.height; i++) {
+        if (rp.rgba[4 * i + 3] > 0.0f && !(rd.rgba[4 * i + 3] > 0.0f)) holes++;
+        if (!(rp.rgba[4 * i + 3] > 0.0f && rd.rgba[4 * i + 3] > 0.0f)) continue;
+        covered++;
+        for (int k = 0; k < 3; k++) sum += fabs((double)spr_to_u8(rd.rgba[4 * i + k]) - spr_to_u8(rp.rgba[4 * i + k]));
+    }
+    double mean = sum / (3.0 * covered);
+    printf("algo: bunny deferred (MGC c=0.4, K=%d, Voronoi) vs pbr2p1: mean |diff| %.3f/255 over %zu covered pixels, "
+           "%zu pixels covered only by pbr2p1\n", gs.K, mean, covered, holes);
+    ck_assert_double_lt(mean, 2.0);
+    ck_assert_uint_eq(holes, 0);
+    spr_render_result_free(&rd);
+    spr_render_result_free(&rp);
+    spr_groups_free(&g);
+    free(lab);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+Suite *make_algo_suite(void)
+{
+    Suite *s = suite_create("algo");
+    TCase *tc = tcase_create("algo");
+    tcase_set_timeout(tc, 300);
+    tcase_add_test(tc, pbr2p1_blends_inside_eps_only);
+    tcase_add_test(tc, deferred_composite_inside_and_beyond_eps);
+    tcase_add_test(tc, deferred_composite_unequal_weights);
+    tcase_add_test(tc, voronoi_nearer_centre_wins_farther_layer_never);
+    tcase_add_test(tc, bunny_deferred_matches_pbr2p1);
+    suite_add_tcase(s, tc);
+    return s;
+}

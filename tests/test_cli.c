@@ -1,0 +1,168 @@
+/* test_cli.c — the `splatref` command on bad input: one clear line on
+ * stderr naming the file or option, exit status ≠ 0, no output file. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <dirent.h>
+#include <unistd.h>
+#include "spr_image.h"
+#include "test_util.h"
+
+static char dir[64];
+
+static const char *path_in(const char *name)
+{
+    static char p[16][200];
+    static int k;
+    k = (k + 1) % 16;
+    snprintf(p[k], sizeof p[k], "%s/%s", dir, name);
+    return p[k];
+}
+
+static void setup_dir(void)
+{
+    strcpy(dir, "/tmp/spr_cli_XXXXXX");
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+}
+
+static void write_text(const char *name, const char *s, size_t n)
+{
+    FILE *f = fopen(path_in(name), "wb");
+    ck_assert_ptr_nonnull(f);
+    fwrite(s, 1, n, f);
+    fclose(f);
+}
+
+/* Run the CLI; returns the exit status, stderr in err. */
+static int run(char *const argv[], char *err, size_t cap)
+{
+    int pipefd[2];
+    ck_assert_int_eq(pipe(pipefd), 0);
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid == 0) {
+        dup2(pipefd[1], 2);
+        close(pipefd[0]);
+        freopen("/dev/null", "w", stdout);
+        execv(SPR_CLI, argv);
+        _exit(127);
+    }
+    close(pipefd[1]);
+    size_t n = 0;
+    ssize_t got;
+    while ((got = read(pipefd[0], err + n, cap - 1 - n)) > 0) n += (size_t)got;
+    err[n] = 0;
+    close(pipefd[0]);
+    int st;
+    waitpid(pid, &st, 0);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+}
+
+static int count_files(void)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (e->d_name[0] != '.') n++;
+    closedir(d);
+    return n;
+}
+
+static void expect_failure(const char *what, const char *model, const char *extra, const char *must_contain)
+{
+    char err[4096];
+    const char *out = path_in("out.png");
+    int before = count_files();
+    char *argv[] = {"splatref", "render", "--model", (char *)model, "--out", (char *)out, "--quiet", (char *)extra, NULL};
+    if (!extra) argv[7] = NULL;
+    int rc = run(argv, err, sizeof err);
+    printf("cli: %-22s exit %d: %s", what, rc, err);
+    ck_assert_msg(rc != 0 && rc < 128, "%s: exit status %d", what, rc);
+    size_t len = strlen(err);
+    ck_assert_msg(len > 0 && err[len - 1] == '\n' && strchr(err, '\n') == err + len - 1, "%s: not exactly one line: [%s]", what, err);
+    ck_assert_msg(strstr(err, must_contain) != NULL, "%s: message lacks \"%s\": %s", what, must_contain, err);
+    ck_assert_msg(access(out, F_OK) != 0, "%s: output file was written", what);
+    ck_assert_int_eq(count_files(), before); /* no temporary left behind either */
+}
+
+START_TEST(bad_inputs)
+{
+    setup_dir();
+    char buf[1024];
+    /* a valid 6-vertex binary PLY, then cut */
+    int o = sprintf(buf, "ply\nformat binary_little_endian 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+                         "property float z\nend_header\n");
+    for (int i = 0; i < 18; i++) { float f = (float)i; memcpy(buf + o, &f, 4); o += 4; }
+    write_text("trunc.ply", buf, (size_t)o - 5);
+    const char *huge = "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\n"
+                       "property float y\nproperty float z\nend_header\n";
+    write_text("huge.ply", huge, strlen(huge));
+    const char *nan = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      "end_header\n0 0 0\n1 0 0\n0 NaN 1\n";
+    write_text("nan.ply", nan, strlen(nan));
+    const char *neg = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      "property float radius\nend_header\n0 0 0 1\n1 0 0 -2\n0 1 0 1\n";
+    write_text("neg.ply", neg, strlen(neg));
+
+    expect_failure("truncated binary PLY", path_in("trunc.ply"), NULL, "trunc.ply: byte");
+    expect_failure("10^12 vertices", path_in("huge.ply"), NULL, "huge.ply");
+    expect_failure("NaN coordinate", path_in("nan.ply"), NULL, "nan.ply:10:");
+    expect_failure("negative radius", path_in("neg.ply"), NULL, "neg.ply:10:");
+    expect_failure("missing file", path_in("missing.ply"), NULL, "missing.ply");
+    expect_failure("unknown option", "builtin:sphere", "--frobnicate", "--frobnicate");
+    expect_failure("bad option value", "builtin:sphere", "--size=12x", "--size");
+    expect_failure("unknown model", "builtin:teapot", NULL, "teapot");
+}
+END_TEST
+
+START_TEST(render_writes_outputs)
+{
+    setup_dir();
+    char err[4096];
+    const char *png = path_in("s.png"), *pfm = path_in("s.pfm"), *js = path_in("s.json"), *dump = path_in("dump"), *gout = path_in("g.txt");
+    char *argv[] = {"splatref", "render", "--model", "builtin:sphere", "--points", "3000", "--size", "64x48", "--voronoi",
+                    "--out", (char *)png, "--float", (char *)pfm, "--stats", (char *)js, "--dump", (char *)dump,
+                    "--groups-out", (char *)gout, "--quiet", NULL};
+    ck_assert_int_eq(run(argv, err, sizeof err), 0);
+    ck_assert_int_eq(access(png, F_OK), 0);
+    ck_assert_int_eq(access(pfm, F_OK), 0);
+    ck_assert_int_eq(access(js, F_OK), 0);
+    ck_assert_int_eq(access(gout, F_OK), 0);
+    ck_assert_int_eq(access(path_in("dump/00_geometry_k00_color.pfm"), F_OK), 0);
+    /* the float image is RGB, little-endian, 64×48 */
+    float *im;
+    int w, h, ch;
+    spr_error e;
+    ck_assert_int_eq(spr_read_pfm(pfm, &im, &w, &h, &ch, &e), SPR_OK);
+    ck_assert_int_eq(w, 64);
+    ck_assert_int_eq(h, 48);
+    ck_assert_int_eq(ch, 3);
+    free(im);
+    /* the groups written are read back by --groups-file and give the same image */
+    const char *png2 = path_in("s2.png");
+    char *argv2[] = {"splatref", "render", "--model", "builtin:sphere", "--points", "3000", "--size", "64x48", "--voronoi",
+                     "--out", (char *)png2, "--groups-file", (char *)gout, "--quiet", NULL};
+    ck_assert_int_eq(run(argv2, err, sizeof err), 0);
+    FILE *a = fopen(png, "rb"), *b = fopen(png2, "rb");
+    char ba[65536], bb[65536];
+    size_t na = fread(ba, 1, sizeof ba, a), nb = fread(bb, 1, sizeof bb, b);
+    fclose(a);
+    fclose(b);
+    ck_assert_uint_eq(na, nb);
+    ck_assert_mem_eq(ba, bb, na);
+}
+END_TEST
+
+Suite *make_cli_suite(void)
+{
+    Suite *s = suite_create("cli");
+    TCase *tc = tcase_create("cli");
+    tcase_set_timeout(tc, 120);
+    tcase_add_test(tc, bad_inputs);
+    tcase_add_test(tc, render_writes_outputs);
+    suite_add_tcase(s, tc);
+    return s;
+}

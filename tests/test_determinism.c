@@ -1,0 +1,106 @@
+/* test_determinism.c — same input, same bits: every plane of every pass for
+ * 1, 2 and 7 threads, both algorithms, on the real bunny. */
+#include <stdio.h>
+#include <stdlib.h>
+#include "test_util.h"
+
+typedef struct hasher {
+    uint64_t h;
+    int passes;
+} hasher;
+
+static void fnv(uint64_t *h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) { *h ^= p[i]; *h *= 0x100000001b3ull; }
+}
+
+static void hash_hook(void *user, spr_backend *b, const spr_pass_info *info)
+{
+    hasher *hs = user;
+    size_t np = (size_t)b->view.width * b->view.height;
+    float *buf = malloc(np * 4 * sizeof(float));
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        ck_assert_int_eq(spr_backend_read_plane(b, info->target, (spr_plane)p, buf), SPR_OK);
+        fnv(&hs->h, buf, np * spr_plane_channels((spr_plane)p) * sizeof(float));
+    }
+    fnv(&hs->h, &info->stats, sizeof info->stats);
+    hs->passes++;
+    free(buf);
+}
+
+START_TEST(bunny_bits_independent_of_threads)
+{
+    spr_cloud c;
+    tu_load("meshes/bunny00.off", &c);
+    spr_bounds bd;
+    spr_cloud_bounds(&c, &bd);
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.width = 400;
+    cam.height = 300;
+    spr_camera_frame(&cam, &bd);
+    spr_view v;
+    spr_error err;
+    ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+    spr_mgc_desc md;
+    spr_mgc_defaults(&md);
+    md.c = 0.4;
+    int32_t *lab = malloc(c.n * sizeof *lab);
+    spr_group_stats gs;
+    ck_assert_int_eq(spr_group_mgc(&c, &md, lab, &gs, &err), SPR_OK);
+    spr_groups g;
+    ck_assert_int_eq(spr_groups_from_labels(lab, c.n, gs.K, &g, &err), SPR_OK);
+    for (int variant = 0; variant < 3; variant++) {
+        uint64_t first = 0;
+        for (int threads = 1; threads <= 7; threads = threads == 1 ? 2 : 7) {
+            hasher hs = {0xcbf29ce484222325ull, 0};
+            spr_render_desc d = {.algo = variant == 0 ? SPR_ALGO_PBR2P1 : SPR_ALGO_DEFERRED, .voronoi = variant == 2,
+                                 .groups = &g, .hook = hash_hook, .hook_user = &hs};
+            spr_render_result r;
+            tu_render(&v, &c, &d, threads, &r);
+            fnv(&hs.h, r.rgba, (size_t)v.width * v.height * 4 * sizeof(float));
+            printf("determinism: %s%s threads %d: %d passes, hash %016llx\n", spr_algo_name(d.algo), d.voronoi ? "+voronoi" : "",
+                   threads, hs.passes, (unsigned long long)hs.h);
+            if (threads == 1) first = hs.h;
+            else ck_assert_msg(hs.h == first, "%d threads differ from 1 thread", threads);
+            spr_render_result_free(&r);
+            if (threads == 7) break;
+        }
+    }
+    spr_groups_free(&g);
+    free(lab);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(mgc_labels_independent_of_threads)
+{
+    spr_cloud c;
+    tu_load("meshes/bunny00.off", &c);
+    int32_t *a = malloc(c.n * sizeof *a), *b = malloc(c.n * sizeof *b);
+    spr_mgc_desc md;
+    spr_mgc_defaults(&md);
+    spr_group_stats s1, s2;
+    spr_error err;
+    md.threads = 1;
+    ck_assert_int_eq(spr_group_mgc(&c, &md, a, &s1, &err), SPR_OK);
+    md.threads = 2;
+    ck_assert_int_eq(spr_group_mgc(&c, &md, b, &s2, &err), SPR_OK);
+    ck_assert_mem_eq(a, b, c.n * sizeof *a);
+    free(a);
+    free(b);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+Suite *make_determinism_suite(void)
+{
+    Suite *s = suite_create("determinism");
+    TCase *tc = tcase_create("determinism");
+    tcase_set_timeout(tc, 600);
+    tcase_add_test(tc, bunny_bits_independent_of_threads);
+    tcase_add_test(tc, mgc_labels_independent_of_threads);
+    suite_add_tcase(s, tc);
+    return s;
+}

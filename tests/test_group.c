@@ -1,0 +1,161 @@
+/* test_group.c — SPEC §5.1 MGC (checked by brute force) and §5.3 hash groups. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "test_util.h"
+
+static spr_cloud builtin(const char *name, size_t n)
+{
+    spr_cloud c;
+    spr_load_desc d;
+    spr_load_defaults(&d);
+    d.points = n;
+    spr_error err;
+    ck_assert_int_eq(spr_load(name, &d, &c, &err), SPR_OK);
+    return c;
+}
+
+/* Eq. 5 with the relaxations, written out again here independently. */
+static int conflict_by_hand(const spr_cloud *c, size_t i, size_t j, double cf, int cop, int opp)
+{
+    const float *pi = c->pos + 3 * i, *pj = c->pos + 3 * j, *ni = c->nrm + 3 * i, *nj = c->nrm + 3 * j;
+    double q[3], dist2 = 0.0, nn = 0.0, hi = 0.0, hj = 0.0;
+    for (int k = 0; k < 3; k++) {
+        q[k] = (double)pj[k] - pi[k];
+        dist2 += q[k] * q[k];
+        nn += (double)ni[k] * nj[k];
+        hi += q[k] * ni[k];
+        hj += q[k] * nj[k];
+    }
+    double lim = cf * ((double)c->radius[i] + c->radius[j]);
+    if (!(sqrt(dist2) < lim)) return 0;
+    if (opp && nn < 0.0) return 0;
+    if (cop && nn >= cos(5.0 * M_PI / 180.0) && fabs(hi) <= 0.05 * c->radius[i] && fabs(hj) <= 0.05 * c->radius[j]) return 0;
+    return 1;
+}
+
+static void check_mgc(const char *model, size_t n, double cf, int cop, int opp)
+{
+    spr_cloud c = builtin(model, n);
+    spr_mgc_desc d;
+    spr_mgc_defaults(&d);
+    d.c = cf;
+    d.relax_coplanar = cop;
+    d.relax_opposite = opp;
+    int32_t *lab = malloc(c.n * sizeof *lab);
+    spr_group_stats st;
+    spr_error err;
+    ck_assert_int_eq(spr_group_mgc(&c, &d, lab, &st, &err), SPR_OK);
+    size_t edges = 0;
+    for (size_t i = 0; i < c.n; i++) {
+        ck_assert(lab[i] >= 0 && lab[i] < st.K);
+        for (size_t j = i + 1; j < c.n; j++) {
+            int e = conflict_by_hand(&c, i, j, cf, cop, opp);
+            edges += e;
+            ck_assert_msg(!(e && lab[i] == lab[j]), "%s: conflicting splats %zu and %zu share group %d", model, i, j, lab[i]);
+        }
+    }
+    ck_assert_uint_eq(edges, st.edges); /* the FLANN graph found every edge */
+    ck_assert_int_le(st.K, st.max_degree + 1); /* greedy bound */
+    printf("group: MGC %s n=%zu c=%.1f relax=%d%d: K=%d max degree %d avg %.2f, %zu edges checked by brute force\n", model, c.n, cf,
+           cop, opp, st.K, st.max_degree, st.avg_degree, edges);
+    free(lab);
+    spr_cloud_free(&c);
+}
+
+START_TEST(mgc_groups_have_no_conflicts)
+{
+    check_mgc("builtin:sphere", 3000, 1.0, 1, 1);
+    check_mgc("builtin:sphere", 3000, 1.0, 0, 0);
+    check_mgc("builtin:torus", 3000, 0.6, 1, 1);
+    check_mgc("builtin:cube", 2400, 1.0, 1, 1);  /* coplanar faces: relaxation 1 at work */
+    check_mgc("builtin:cube", 2400, 0.4, 0, 1);
+    check_mgc("builtin:planes", 2000, 1.0, 0, 0);
+}
+END_TEST
+
+START_TEST(mgc_k_falls_with_c)
+{
+    spr_cloud c = builtin("builtin:sphere", 20000);
+    int32_t *lab = malloc(c.n * sizeof *lab);
+    int prev = 1 << 30;
+    for (double cf = 1.0; cf > 0.3; cf -= 0.2) {
+        spr_mgc_desc d;
+        spr_mgc_defaults(&d);
+        d.c = cf;
+        spr_group_stats st;
+        spr_error err;
+        ck_assert_int_eq(spr_group_mgc(&c, &d, lab, &st, &err), SPR_OK);
+        ck_assert_int_le(st.K, prev);
+        prev = st.K;
+    }
+    free(lab);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(hash_step_and_table)
+{
+    ck_assert_int_eq(spr_hash_step(8), 3);
+    spr_cloud c = builtin("builtin:torus", 5000);
+    for (size_t i = 0; i < c.n; i++) c.pos[3 * i] -= 3.0f; /* negative coordinates too */
+    int32_t *lab = malloc(c.n * sizeof *lab);
+    spr_group_stats st;
+    spr_error err;
+    ck_assert_int_eq(spr_group_hash(&c, 8, lab, &st, &err), SPR_OK);
+    for (size_t i = 0; i < c.n; i++) {
+        const float *n = c.nrm + 3 * i, *p = c.pos + 3 * i;
+        int d = fabsf(n[0]) >= fabsf(n[1]) && fabsf(n[0]) >= fabsf(n[2]) ? 0 : (fabsf(n[1]) >= fabsf(n[2]) ? 1 : 2);
+        double x = floor(p[(d + 1) % 3] / (double)c.radius[i]), y = floor(p[(d + 2) % 3] / (double)c.radius[i]);
+        double m = fmod(x + 3.0 * y, 8.0);
+        if (m < 0) m += 8.0;
+        ck_assert_int_eq(lab[i], (int)m); /* Eq. 9 with Fig. 9's table */
+    }
+    free(lab);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(groups_file_round_trip_and_errors)
+{
+    char path[] = "/tmp/spr_groups_XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    close(fd);
+    int32_t lab[5] = {0, 2, 1, 2, 0}, back[5];
+    spr_error err;
+    ck_assert_int_eq(spr_groups_write(path, lab, 5, &err), SPR_OK);
+    ck_assert_int_eq(spr_groups_read(path, 5, back, &err), SPR_OK);
+    for (int i = 0; i < 5; i++) ck_assert_int_eq(back[i], lab[i]);
+    ck_assert_int_eq(spr_groups_read(path, 6, back, &err), SPR_E_TRUNCATED);
+    ck_assert_ptr_nonnull(strstr(err.msg, path));
+    spr_groups g;
+    ck_assert_int_eq(spr_groups_from_labels(lab, 5, 0, &g, &err), SPR_OK);
+    ck_assert_int_eq(g.K, 3);
+    ck_assert_uint_eq(g.start[1], 2); /* group 0: splats 0 and 4, in submission order */
+    ck_assert_uint_eq(g.members[0], 0);
+    ck_assert_uint_eq(g.members[1], 4);
+    spr_groups_free(&g);
+    FILE *f = fopen(path, "w");
+    fputs("0\n1\nx\n", f);
+    fclose(f);
+    ck_assert_int_eq(spr_groups_read(path, 3, back, &err), SPR_E_FORMAT);
+    ck_assert_ptr_nonnull(strstr(err.msg, ":3:"));
+    remove(path);
+}
+END_TEST
+
+Suite *make_group_suite(void)
+{
+    Suite *s = suite_create("group");
+    TCase *tc = tcase_create("group");
+    tcase_set_timeout(tc, 300);
+    tcase_add_test(tc, mgc_groups_have_no_conflicts);
+    tcase_add_test(tc, mgc_k_falls_with_c);
+    tcase_add_test(tc, hash_step_and_table);
+    tcase_add_test(tc, groups_file_round_trip_and_errors);
+    suite_add_tcase(s, tc);
+    return s;
+}

@@ -1,0 +1,249 @@
+/* test_raster.c — the CPU backend on tiny scenes (SPEC §2, §3.2–§3.4). */
+#include <math.h>
+#include <stdlib.h>
+#include "spr_fragment.h"
+#include "test_util.h"
+
+typedef struct fixture {
+    spr_backend *b;
+    int t;
+    float color[4 * 64];
+    float depth[64], test[64];
+    uint32_t id[64], count[64];
+} fixture;
+
+static void setup(fixture *f, int threads)
+{
+    spr_error err;
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    f->b = spr_swrast_create(threads, &err);
+    ck_assert_ptr_nonnull(f->b);
+    ck_assert_int_eq(spr_backend_set_view(f->b, &v), SPR_OK);
+    ck_assert_int_eq(spr_backend_target_create(f->b, &f->t), SPR_OK);
+}
+
+static void draw(fixture *f, const spr_cloud *c, const spr_pass_state *s, spr_draw_stats *st)
+{
+    spr_draw_desc d = {.cloud = c, .state = *s};
+    ck_assert_int_eq(spr_backend_draw(f->b, f->t, &d, st), SPR_OK);
+    spr_backend_read_plane(f->b, f->t, SPR_PLANE_COLOR, f->color);
+    spr_backend_read_plane(f->b, f->t, SPR_PLANE_DEPTH, f->depth);
+    spr_backend_read_plane(f->b, f->t, SPR_PLANE_TEST, f->test);
+    spr_backend_read_plane(f->b, f->t, SPR_PLANE_ID, f->id);
+    spr_backend_read_plane(f->b, f->t, SPR_PLANE_COUNT, f->count);
+}
+
+static void state(spr_pass_state *s)
+{
+    spr_pass_state_defaults(s);
+    s->depth_write = 1;
+}
+
+START_TEST(one_splat_covers_four_pixels)
+{
+    fixture f;
+    setup(&f, 1);
+    spr_cloud c;
+    tu_cloud(&c, 1, (double[]){0, 0, 0}, 0.5f);
+    tu_set_color(&c, 0, 1.0f, 0.5f, 0.25f);
+    spr_pass_state s;
+    state(&s);
+    spr_draw_stats st;
+    draw(&f, &c, &s, &st);
+    ck_assert_uint_eq(st.generated, 4);
+    ck_assert_uint_eq(st.passed, 4);
+    float w = spr_kernel_weight(SPR_KERNEL_GAUSS, 0.5f, sqrtf(0.5f));
+    ck_assert_double_eq_tol(w, exp(-4.5 * 0.5), 1e-6); /* ρ² = 0.5 at (±0.25, ±0.25) */
+    for (int y = 0; y < 4; y++)
+        for (int x = 0; x < 4; x++) {
+            int p = 4 * y + x, in = (x == 1 || x == 2) && (y == 1 || y == 2);
+            ck_assert_float_eq(f.depth[p], in ? 0.5f : 1.0f);
+            ck_assert_float_eq(f.test[p], in ? 0.5f : 1.0f);
+            ck_assert_uint_eq(f.id[p], in ? 0u : UINT32_MAX);
+            ck_assert_uint_eq(f.count[p], in ? 1u : 0u);
+            ck_assert_float_eq(f.color[4 * p + 0], in ? w * 1.0f : 0.0f);
+            ck_assert_float_eq(f.color[4 * p + 1], in ? w * 0.5f : 0.0f);
+            ck_assert_float_eq(f.color[4 * p + 2], in ? w * 0.25f : 0.0f);
+            ck_assert_float_eq(f.color[4 * p + 3], in ? w : 0.0f);
+        }
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
+START_TEST(closed_disk_rim_pixels)
+{
+    fixture f;
+    setup(&f, 1);
+    spr_cloud c; /* centred on pixel (2,2): the 4 neighbours lie exactly on the rim */
+    tu_cloud(&c, 1, (double[]){0.25, 0.25, 0}, 0.5f);
+    spr_pass_state s;
+    state(&s);
+    s.kernel = SPR_KERNEL_LINEAR;
+    spr_draw_stats st;
+    draw(&f, &c, &s, &st);
+    ck_assert_uint_eq(st.generated, 5);
+    ck_assert_float_eq(f.color[4 * (4 * 2 + 2) + 3], 1.0f); /* ρ = 0 */
+    ck_assert_float_eq(f.color[4 * (4 * 2 + 1) + 3], 0.0f); /* ρ = 1: linear weight 0, still a fragment */
+    ck_assert_uint_eq(f.count[4 * 2 + 1], 1);
+    ck_assert_uint_eq(f.count[4 * 1 + 1], 0);               /* diagonal: ρ² = 2 */
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
+START_TEST(edge_on_and_behind_camera_draw_nothing)
+{
+    fixture f;
+    setup(&f, 2);
+    spr_cloud c;
+    tu_cloud(&c, 3, (double[]){0, 0, 0, 0, 0, 3, 0, 0, -1.5}, 0.9f);
+    c.nrm[0] = 1.0f; c.nrm[2] = 0.0f; /* splat 0 exactly edge-on */
+    spr_pass_state s;
+    state(&s);
+    spr_draw_stats st;
+    draw(&f, &c, &s, &st);
+    ck_assert_uint_eq(st.splats, 3);
+    ck_assert_uint_eq(st.generated, 0); /* behind the eye (t < 0) and beyond far (t > 1) */
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
+START_TEST(depth_test_nearer_wins_ties_keep_first)
+{
+    fixture f;
+    setup(&f, 2);
+    spr_cloud c; /* 0: far (t = 0.5), 1: near (t = 0.25), 2: same depth as 1 */
+    tu_cloud(&c, 3, (double[]){0, 0, 0, 0, 0, 0.5, 0, 0, 0.5}, 0.5f);
+    spr_pass_state s;
+    state(&s);
+    spr_draw_stats st;
+    draw(&f, &c, &s, &st);
+    ck_assert_uint_eq(st.generated, 12);
+    ck_assert_uint_eq(st.passed, 8); /* far, then near replaces it; the tie fails LESS */
+    ck_assert_uint_eq(f.id[4 * 1 + 1], 1);
+    ck_assert_float_eq(f.depth[4 * 1 + 1], 0.25f);
+    ck_assert_uint_eq(f.count[4 * 1 + 1], 2);
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
+START_TEST(lequal_and_add_blend)
+{
+    fixture f;
+    setup(&f, 2);
+    spr_cloud c;
+    tu_cloud(&c, 2, (double[]){0, 0, 0, 0, 0, 0}, 0.5f);
+    tu_set_color(&c, 1, 0.5f, 0.5f, 0.5f);
+    spr_pass_state s;
+    state(&s);
+    s.depth_func = SPR_FUNC_LEQUAL;
+    s.blend = SPR_BLEND_ADD;
+    s.kernel = SPR_KERNEL_CONSTANT;
+    spr_draw_stats st;
+    draw(&f, &c, &s, &st);
+    ck_assert_uint_eq(st.passed, 8);
+    ck_assert_float_eq(f.color[4 * 5 + 0], 1.5f);
+    ck_assert_float_eq(f.color[4 * 5 + 3], 2.0f);
+    ck_assert_uint_eq(f.id[5], 1);
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
+START_TEST(backface_culling)
+{
+    fixture f;
+    setup(&f, 1);
+    spr_cloud c;
+    tu_cloud(&c, 1, (double[]){0, 0, 0}, 0.5f);
+    c.nrm[2] = -1.0f;
+    spr_pass_state s;
+    state(&s);
+    s.cull_backfaces = 1;
+    spr_draw_stats st;
+    draw(&f, &c, &s, &st);
+    ck_assert_uint_eq(st.generated, 0);
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
+START_TEST(thousands_of_fragments_in_submission_order)
+{
+    /* 3000 splats on the same pixels, additive: the float sum must be the
+     * sequential sum in submission order whatever the thread count. */
+    const int n = 3000;
+    double *xyz = calloc(3 * (size_t)n, sizeof(double));
+    for (int i = 0; i < n; i++) xyz[3 * i + 2] = -0.001 * (i % 7);
+    spr_cloud c;
+    tu_cloud(&c, (size_t)n, xyz, 0.4f);
+    for (int i = 0; i < n; i++) tu_set_color(&c, (size_t)i, (float)((i * 37) % 101) / 100.0f, 0.1f, 0.7f);
+    spr_pass_state s;
+    spr_pass_state_defaults(&s);
+    s.depth_func = SPR_FUNC_ALWAYS;
+    s.blend = SPR_BLEND_ADD;
+    for (int threads = 1; threads <= 7; threads += 3) {
+        fixture f;
+        setup(&f, threads);
+        spr_draw_stats st;
+        draw(&f, &c, &s, &st);
+        float o0[3], d[3], t, rho2, den;
+        spr_pixel_ray(&f.b->view, 1, 1, o0, d);
+        float acc = 0.0f;
+        for (int i = 0; i < n; i++) {
+            ck_assert(spr_ray_disk(o0, d, c.pos + 3 * i, c.nrm + 3 * i, c.radius[i], &t, &rho2, &den));
+            float w = spr_kernel_weight(SPR_KERNEL_GAUSS, rho2, sqrtf(rho2));
+            acc = w * c.color[3 * i] + acc;
+        }
+        ck_assert_float_eq(f.color[4 * 5], acc);
+        ck_assert_uint_eq(f.count[5], (uint32_t)n);
+        spr_backend_destroy(f.b);
+    }
+    spr_cloud_free(&c);
+    free(xyz);
+}
+END_TEST
+
+START_TEST(backend_rejects_bad_calls)
+{
+    fixture f;
+    setup(&f, 1);
+    spr_cloud c;
+    tu_cloud(&c, 1, (double[]){0, 0, 0}, 0.5f);
+    spr_draw_desc d = {.cloud = &c};
+    spr_pass_state_defaults(&d.state);
+    ck_assert_int_eq(spr_backend_draw(f.b, 99, &d, NULL), SPR_E_ARG);
+    uint32_t bad = 5;
+    d.indices = &bad;
+    d.count = 1;
+    ck_assert_int_eq(spr_backend_draw(f.b, f.t, &d, NULL), SPR_E_ARG);
+    d.indices = NULL;
+    d.state.depth_value = SPR_DEPTH_VORONOI;
+    d.state.lowres.d_max = d.state.lowres.d_min;
+    ck_assert_int_eq(spr_backend_draw(f.b, f.t, &d, NULL), SPR_E_ARG);
+    spr_composite_desc cd = {SPR_COMP_NORMALIZE, &f.t, 1, f.t, 0.0f, {0, 0, 0}};
+    ck_assert_int_eq(spr_backend_composite(f.b, &cd), SPR_E_ARG);
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
+Suite *make_raster_suite(void)
+{
+    Suite *s = suite_create("raster");
+    TCase *tc = tcase_create("raster");
+    tcase_add_test(tc, one_splat_covers_four_pixels);
+    tcase_add_test(tc, closed_disk_rim_pixels);
+    tcase_add_test(tc, edge_on_and_behind_camera_draw_nothing);
+    tcase_add_test(tc, depth_test_nearer_wins_ties_keep_first);
+    tcase_add_test(tc, lequal_and_add_blend);
+    tcase_add_test(tc, backface_culling);
+    tcase_add_test(tc, thousands_of_fragments_in_submission_order);
+    tcase_add_test(tc, backend_rejects_bad_calls);
+    suite_add_tcase(s, tc);
+    return s;
+}

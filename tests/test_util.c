@@ -1,0 +1,63 @@
+/* test_util.c — helpers for the suites. */
+#include "test_util.h"
+
+#include <stdio.h>
+#include <string.h>
+
+void tu_hand_view(int W, int H, spr_view *v)
+{
+    spr_camera_desc c;
+    spr_camera_defaults(&c);
+    c.eye[2] = 2.0;
+    c.ortho_height = 2.0;
+    c.fov_deg = 0.0;
+    c.near_plane = 1.0;
+    c.far_plane = 3.0;
+    c.width = W;
+    c.height = H;
+    spr_error err;
+    ck_assert_int_eq(spr_view_make(&c, v, &err), SPR_OK);
+}
+
+void tu_cloud(spr_cloud *c, size_t n, const double *xyz, float r)
+{
+    ck_assert_int_eq(spr_cloud_alloc(c, n), SPR_OK);
+    for (size_t i = 0; i < n; i++) {
+        for (int k = 0; k < 3; k++) c->pos[3 * i + k] = (float)xyz[3 * i + k];
+        c->radius[i] = r;
+        c->color[3 * i] = c->color[3 * i + 1] = c->color[3 * i + 2] = 1.0f;
+    }
+}
+
+void tu_set_color(spr_cloud *c, size_t i, float r, float g, float b)
+{
+    c->color[3 * i] = r;
+    c->color[3 * i + 1] = g;
+    c->color[3 * i + 2] = b;
+}
+
+void tu_render(const spr_view *v, const spr_cloud *c, const spr_render_desc *d, int threads, spr_render_result *out)
+{
+    spr_error err = {0};
+    spr_backend *b = spr_swrast_create(threads, &err);
+    ck_assert_ptr_nonnull(b);
+    spr_result r = spr_render(b, v, c, d, out, &err);
+    ck_assert_msg(r == SPR_OK, "render failed: %s", err.msg);
+    spr_backend_destroy(b);
+}
+
+const char *tu_data(const char *rel)
+{
+    static char path[1024];
+    snprintf(path, sizeof path, "%s/%s", SPR_DATA_DIR, rel);
+    return path;
+}
+
+void tu_load(const char *rel, spr_cloud *c)
+{
+    spr_error err = {0};
+    spr_load_desc d;
+    spr_load_defaults(&d);
+    spr_result r = spr_load(tu_data(rel), &d, c, &err);
+    ck_assert_msg(r == SPR_OK, "%s (run tools/install-deps.sh to extract the CGAL data)", err.msg);
+}

@@ -1,0 +1,27 @@
+/* test_util.h — tiny scenes with values that can be worked out by hand.
+ *
+ * The hand camera: orthographic, eye (0,0,2) looking at the origin, view
+ * height 2, near 1, far 3.  For a W×H image the pixel centre (x, y) is at
+ * world (−1 + (x+0.5)·2/W, −1 + (y+0.5)·2/H); its ray starts at z = 1
+ * (o0, t = 0) and ends at z = −1 (t = 1): d = (0, 0, −2), so a splat at
+ * world z has t = (1 − z)/2.
+ */
+#ifndef TEST_UTIL_H
+#define TEST_UTIL_H
+
+#include <check.h>
+#include "spr_algo.h"
+#include "spr_io.h"
+#include "spr_swrast.h"
+
+void tu_hand_view(int W, int H, spr_view *v);
+/* Cloud of n splats with the given positions; normals +z, radius r, colour white. */
+void tu_cloud(spr_cloud *c, size_t n, const double *xyz, float r);
+void tu_set_color(spr_cloud *c, size_t i, float r, float g, float b);
+/* Render on a fresh CPU backend with `threads`; ck_assert on failure. */
+void tu_render(const spr_view *v, const spr_cloud *c, const spr_render_desc *d, int threads, spr_render_result *out);
+/* Load a CGAL data file (SPR_DATA_DIR/rel) or fail the test. */
+void tu_load(const char *rel, spr_cloud *c);
+const char *tu_data(const char *rel);
+
+#endif
