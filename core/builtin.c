@@ -3,7 +3,8 @@
  * Each generator is deterministic (lattices, no random numbers); radii then
  * come from the radius rule like any file without radii.
  *   sphere      Fibonacci lattice on the unit sphere, coloured by normal
- *   torus       R = 1, r = 0.35 parameter grid, coloured by normal
+ *   torus       R = 1, r = 0.35 parameter grid, axis tilted 60° from +y toward +z
+ *               (so the default +z view sees the hole), coloured by normal
  *   octahedron  |x|+|y|+|z| = 1, m² sub-triangle centroids per face, a colour per face ([R] §1.4)
  *   planes      two parallel 2×2 squares at z = 0 (red) and z = −0.5 (blue), α = 0.5
  *   cube        [−1,1]³, m×m cell centres per face, a colour per face
@@ -50,7 +51,9 @@ spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err
             for (size_t b = 0; b < nv; b++) {
                 double u = 2.0 * M_PI * a / nu, v = 2.0 * M_PI * (b + 0.5 * (a & 1)) / nv;
                 double nx = cos(v) * cos(u), ny = sin(v), nz = cos(v) * sin(u);
-                put(c, a * nv + b, (R + rt * cos(v)) * cos(u), rt * sin(v), (R + rt * cos(v)) * sin(u), nx, ny, nz, NULL);
+                double px = (R + rt * cos(v)) * cos(u), py = rt * sin(v), pz = (R + rt * cos(v)) * sin(u);
+                const double ct = 0.5, st = 0.86602540378443865; /* cos, sin 60° */
+                put(c, a * nv + b, px, py * ct - pz * st, py * st + pz * ct, nx, ny * ct - nz * st, ny * st + nz * ct, NULL);
             }
         spr_cloud_color_by_normal(c);
     } else if (!strcmp(name, "octahedron")) {
@@ -66,7 +69,6 @@ spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err
                         if (!up && a + b + 1 >= m) continue;
                         double off = up ? 1.0 / 3.0 : 2.0 / 3.0;
                         double u = (a + off) / m, v = (b + off) / m;
-                        if (!up) { u = (a + 2.0 / 3.0) / m; v = (b + 2.0 / 3.0) / m; }
                         double w = 1.0 - u - v;
                         put(c, i++, sx * u, sy * v, sz * w, sx, sy, sz, face_colors[f]);
                     }

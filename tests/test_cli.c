@@ -131,7 +131,7 @@ START_TEST(render_writes_outputs)
     ck_assert_int_eq(access(pfm, F_OK), 0);
     ck_assert_int_eq(access(js, F_OK), 0);
     ck_assert_int_eq(access(gout, F_OK), 0);
-    ck_assert_int_eq(access(path_in("dump/00_geometry_k00_color.pfm"), F_OK), 0);
+    ck_assert_int_eq(access(path_in("dump/000_geometry_k000_color.pfm"), F_OK), 0);
     /* the float image is RGB, little-endian, 64×48 */
     float *im;
     int w, h, ch;

@@ -113,12 +113,19 @@ static void dump_hook(void *user, spr_backend *b, const spr_pass_info *info)
             uint32_t *u = (uint32_t *)buf;
             for (size_t i = 0; i < (size_t)W * H; i++) buf[i] = u[i] == UINT32_MAX ? -1.0f : (float)u[i];
         }
-        char name[1200];
-        if (info->group >= 0)
-            snprintf(name, sizeof name, "%s/%02d_%s_k%02d_%s.pfm", dc->dir, info->index, info->name, info->group, spr_plane_name((spr_plane)p));
-        else
-            snprintf(name, sizeof name, "%s/%02d_%s_%s.pfm", dc->dir, info->index, info->name, spr_plane_name((spr_plane)p));
-        if (spr_write_pfm(name, buf, W, H, spr_plane_channels((spr_plane)p), &dc->err)) dc->failed = 1;
+        /* PFM holds 1 or 3 channels: the colour plane's 4th channel (the
+         * weight sum, or coverage after compositing) goes to its own file. */
+        for (int part = 0; part < (p == SPR_PLANE_COLOR ? 2 : 1) && !dc->failed; part++) {
+            const char *pname = part ? "weight" : spr_plane_name((spr_plane)p);
+            char name[1200];
+            if (info->group >= 0)
+                snprintf(name, sizeof name, "%s/%03d_%s_k%03d_%s.pfm", dc->dir, info->index, info->name, info->group, pname);
+            else
+                snprintf(name, sizeof name, "%s/%03d_%s_%s.pfm", dc->dir, info->index, info->name, pname);
+            if (part) /* move the 4th channel to the front, one value per pixel */
+                for (size_t i = 0; i < (size_t)W * H; i++) buf[i] = buf[4 * i + 3];
+            if (spr_write_pfm(name, buf, W, H, part ? 1 : spr_plane_channels((spr_plane)p), &dc->err)) dc->failed = 1;
+        }
     }
     free(buf);
 }
