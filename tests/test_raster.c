@@ -195,7 +195,7 @@ START_TEST(thousands_of_fragments_in_submission_order)
         spr_pixel_ray(&f.b->view, 1, 1, o0, d);
         float acc = 0.0f;
         for (int i = 0; i < n; i++) {
-            ck_assert(spr_ray_disk(o0, d, c.pos + 3 * i, c.nrm + 3 * i, c.radius[i], &t, &rho2, &den));
+            if (!spr_ray_disk(o0, d, c.pos + 3 * i, c.nrm + 3 * i, c.radius[i], &t, &rho2, &den)) ck_abort_msg("splat %d misses", i);
             float w = spr_kernel_weight(SPR_KERNEL_GAUSS, rho2, sqrtf(rho2));
             acc = w * c.color[3 * i] + acc;
         }
