@@ -72,9 +72,8 @@ spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *l
     spr_knn *kn;
     spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
     if (r) return r;
-    spr_progress_report(&d.progress, "neighbour graph", 0, c->n);
     spr_graph g;
-    r = spr_knn_radius_graph(kn, d.c * 2.0 * b.max_radius, d.threads, &g, err);
+    r = spr_knn_radius_graph(kn, d.c * 2.0 * b.max_radius, d.threads, &g, &d.progress, err);
     spr_knn_free(kn);
     if (r) return r;
     /* Keep only conflict edges, in place (lists stay ascending). */
@@ -88,7 +87,6 @@ spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *l
     g.start[c->n] = w;
     st->ms_graph = now_ms() - t0;
     t0 = now_ms();
-    spr_progress_report(&d.progress, "colouring", 0, c->n);
     vdeg *order = malloc(c->n * sizeof *order);
     uint32_t *stamp = NULL;
     if (!order) { spr_graph_free(&g); return spr__fail(err, SPR_E_NOMEM, "mgc: out of memory"); }

@@ -56,7 +56,7 @@ size_t spr__mesh_normals(const spr__mesh *m, spr_cloud *c)
     return missing;
 }
 
-spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, spr_error *err)
+spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, const spr_progress *prog, spr_error *err)
 {
     if (c->n < 3) return spr__fail(err, SPR_E_VALUE, "normals: %zu points are too few for PCA", c->n);
     if ((size_t)k >= c->n) k = (int)c->n - 1;
@@ -66,7 +66,7 @@ spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, spr_error
     uint32_t *idx = malloc(c->n * (size_t)k * sizeof(uint32_t));
     double *dist = malloc(c->n * (size_t)k * sizeof(double));
     if (!idx || !dist) { r = spr__fail(err, SPR_E_NOMEM, "normals: out of memory"); goto done; }
-    if ((r = spr_knn_query_all(kn, k, threads, idx, dist, err))) goto done;
+    if ((r = spr_knn_query_all(kn, k, threads, idx, dist, prog, err))) goto done;
     spr_bounds b;
     spr_cloud_bounds(c, &b);
     for (size_t i = 0; i < c->n; i++) {
@@ -105,7 +105,7 @@ done:
     return r;
 }
 
-spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, spr_error *err)
+spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, const spr_progress *prog, spr_error *err)
 {
     if (c->n < 2) return spr__fail(err, SPR_E_VALUE, "radii: %zu points: no neighbour to size a splat", c->n);
     if ((size_t)k >= c->n) k = (int)c->n - 1;
@@ -115,7 +115,7 @@ spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, spr_erro
     uint32_t *idx = malloc(c->n * (size_t)k * sizeof(uint32_t));
     double *dist = malloc(c->n * (size_t)k * sizeof(double));
     if (!idx || !dist) { r = spr__fail(err, SPR_E_NOMEM, "radii: out of memory"); goto done; }
-    if ((r = spr_knn_query_all(kn, k, threads, idx, dist, err))) goto done;
+    if ((r = spr_knn_query_all(kn, k, threads, idx, dist, prog, err))) goto done;
     double floor_r = INFINITY;
     for (size_t i = 0; i < c->n; i++) {
         double d = rho * dist[i * k + k - 1];
@@ -142,15 +142,12 @@ static spr_result complete(spr_cloud *c, const spr__mesh *mesh, const spr_load_d
             missing = spr__mesh_normals(mesh, c);
             c->flags |= SPR_SRC_FACES;
         }
-        spr_progress_report(&d->progress, "normals", 0, c->n);
-        if (missing && (r = spr__pca_normals(c, d->normal_k, 0, d->threads, err))) return r;
+        if (missing && (r = spr__pca_normals(c, d->normal_k, 0, d->threads, &d->progress, err))) return r;
     }
     if (!(c->flags & SPR_SRC_RADII)) {
-        spr_progress_report(&d->progress, "radii", 0, c->n);
-        if ((r = spr__knn_radii(c, d->radius_k, d->radius_rho, d->threads, err))) return r;
+        if ((r = spr__knn_radii(c, d->radius_k, d->radius_rho, d->threads, &d->progress, err))) return r;
     }
     if (!(c->flags & SPR_SRC_COLORS)) spr_cloud_color_by_normal(c);
-    spr_progress_report(&d->progress, "load", c->n, c->n);
     return spr_cloud_validate(c, path, err);
 }
 
@@ -165,7 +162,7 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
     spr__mesh mesh = {0};
     spr_result r;
     memset(c, 0, sizeof *c);
-    spr_progress_report(&d.progress, "load", 0, 1);
+    spr_progress_report(&d.progress, "reading", 0, 1);
     if (strncmp(path, "builtin:", 8) == 0) {
         r = spr__builtin(path + 8, d.points, c, err);
     } else {
@@ -175,6 +172,7 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
         else if (ieq(e, "xyz") || ieq(e, "pwn")) r = spr__load_xyz(path, c, err);
         else r = spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz or .pwn)", path, e);
     }
+    spr_progress_report(&d.progress, "reading", 1, 1);
     if (r) return r;
     if (c->n == 0) { spr_cloud_free(c); spr__mesh_free(&mesh); return spr__fail(err, SPR_E_FORMAT, "%s: no points", path); }
     r = complete(c, &mesh, &d, path, err);
@@ -228,7 +226,7 @@ spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_
     }
     uint64_t s = seed;
     for (size_t i = 0; i < n; i++) {
-        if ((i & 0xFFFF) == 0) spr_progress_report(&d.progress, "sample", i, n);
+        if ((i & 0xFFFF) == 0) spr_progress_report(&d.progress, "sampling", i, n);
         double u = uniform01(&s) * total;
         size_t lo = 0, hi = mesh.nt - 1;
         while (lo < hi) {
@@ -250,12 +248,12 @@ spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_
         out->nrm[3 * i + 2] = (float)(e1[0] * e2[1] - e1[1] * e2[0]);
         if (spr__normalize3(out->nrm + 3 * i)) { out->nrm[3 * i] = out->nrm[3 * i + 1] = 0.0f; out->nrm[3 * i + 2] = 1.0f; }
     }
+    spr_progress_report(&d.progress, "sampling", n, n);
     free(cum);
     spr_cloud_free(&m);
     spr__mesh_free(&mesh);
     out->flags = 0;
-    spr_progress_report(&d.progress, "radii", 0, n);
-    if ((r = spr__knn_radii(out, d.radius_k, d.radius_rho, d.threads, err))) { spr_cloud_free(out); return r; }
+    if ((r = spr__knn_radii(out, d.radius_k, d.radius_rho, d.threads, &d.progress, err))) { spr_cloud_free(out); return r; }
     spr_cloud_color_by_normal(out);
     if ((r = spr_cloud_validate(out, path, err))) spr_cloud_free(out);
     return r;

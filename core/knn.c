@@ -3,6 +3,7 @@
 
 #include <flann/flann.h>
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -70,7 +71,8 @@ static void sort_pairs(double *d, uint32_t *ix, int m)
     }
 }
 
-spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, double *dist, spr_error *err)
+spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, double *dist, const spr_progress *prog,
+                             spr_error *err)
 {
     if (k < 1 || k > 1024) return spr__fail(err, SPR_E_ARG, "knn: k = %d outside 1..1024", k);
     /* Ask for a few extra so that duplicates of the query point and distance
@@ -90,6 +92,7 @@ spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, dou
     spr_result res = SPR_OK;
     for (size_t b0 = 0; b0 < n; b0 += block) {
         size_t nb = n - b0 < block ? n - b0 : block;
+        spr_progress_report(prog, "neighbours", b0, n);
         if (flann_find_nearest_neighbors_index_float(kn->index, (float *)kn->pos + 3 * b0, (int)nb, fi, fd, m, &p) != 0) {
             res = spr__fail(err, SPR_E_BACKEND, "knn: FLANN search failed");
             break;
@@ -115,6 +118,7 @@ spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, dou
     }
     free(fi);
     free(fd);
+    spr_progress_report(prog, "neighbours", n, n);
     return res;
 }
 
@@ -124,7 +128,8 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_graph *g, spr_error *err)
+spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_graph *g, const spr_progress *prog,
+                                spr_error *err)
 {
     memset(g, 0, sizeof *g);
     const size_t n = kn->n;
@@ -152,6 +157,7 @@ spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_gra
 #pragma omp for schedule(dynamic, 256)
         for (size_t i = 0; i < n; i++) {
             if (!fi || !fd) { failed = 1; continue; }
+            if ((i & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", i, n);
             int got;
             for (;;) {
                 p.max_neighbors = cap;
@@ -180,6 +186,7 @@ spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_gra
         free(fi);
         free(fd);
     }
+    spr_progress_report(prog, "neighbour graph", n, n);
     uint64_t total = 0;
     for (size_t i = 0; i < n; i++) { g->start[i] = total; total += lens[i]; }
     g->start[n] = total;

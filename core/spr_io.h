@@ -56,9 +56,9 @@ spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err
 /* Area-weighted face normals; returns the count of vertices left without one. */
 size_t spr__mesh_normals(const spr__mesh *m, spr_cloud *c);
 /* PCA normals (k neighbours) for splats whose normal is zero (all when `all`). */
-spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, spr_error *err);
+spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, const spr_progress *prog, spr_error *err);
 /* r_i = ρ·d_k(i). */
-spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, spr_error *err);
+spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, const spr_progress *prog, spr_error *err);
 /* Write through a temporary name: open, let `fn` write, rename. */
 typedef int (*spr__writer_fn)(FILE *f, const void *user);
 spr_result spr__write_atomic(const char *path, spr__writer_fn fn, const void *user, spr_error *err);

@@ -12,6 +12,14 @@
 #include <stdint.h>
 #include "spr_result.h"
 
+/* Progress callback used by long operations: done/total, a phase name. */
+typedef void (*spr_progress_fn)(void *user, const char *phase, size_t done, size_t total);
+typedef struct spr_progress { spr_progress_fn fn; void *user; } spr_progress;
+static inline void spr_progress_report(const spr_progress *p, const char *phase, size_t done, size_t total)
+{
+    if (p && p->fn) p->fn(p->user, phase, done, total);
+}
+
 typedef struct spr_knn spr_knn;
 
 /* Index over n points (3 floats each, kept by reference). */
@@ -21,7 +29,8 @@ void spr_knn_free(spr_knn *k);
 /* k nearest neighbours of every point, the point itself excluded: idx[n·k]
  * and dist[n·k] (double, ascending, ties by index).  Fewer than k points
  * available: the remaining entries get idx = UINT32_MAX, dist = INFINITY. */
-spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, double *dist, spr_error *err);
+spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, double *dist, const spr_progress *prog,
+                             spr_error *err);
 
 /* Neighbour graph in CSR form: for every i, all j ≠ i with |p_i − p_j| < radius
  * (radius in world units), ascending j. */
@@ -30,15 +39,8 @@ typedef struct spr_graph {
     uint64_t *start;  /* n + 1 */
     uint32_t *adj;
 } spr_graph;
-spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_graph *g, spr_error *err);
+spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_graph *g, const spr_progress *prog,
+                                spr_error *err);
 void spr_graph_free(spr_graph *g);
-
-/* Progress callback used by long operations: done/total, a phase name. */
-typedef void (*spr_progress_fn)(void *user, const char *phase, size_t done, size_t total);
-typedef struct spr_progress { spr_progress_fn fn; void *user; } spr_progress;
-static inline void spr_progress_report(const spr_progress *p, const char *phase, size_t done, size_t total)
-{
-    if (p && p->fn) p->fn(p->user, phase, done, total);
-}
 
 #endif

@@ -156,6 +156,28 @@ START_TEST(render_writes_outputs)
 }
 END_TEST
 
+START_TEST(sample_then_info)
+{
+    setup_dir();
+    char err[4096];
+    const char *ply = path_in("bunny5k.ply");
+    char *argv[] = {"splatref", "sample", "--model", (char *)tu_data("meshes/bunny00.off"), "--points", "5000", "--out", (char *)ply, "--quiet", NULL};
+    ck_assert_int_eq(run(argv, err, sizeof err), 0);
+    spr_cloud c;
+    spr_error e;
+    ck_assert_int_eq(spr_load(ply, NULL, &c, &e), SPR_OK);
+    ck_assert_uint_eq(c.n, 5000);
+    ck_assert_uint_eq(c.flags & (SPR_SRC_NORMALS | SPR_SRC_RADII | SPR_SRC_COLORS), SPR_SRC_NORMALS | SPR_SRC_RADII | SPR_SRC_COLORS);
+    spr_cloud_free(&c);
+    char *info[] = {"splatref", "info", "--model", (char *)ply, NULL};
+    ck_assert_int_eq(run(info, err, sizeof err), 0);
+    char *bad[] = {"splatref", "sample", "--model", (char *)tu_data("points_3/kitten.xyz"), "--points", "10", "--out", (char *)path_in("x.ply"), NULL};
+    ck_assert_int_eq(run(bad, err, sizeof err), 2); /* a point file has no faces to sample */
+    ck_assert_ptr_nonnull(strstr(err, "kitten.xyz"));
+    ck_assert_int_ne(access(path_in("x.ply"), F_OK), 0);
+}
+END_TEST
+
 Suite *make_cli_suite(void)
 {
     Suite *s = suite_create("cli");
@@ -163,6 +185,7 @@ Suite *make_cli_suite(void)
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, bad_inputs);
     tcase_add_test(tc, render_writes_outputs);
+    tcase_add_test(tc, sample_then_info);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -70,7 +70,7 @@ START_TEST(pca_normals_on_a_sphere_point_out)
     d.points = 20000;
     spr_error err;
     ck_assert_int_eq(spr_load("builtin:sphere", &d, &c, &err), SPR_OK);
-    ck_assert_int_eq(spr__pca_normals(&c, 10, 1, 0, &err), SPR_OK);
+    ck_assert_int_eq(spr__pca_normals(&c, 10, 1, 0, NULL, &err), SPR_OK);
     size_t outward;
     double mean, mn;
     radial_agreement(&c, &outward, &mean, &mn);

@@ -153,14 +153,17 @@ int cli_get_wh(const cli_args *a, const char *name, int *w, int *h)
     return 1;
 }
 
+/* One status line, rewritten in place ("\r", erase to end of line) and
+ * erased when a phase completes, so results print on a clean line. */
 static void progress_tty(void *user, const char *phase, size_t done, size_t total)
 {
     (void)user;
-    if (total > 1 && done < total)
-        fprintf(stderr, "\r%-20s %5.1f%%", phase, 100.0 * (double)done / (double)total);
+    if (total == 1 && done == 0)
+        fprintf(stderr, "\r\033[K%s ...", phase);
+    else if (done < total)
+        fprintf(stderr, "\r\033[K%s %5.1f%% (%zu of %zu)", phase, 100.0 * (double)done / (double)total, done, total);
     else
-        fprintf(stderr, "\r%-20s      \r", phase);
-    if (done >= total) fprintf(stderr, "\r%-28s\r", "");
+        fprintf(stderr, "\r\033[K");
     fflush(stderr);
 }
 
