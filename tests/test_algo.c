@@ -151,32 +151,16 @@ END_TEST
 
 START_TEST(bunny_deferred_matches_pbr2p1)
 {
-    spr_cloud c;
-    tu_load("meshes/bunny00.off", &c);
-    spr_bounds bd;
-    spr_cloud_bounds(&c, &bd);
-    spr_camera_desc cam;
-    spr_camera_defaults(&cam);
-    spr_camera_frame(&cam, &bd);
-    spr_view v;
-    spr_error err;
-    ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
-    spr_mgc_desc md;
-    spr_mgc_defaults(&md);
-    md.c = 0.4;
-    int32_t *lab = malloc(c.n * sizeof *lab);
-    spr_group_stats gs;
-    ck_assert_int_eq(spr_group_mgc(&c, &md, lab, &gs, &err), SPR_OK);
-    spr_groups g;
-    ck_assert_int_eq(spr_groups_from_labels(lab, c.n, gs.K, &g, &err), SPR_OK);
-    spr_render_desc dd = {.algo = SPR_ALGO_DEFERRED, .voronoi = 1, .groups = &g};
+    tu_bunny bn;
+    tu_bunny_scene(&bn, 512, 512, 0.4);
+    spr_render_desc dd = {.algo = SPR_ALGO_DEFERRED, .voronoi = 1, .groups = &bn.groups};
     spr_render_desc dp = {.algo = SPR_ALGO_PBR2P1};
     spr_render_result rd, rp;
-    tu_render(&v, &c, &dd, 2, &rd);
-    tu_render(&v, &c, &dp, 2, &rp);
+    tu_render(&bn.view, &bn.cloud, &dd, 2, &rd);
+    tu_render(&bn.view, &bn.cloud, &dp, 2, &rp);
     size_t covered = 0, holes = 0;
     double sum = 0.0;
-    for (size_t i = 0; i < (size_t)v.width * v.height; i++) {
+    for (size_t i = 0; i < (size_t)rd.width * rd.height; i++) {
         if (rp.rgba[4 * i + 3] > 0.0f && !(rd.rgba[4 * i + 3] > 0.0f)) holes++;
         if (!(rp.rgba[4 * i + 3] > 0.0f && rd.rgba[4 * i + 3] > 0.0f)) continue;
         covered++;
@@ -184,14 +168,12 @@ START_TEST(bunny_deferred_matches_pbr2p1)
     }
     double mean = sum / (3.0 * covered);
     printf("algo: bunny deferred (MGC c=0.4, K=%d, Voronoi) vs pbr2p1: mean |diff| %.3f/255 over %zu covered pixels, "
-           "%zu pixels covered only by pbr2p1\n", gs.K, mean, covered, holes);
+           "%zu pixels covered only by pbr2p1\n", bn.groups.K, mean, covered, holes);
     ck_assert_double_lt(mean, 2.0);
     ck_assert_uint_eq(holes, 0);
     spr_render_result_free(&rd);
     spr_render_result_free(&rp);
-    spr_groups_free(&g);
-    free(lab);
-    spr_cloud_free(&c);
+    tu_bunny_free(&bn);
 }
 END_TEST
 

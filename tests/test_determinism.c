@@ -31,46 +31,27 @@ static void hash_hook(void *user, spr_backend *b, const spr_pass_info *info)
 
 START_TEST(bunny_bits_independent_of_threads)
 {
-    spr_cloud c;
-    tu_load("meshes/bunny00.off", &c);
-    spr_bounds bd;
-    spr_cloud_bounds(&c, &bd);
-    spr_camera_desc cam;
-    spr_camera_defaults(&cam);
-    cam.width = 400;
-    cam.height = 300;
-    spr_camera_frame(&cam, &bd);
-    spr_view v;
-    spr_error err;
-    ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
-    spr_mgc_desc md;
-    spr_mgc_defaults(&md);
-    md.c = 0.4;
-    int32_t *lab = malloc(c.n * sizeof *lab);
-    spr_group_stats gs;
-    ck_assert_int_eq(spr_group_mgc(&c, &md, lab, &gs, &err), SPR_OK);
-    spr_groups g;
-    ck_assert_int_eq(spr_groups_from_labels(lab, c.n, gs.K, &g, &err), SPR_OK);
+    tu_bunny bn;
+    tu_bunny_scene(&bn, 400, 300, 0.4);
     for (int variant = 0; variant < 3; variant++) {
         uint64_t first = 0;
-        for (int threads = 1; threads <= 7; threads = threads == 1 ? 2 : 7) {
+        static const int thread_counts[3] = {1, 2, 7};
+        for (int ti = 0; ti < 3; ti++) {
+            int threads = thread_counts[ti];
             hasher hs = {0xcbf29ce484222325ull, 0};
             spr_render_desc d = {.algo = variant == 0 ? SPR_ALGO_PBR2P1 : SPR_ALGO_DEFERRED, .voronoi = variant == 2,
-                                 .groups = &g, .hook = hash_hook, .hook_user = &hs};
+                                 .groups = &bn.groups, .hook = hash_hook, .hook_user = &hs};
             spr_render_result r;
-            tu_render(&v, &c, &d, threads, &r);
-            fnv(&hs.h, r.rgba, (size_t)v.width * v.height * 4 * sizeof(float));
+            tu_render(&bn.view, &bn.cloud, &d, threads, &r);
+            fnv(&hs.h, r.rgba, (size_t)r.width * r.height * 4 * sizeof(float));
             printf("determinism: %s%s threads %d: %d passes, hash %016llx\n", spr_algo_name(d.algo), d.voronoi ? "+voronoi" : "",
                    threads, hs.passes, (unsigned long long)hs.h);
-            if (threads == 1) first = hs.h;
+            if (ti == 0) first = hs.h;
             else ck_assert_msg(hs.h == first, "%d threads differ from 1 thread", threads);
             spr_render_result_free(&r);
-            if (threads == 7) break;
         }
     }
-    spr_groups_free(&g);
-    free(lab);
-    spr_cloud_free(&c);
+    tu_bunny_free(&bn);
 }
 END_TEST
 

@@ -2,6 +2,7 @@
 #include "test_util.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 void tu_hand_view(int W, int H, spr_view *v)
@@ -51,6 +52,34 @@ const char *tu_data(const char *rel)
     static char path[1024];
     snprintf(path, sizeof path, "%s/%s", SPR_DATA_DIR, rel);
     return path;
+}
+
+void tu_bunny_scene(tu_bunny *s, int W, int H, double c)
+{
+    tu_load("meshes/bunny00.off", &s->cloud);
+    spr_bounds bd;
+    spr_cloud_bounds(&s->cloud, &bd);
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.width = W;
+    cam.height = H;
+    spr_camera_frame(&cam, &bd);
+    spr_error err;
+    ck_assert_int_eq(spr_view_make(&cam, &s->view, &err), SPR_OK);
+    spr_mgc_desc md;
+    spr_mgc_defaults(&md);
+    md.c = c;
+    int32_t *lab = malloc(s->cloud.n * sizeof *lab);
+    spr_group_stats gs;
+    ck_assert_int_eq(spr_group_mgc(&s->cloud, &md, lab, &gs, &err), SPR_OK);
+    ck_assert_int_eq(spr_groups_from_labels(lab, s->cloud.n, gs.K, &s->groups, &err), SPR_OK);
+    free(lab);
+}
+
+void tu_bunny_free(tu_bunny *s)
+{
+    spr_groups_free(&s->groups);
+    spr_cloud_free(&s->cloud);
 }
 
 void tu_load(const char *rel, spr_cloud *c)

@@ -24,4 +24,14 @@ void tu_render(const spr_view *v, const spr_cloud *c, const spr_render_desc *d, 
 void tu_load(const char *rel, spr_cloud *c);
 const char *tu_data(const char *rel);
 
+/* The real bunny framed by the default camera at W×H, with MGC groups
+ * (c, both relaxations); K in g->K.  Free with tu_bunny_free(). */
+typedef struct tu_bunny {
+    spr_cloud cloud;
+    spr_view view;
+    spr_groups groups;
+} tu_bunny;
+void tu_bunny_scene(tu_bunny *s, int W, int H, double c);
+void tu_bunny_free(tu_bunny *s);
+
 #endif
