@@ -1,0 +1,80 @@
+/* gl_context.c — EGL display and a GL 4.5 core context with no surface.
+ *
+ * Default: EGL_PLATFORM_SURFACELESS_MESA (Mesa's llvmpipe on a machine with
+ * no GPU).  With a device index: EGL_EXT_platform_device on the N-th device
+ * of EGL_EXT_device_enumeration, which is how a GPU driver (NVIDIA, Mesa
+ * radeonsi/iris) is reached without a window system.
+ */
+#include "gl_internal.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display(void)
+{
+    return (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
+}
+
+int spr_gl_device_count(void)
+{
+    PFNEGLQUERYDEVICESEXTPROC query = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
+    EGLint n = 0;
+    if (!query || !query(0, NULL, &n)) return 0;
+    return n;
+}
+
+spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
+{
+    PFNEGLGETPLATFORMDISPLAYEXTPROC gpd = get_platform_display();
+    if (!gpd) return spr__fail(err, SPR_E_BACKEND, "gl: EGL has no eglGetPlatformDisplayEXT (is libegl-mesa0 installed?)");
+    if (device < 0) {
+        c->dpy = gpd(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    } else {
+        PFNEGLQUERYDEVICESEXTPROC query = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
+        EGLDeviceEXT devs[32];
+        EGLint n = 0;
+        if (!query || !query(32, devs, &n))
+            return spr__fail(err, SPR_E_BACKEND, "gl: --gl-device %d: EGL_EXT_device_enumeration is not available", device);
+        if (device >= n) return spr__fail(err, SPR_E_BACKEND, "gl: --gl-device %d: EGL reports %d device(s)", device, n);
+        c->dpy = gpd(EGL_PLATFORM_DEVICE_EXT, devs[device], NULL);
+    }
+    if (c->dpy == EGL_NO_DISPLAY)
+        return spr__fail(err, SPR_E_BACKEND, "gl: no EGL display for the %s platform (EGL error 0x%x)",
+                         device < 0 ? "surfaceless" : "device", (unsigned)eglGetError());
+    EGLint maj, min;
+    if (!eglInitialize(c->dpy, &maj, &min)) {
+        c->dpy = EGL_NO_DISPLAY;
+        return spr__fail(err, SPR_E_BACKEND, "gl: eglInitialize failed (EGL error 0x%x)", (unsigned)eglGetError());
+    }
+    if (!eglBindAPI(EGL_OPENGL_API)) return spr__fail(err, SPR_E_BACKEND, "gl: EGL cannot bind the OpenGL API");
+    const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                            EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    EGLConfig cfg = EGL_NO_CONFIG_KHR;
+    const char *exts = eglQueryString(c->dpy, EGL_EXTENSIONS);
+    if (!exts || !strstr(exts, "EGL_KHR_no_config_context")) {
+        const EGLint want[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+        EGLint got = 0;
+        if (!eglChooseConfig(c->dpy, want, &cfg, 1, &got) || got < 1)
+            return spr__fail(err, SPR_E_BACKEND, "gl: no EGL config renders OpenGL");
+    }
+    c->ctx = eglCreateContext(c->dpy, cfg, EGL_NO_CONTEXT, attrs);
+    if (c->ctx == EGL_NO_CONTEXT)
+        return spr__fail(err, SPR_E_BACKEND, "gl: no OpenGL 4.5 core context (EGL error 0x%x)", (unsigned)eglGetError());
+    if (!eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx))
+        return spr__fail(err, SPR_E_BACKEND, "gl: cannot make the context current without a surface (EGL error 0x%x)",
+                         (unsigned)eglGetError());
+    snprintf(c->renderer, sizeof c->renderer, "%s | %s", (const char *)glGetString(GL_RENDERER),
+             (const char *)glGetString(GL_VERSION));
+    return SPR_OK;
+}
+
+void gl__egl_close(gl_context *c)
+{
+    if (c->dpy != EGL_NO_DISPLAY) {
+        eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        if (c->ctx != EGL_NO_CONTEXT) eglDestroyContext(c->dpy, c->ctx);
+        eglTerminate(c->dpy);
+    }
+    c->dpy = EGL_NO_DISPLAY;
+    c->ctx = EGL_NO_CONTEXT;
+}
