@@ -105,3 +105,14 @@ spr_result spr_read_pfm(const char *path, float **img, int *w, int *h, int *chan
     *img = im;
     return SPR_OK;
 }
+
+uint64_t spr_hash64(const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i < n; i++) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}

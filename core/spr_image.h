@@ -6,6 +6,7 @@
 #ifndef SPR_IMAGE_H
 #define SPR_IMAGE_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include "spr_result.h"
 
@@ -19,5 +20,8 @@ spr_result spr_write_png(const char *path, const float *img, int w, int h, int c
 spr_result spr_write_pfm(const char *path, const float *img, int w, int h, int channels, spr_error *err);
 /* Read a PFM (either endianness) into RGB or grey floats (malloc'd). */
 spr_result spr_read_pfm(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
+
+/* FNV-1a 64 of a byte buffer: the hash of a float image in the reference manifest. */
+uint64_t spr_hash64(const void *data, size_t n);
 
 #endif

@@ -55,17 +55,33 @@ typedef struct cli_scene {
     spr_group_stats gstats;
     const char *group_method;
     char model[1024];
+    int threads;
+    int all_algos;          /* parity/reference: --algo all (the default there) */
+    double load_ms, group_ms;
 } cli_scene;
+/* Read the scene options of CLI_SCENE_OPTS, load and frame the model, build
+ * the groups; fills rd (no hook).  allow_all: accept --algo all.  0 or −1
+ * after printing one line. */
+int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_all);
+/* "cpu" or "gl" backend, or NULL after printing the reason. */
+spr_backend *cli_backend(const cli_args *a, const char *name, int threads, int gl_device);
 void cli_scene_free(cli_scene *s);
 /* Build labels/groups for `method` ("none", "mgc", "hash") on s->cloud. */
 int cli_make_groups(const cli_args *a, cli_scene *s, const char *method, double c, const char *relax, int K, int threads,
                     spr_progress prog);
+
+struct spr_parity_report;
+/* One summary line per algorithm, then its first differing planes. */
+void cli_parity_summary(const char *algo, const struct spr_parity_report *p);
+const char *cli_cpu_flags(void);
 
 int cmd_render(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_sample(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+int cmd_parity(int argc, char **argv);
+int cmd_reference(int argc, char **argv);
 
 /* Where the CGAL demo data lives: $SPLATREF_DATA, else ./data/cgal/data. */
 const char *cli_data_dir(void);

@@ -5,10 +5,12 @@
 #include <string.h>
 
 static const struct { const char *name; int (*fn)(int, char **); const char *help; } commands[] = {
-    {"render", cmd_render, "render a model with pbr2p1 or deferred blending"},
+    {"render", cmd_render, "render a model with pbr2p1 or deferred blending (cpu or gl backend)"},
     {"info", cmd_info, "counts, bounds, radius statistics and attribute sources of a model"},
     {"sample", cmd_sample, "resample a mesh to N uniformly distributed points (PLY out)"},
     {"compare", cmd_compare, "mean and largest difference of two PFM images over covered pixels"},
+    {"parity", cmd_parity, "compare the CPU reference and the GL backend, every plane of every pass"},
+    {"reference", cmd_reference, "check (or --update) the reference images of reference_images/"},
     {"bench", cmd_bench, "benchmark the CPU reference on fixed scenes, 1 vs 2 threads"},
 };
 

@@ -1,0 +1,170 @@
+/* cli_parity.c — `splatref parity`: the same scene on the CPU reference and
+ * the GL backend, every plane of every pass compared (PARITY.md). */
+#include "cli.h"
+#include "cli_scene_opts.h"
+#include "spr_glbackend.h"
+#include "spr_image.h"
+#include "spr_parity.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static const cli_opt parity_opts[] = {
+    CLI_SCENE_OPTS,
+    {"gl-device", "N", "GL backend on the N-th EGL device instead of the surfaceless platform"},
+    {"report", "DIR", "write report.json and a diff heatmap PNG per differing plane"},
+    {"gl-eps", "E", "use this eps for the GL side only (a deliberate perturbation, to see a report)"},
+    {NULL, NULL, NULL}};
+
+const char *cli_cpu_flags(void)
+{
+    static char buf[128];
+    __builtin_cpu_init();
+    snprintf(buf, sizeof buf, "fma=%d avx=%d avx2=%d avx512f=%d", __builtin_cpu_supports("fma") != 0,
+             __builtin_cpu_supports("avx") != 0, __builtin_cpu_supports("avx2") != 0, __builtin_cpu_supports("avx512f") != 0);
+    return buf;
+}
+
+static void json_esc(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\') fputc('\\', f);
+        if ((unsigned char)*s >= 0x20) fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+typedef struct report_ref {
+    const cli_scene *s;
+    const char *renderer;
+    int n;
+    const char *algo[SPR_ALGO__COUNT];
+    const spr_parity_report *rep[SPR_ALGO__COUNT];
+} report_ref;
+
+static void json_num(FILE *f, double v)
+{
+    if (v != v || v > 1e300 || v < -1e300) fprintf(f, "null");
+    else fprintf(f, "%.9g", v);
+}
+
+static int report_body(FILE *f, const void *user)
+{
+    const report_ref *r = user;
+    fprintf(f, "{\n  \"reference\": \"cpu\",\n  \"test\": \"gl\",\n  \"gl_renderer\": ");
+    json_esc(f, r->renderer);
+    fprintf(f, ",\n  \"cpu_flags\": \"%s\",\n  \"model\": ", cli_cpu_flags());
+    json_esc(f, r->s->model);
+    fprintf(f, ",\n  \"splats\": %zu,\n  \"width\": %d,\n  \"height\": %d,\n  \"algorithms\": [\n", r->s->cloud.n,
+            r->s->view.width, r->s->view.height);
+    for (int a = 0; a < r->n; a++) {
+        const spr_parity_report *p = r->rep[a];
+        fprintf(f, "    {\"algo\": \"%s\", \"bit_exact\": %s, \"planes\": %d, \"exact_planes\": %d, \"max_ulp\": %llu, "
+                   "\"passes_ref\": %d, \"passes_test\": %d, \"stats_mismatches\": %d, \"first_stats_mismatch\": ",
+                r->algo[a], spr_parity_exact(p) ? "true" : "false", p->n_planes, p->exact_planes,
+                (unsigned long long)p->max_ulp, p->passes_ref, p->passes_test, p->stats_mismatches);
+        json_esc(f, p->first_stats_mismatch);
+        fprintf(f, ",\n     \"plane_results\": [\n");
+        for (int i = 0; i < p->n_planes; i++) {
+            const spr_plane_diff *d = &p->planes[i];
+            fprintf(f, "       {\"pass\": %d, \"pass_name\": \"%s\", \"group\": %d, \"plane\": \"%s\", \"differing_pixels\": %zu, "
+                       "\"max_ulp\": %llu, \"max_abs\": ",
+                    d->pass, d->pass_name, d->group, d->plane == SPR_PLANE_FINAL ? "final" : spr_plane_name((spr_plane)d->plane),
+                    d->differing_pixels, (unsigned long long)d->max_ulp);
+            json_num(f, d->max_abs);
+            if (d->differing_pixels) {
+                fprintf(f, ", \"first\": {\"x\": %d, \"y\": %d, \"channel\": %d, \"cpu\": ", d->first_x, d->first_y, d->first_channel);
+                json_num(f, d->first_ref);
+                fprintf(f, ", \"gl\": ");
+                json_num(f, d->first_test);
+                fprintf(f, "}, \"heatmap\": ");
+                json_esc(f, d->heatmap);
+            }
+            fprintf(f, "}%s\n", i + 1 < p->n_planes ? "," : "");
+        }
+        fprintf(f, "     ]}%s\n", a + 1 < r->n ? "," : "");
+    }
+    fprintf(f, "  ]\n}\n");
+    return ferror(f) ? -1 : 0;
+}
+
+/* The summary line of one algorithm, then where it first departs. */
+void cli_parity_summary(const char *algo, const spr_parity_report *p)
+{
+    printf("parity %s: %d/%d planes bit-exact, max ulp %llu%s\n", algo, p->exact_planes, p->n_planes,
+           (unsigned long long)p->max_ulp, p->stats_mismatches ? ", fragment counts differ" : "");
+    int shown = 0;
+    for (int i = 0; i < p->n_planes && shown < 3; i++) {
+        const spr_plane_diff *d = &p->planes[i];
+        if (!d->differing_pixels) continue;
+        char where[64] = "";
+        if (d->group >= 0) snprintf(where, sizeof where, " k=%d", d->group);
+        printf("  first differences: pass %d %s%s plane %s: %zu pixels differ, max %llu ulp (%.3g), first at (%d,%d) ch %d: cpu %.9g gl %.9g\n",
+               d->pass, d->pass_name, where, d->plane == SPR_PLANE_FINAL ? "final" : spr_plane_name((spr_plane)d->plane),
+               d->differing_pixels, (unsigned long long)d->max_ulp, d->max_abs, d->first_x, d->first_y, d->first_channel,
+               d->first_ref, d->first_test);
+        shown++;
+    }
+    if (p->stats_mismatches) printf("  %s\n", p->first_stats_mismatch);
+}
+
+int cmd_parity(int argc, char **argv)
+{
+    cli_args a;
+    int pr = cli_parse(&a, "parity", parity_opts, "[scene and algorithm options as for render] [--report DIR]", 0, argc, argv);
+    if (pr) return pr == 1 ? 0 : 2;
+    int gl_device = -1, rc = 2;
+    double gl_eps = 0.0;
+    if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || cli_get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
+    const char *dir = cli_get(&a, "report");
+    cli_scene s;
+    spr_render_desc rd;
+    spr_backend *cpu = NULL, *gl = NULL;
+    spr_parity_report reps[SPR_ALGO__COUNT];
+    int nrep = 0;
+    memset(reps, 0, sizeof reps);
+    if (cli_scene_setup(&a, &s, &rd, 1)) goto done;
+    if (dir && mkdir(dir, 0777) != 0 && errno != EEXIST) { cli_error(&a, "--report: cannot create %s: %s", dir, strerror(errno)); goto done; }
+    if (!(gl = cli_backend(&a, "gl", s.threads, gl_device)) || !(cpu = cli_backend(&a, "cpu", s.threads, -1))) goto done;
+    printf("parity: cpu reference vs gl [%s], %s, %zu splats, %dx%d\n", spr_gl_renderer(gl), s.model, s.cloud.n, s.view.width,
+           s.view.height);
+    report_ref rr = {&s, spr_gl_renderer(gl), 0, {0}, {0}};
+    int all_exact = 1;
+    for (int algo = 0; algo < SPR_ALGO__COUNT; algo++) {
+        static const spr_algo order[SPR_ALGO__COUNT] = {SPR_ALGO_PBR2P1, SPR_ALGO_DEFERRED};
+        if (!s.all_algos && order[algo] != rd.algo) continue;
+        spr_render_desc d = rd, dt;
+        d.algo = order[algo];
+        dt = d;
+        if (gl_eps > 0.0) dt.eps = gl_eps;
+        spr_error err = {0};
+        if (spr_parity_run(cpu, gl, &s.view, &s.cloud, &d, &dt, dir, spr_algo_name(d.algo), &reps[nrep], &err)) {
+            fprintf(stderr, "splatref parity: %s\n", err.msg);
+            goto done;
+        }
+        cli_parity_summary(spr_algo_name(d.algo), &reps[nrep]);
+        all_exact &= spr_parity_exact(&reps[nrep]);
+        rr.algo[nrep] = spr_algo_name(d.algo);
+        rr.rep[nrep] = &reps[nrep];
+        rr.n = ++nrep;
+    }
+    if (dir) {
+        char path[1200];
+        spr_error err = {0};
+        snprintf(path, sizeof path, "%s/report.json", dir);
+        if (spr__write_atomic(path, report_body, &rr, &err)) { fprintf(stderr, "splatref parity: %s\n", err.msg); goto done; }
+        printf("report: %s\n", path);
+    }
+    printf("verdict: %s\n", all_exact ? "BIT-EXACT (Tier A)" : "DIFFERENT");
+    rc = all_exact ? 0 : 1;
+done:
+    for (int i = 0; i < nrep; i++) spr_parity_report_free(&reps[i]);
+    spr_backend_destroy(cpu);
+    spr_backend_destroy(gl);
+    cli_scene_free(&s);
+    return rc;
+}

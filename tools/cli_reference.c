@@ -1,0 +1,174 @@
+/* cli_reference.c — `splatref reference`: the canonical scenes of
+ * reference_images/manifest.txt.
+ *
+ * Manifest lines: NAME HASH OPTIONS...   (HASH = FNV-1a 64 of the final RGBA
+ * float image of the CPU reference, OPTIONS = render's scene options).
+ * Check (default): the CPU output must hash to HASH and the GL output must
+ * equal the CPU output in every plane of every pass.  --update: render on
+ * the CPU, rewrite the hashes and NAME.png (run deliberately; look at the
+ * pictures before committing them).
+ */
+#include "cli.h"
+#include "cli_scene_opts.h"
+#include "spr_glbackend.h"
+#include "spr_image.h"
+#include "spr_parity.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const cli_opt ref_opts[] = {
+    {"dir", "DIR", "the reference directory (default reference_images)"},
+    {"update", NULL, "re-render on the CPU and rewrite hashes and PNGs"},
+    {"only", "NAME", "just this scene"},
+    {"gl-device", "N", "GL backend on the N-th EGL device"},
+    {"threads", "N", "CPU threads (default: all cores)"},
+    {NULL, NULL, NULL}};
+
+static const cli_opt scene_opts[] = {CLI_SCENE_OPTS, {NULL, NULL, NULL}};
+
+#define MAX_SCENES 128
+typedef struct scene_line {
+    char name[64];
+    char hash[32];
+    char args[1024];
+} scene_line;
+
+static int read_manifest(const char *path, scene_line *sl, int *n)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) { fprintf(stderr, "splatref reference: %s: cannot open\n", path); return -1; }
+    char line[1200];
+    int ln = 0;
+    *n = 0;
+    while (fgets(line, sizeof line, f)) {
+        ln++;
+        char *p = line;
+        while (*p == ' ') p++;
+        if (*p == '#' || *p == '\n' || !*p) continue;
+        line[strcspn(line, "\n")] = 0;
+        scene_line *s = &sl[*n];
+        int used = 0;
+        if (*n >= MAX_SCENES || sscanf(p, "%63s %31s %n", s->name, s->hash, &used) != 2) {
+            fprintf(stderr, "splatref reference: %s:%d: expected NAME HASH OPTIONS...\n", path, ln);
+            fclose(f);
+            return -1;
+        }
+        snprintf(s->args, sizeof s->args, "%s", p + used);
+        (*n)++;
+    }
+    fclose(f);
+    return 0;
+}
+
+typedef struct manifest_ref { const scene_line *sl; int n; } manifest_ref;
+
+static int write_manifest_body(FILE *f, const void *user)
+{
+    const manifest_ref *m = user;
+    fprintf(f, "# splatref reference scenes: NAME HASH OPTIONS...\n"
+               "# HASH = FNV-1a 64 of the CPU reference's final RGBA float image (splatref reference --update)\n");
+    for (int i = 0; i < m->n; i++) fprintf(f, "%s %s %s\n", m->sl[i].name, m->sl[i].hash, m->sl[i].args);
+    return ferror(f) ? -1 : 0;
+}
+
+/* Split OPTIONS into argv (no quoting needed: options never contain spaces). */
+static int split(char *args, char **argv, int cap)
+{
+    int n = 0;
+    for (char *t = strtok(args, " \t"); t && n < cap; t = strtok(NULL, " \t")) argv[n++] = t;
+    return n;
+}
+
+int cmd_reference(int argc, char **argv)
+{
+    cli_args a;
+    int pr = cli_parse(&a, "reference", ref_opts, "[--dir DIR] [--update] [--only NAME]", 0, argc, argv);
+    if (pr) return pr == 1 ? 0 : 2;
+    const char *dir = cli_get(&a, "dir") ? cli_get(&a, "dir") : "reference_images";
+    const char *only = cli_get(&a, "only");
+    int update = cli_flag(&a, "update"), gl_device = -1, threads = 0;
+    if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || cli_get_int(&a, "threads", &threads, 0, 1024) < 0) return 2;
+    char mpath[1200];
+    snprintf(mpath, sizeof mpath, "%s/manifest.txt", dir);
+    static scene_line sl[MAX_SCENES];
+    int n;
+    if (read_manifest(mpath, sl, &n)) return 2;
+    spr_backend *cpu = cli_backend(&a, "cpu", threads, -1), *gl = NULL;
+    if (!cpu) return 2;
+    const char *gl_reason = NULL;
+    spr_error gerr = {0};
+    if (!update) {
+        spr_gl_desc gd;
+        spr_gl_defaults(&gd);
+        gd.device = gl_device;
+        gl = spr_gl_create(&gd, &gerr);
+        if (!gl) gl_reason = gerr.msg;
+        else printf("reference: GL renderer %s\n", spr_gl_renderer(gl));
+    }
+    int bad = 0, checked = 0;
+    for (int i = 0; i < n && bad < 1000; i++) {
+        if (only && strcmp(only, sl[i].name)) continue;
+        char args[1024], *sargv[64];
+        snprintf(args, sizeof args, "%s", sl[i].args);
+        int sargc = split(args, sargv, 64);
+        cli_args sa;
+        cli_scene s;
+        spr_render_desc rd;
+        char cmd[80];
+        snprintf(cmd, sizeof cmd, "reference %.63s", sl[i].name);
+        if (cli_parse(&sa, cmd, scene_opts, "", 0, sargc, sargv) || cli_scene_setup(&sa, &s, &rd, 0)) {
+            bad++;
+            continue;
+        }
+        spr_error err = {0};
+        spr_render_result res;
+        if (spr_render(cpu, &s.view, &s.cloud, &rd, &res, &err)) {
+            fprintf(stderr, "splatref reference: %s: %s\n", sl[i].name, err.msg);
+            cli_scene_free(&s);
+            bad++;
+            continue;
+        }
+        char hash[32], png[1200];
+        snprintf(hash, sizeof hash, "%016llx",
+                 (unsigned long long)spr_hash64(res.rgba, (size_t)res.width * res.height * 4 * sizeof(float)));
+        if (update) {
+            snprintf(sl[i].hash, sizeof sl[i].hash, "%s", hash);
+            snprintf(png, sizeof png, "%.1000s/%.63s.png", dir, sl[i].name);
+            if (spr_write_png(png, res.rgba, res.width, res.height, 4, &err)) { fprintf(stderr, "splatref reference: %s\n", err.msg); bad++; }
+            printf("reference %-28s %s  updated %s\n", sl[i].name, hash, png);
+        } else {
+            int cpu_ok = !strcmp(hash, sl[i].hash);
+            char gl_verdict[200] = "gl skipped";
+            if (gl) {
+                spr_parity_report rep;
+                if (spr_parity_run(cpu, gl, &s.view, &s.cloud, &rd, &rd, NULL, sl[i].name, &rep, &err)) {
+                    snprintf(gl_verdict, sizeof gl_verdict, "gl failed: %.150s", err.msg);
+                    bad++;
+                } else {
+                    int ex = spr_parity_exact(&rep);
+                    snprintf(gl_verdict, sizeof gl_verdict, "gl %d/%d planes bit-exact, max ulp %llu", rep.exact_planes, rep.n_planes,
+                             (unsigned long long)rep.max_ulp);
+                    if (!ex) { bad++; cli_parity_summary(spr_algo_name(rd.algo), &rep); }
+                    spr_parity_report_free(&rep);
+                }
+            }
+            printf("reference %-28s cpu %s (%s)  %s\n", sl[i].name, cpu_ok ? "matches" : "DIFFERS", hash, gl_verdict);
+            bad += !cpu_ok;
+        }
+        checked++;
+        spr_render_result_free(&res);
+        cli_scene_free(&s);
+    }
+    if (update && !bad) {
+        spr_error err = {0};
+        manifest_ref m = {sl, n};
+        if (spr__write_atomic(mpath, write_manifest_body, &m, &err)) { fprintf(stderr, "splatref reference: %s\n", err.msg); bad++; }
+    }
+    spr_backend_destroy(cpu);
+    spr_backend_destroy(gl);
+    printf("reference: %d scenes, %d failed%s%s\n", checked, bad, gl_reason ? "; GL skipped: " : "", gl_reason ? gl_reason : "");
+    if (bad) return 1;
+    return gl_reason && !update ? 77 : 0;
+}
