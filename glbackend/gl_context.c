@@ -8,6 +8,7 @@
 #include "gl_internal.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display(void)
@@ -25,9 +26,15 @@ int spr_gl_device_count(void)
 
 spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
 {
+    /* Mesa's loader warnings would add lines to our one-line errors. */
+    setenv("EGL_LOG_LEVEL", "fatal", 0);
     PFNEGLGETPLATFORMDISPLAYEXTPROC gpd = get_platform_display();
     if (!gpd) return spr__fail(err, SPR_E_BACKEND, "gl: EGL has no eglGetPlatformDisplayEXT (is libegl-mesa0 installed?)");
-    if (device < 0) {
+    const char *platform = getenv("EGL_PLATFORM");
+    if (device < 0 && platform && *platform && strcmp(platform, "surfaceless") != 0) {
+        /* The user named another platform: let EGL's default display resolve it. */
+        c->dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
+    } else if (device < 0) {
         c->dpy = gpd(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
     } else {
         PFNEGLQUERYDEVICESEXTPROC query = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
@@ -39,12 +46,13 @@ spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
         c->dpy = gpd(EGL_PLATFORM_DEVICE_EXT, devs[device], NULL);
     }
     if (c->dpy == EGL_NO_DISPLAY)
-        return spr__fail(err, SPR_E_BACKEND, "gl: no EGL display for the %s platform (EGL error 0x%x)",
-                         device < 0 ? "surfaceless" : "device", (unsigned)eglGetError());
+        return spr__fail(err, SPR_E_BACKEND, "gl: no EGL display for the %s platform (EGL error 0x%x; is libegl-mesa0 installed?)",
+                         device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
     EGLint maj, min;
     if (!eglInitialize(c->dpy, &maj, &min)) {
         c->dpy = EGL_NO_DISPLAY;
-        return spr__fail(err, SPR_E_BACKEND, "gl: eglInitialize failed (EGL error 0x%x)", (unsigned)eglGetError());
+        return spr__fail(err, SPR_E_BACKEND, "gl: eglInitialize failed on the %s platform (EGL error 0x%x): no usable GL driver there",
+                         device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
     }
     if (!eglBindAPI(EGL_OPENGL_API)) return spr__fail(err, SPR_E_BACKEND, "gl: EGL cannot bind the OpenGL API");
     const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
