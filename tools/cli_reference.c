@@ -24,6 +24,7 @@ static const cli_opt ref_opts[] = {
     {"only", "NAME", "just this scene"},
     {"gl-device", "N", "GL backend on the N-th EGL device"},
     {"threads", "N", "CPU threads (default: all cores)"},
+    {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
 
 static const cli_opt scene_opts[] = {CLI_SCENE_OPTS, {NULL, NULL, NULL}};
@@ -112,7 +113,8 @@ int cmd_reference(int argc, char **argv)
         if (only && strcmp(only, sl[i].name)) continue;
         char args[1024], *sargv[64];
         snprintf(args, sizeof args, "%s", sl[i].args);
-        int sargc = split(args, sargv, 64);
+        int sargc = split(args, sargv, 62);
+        if (cli_flag(&a, "quiet")) sargv[sargc++] = "--quiet";
         cli_args sa;
         cli_scene s;
         spr_render_desc rd;
