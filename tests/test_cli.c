@@ -34,8 +34,10 @@ static void write_text(const char *name, const char *s, size_t n)
     fclose(f);
 }
 
-/* Run the CLI; returns the exit status, stderr in err. */
-static int run(char *const argv[], char *err, size_t cap)
+/* Run `prog` (the CLI unless given) with NAME=VALUE set in its environment
+ * when env is not NULL; returns the exit status, stderr (and stdout when
+ * out_too) in err. */
+static int run_in(const char *prog, const char *env, int out_too, char *const argv[], char *err, size_t cap)
 {
     int pipefd[2];
     ck_assert_int_eq(pipe(pipefd), 0);
@@ -45,8 +47,10 @@ static int run(char *const argv[], char *err, size_t cap)
     if (pid == 0) {
         dup2(pipefd[1], 2);
         close(pipefd[0]);
-        freopen("/dev/null", "w", stdout);
-        execv(SPR_CLI, argv);
+        if (out_too) dup2(pipefd[1], 1);
+        else freopen("/dev/null", "w", stdout);
+        if (env) putenv((char *)env);
+        execv(prog ? prog : SPR_CLI, argv);
         _exit(127);
     }
     close(pipefd[1]);
@@ -59,6 +63,8 @@ static int run(char *const argv[], char *err, size_t cap)
     waitpid(pid, &st, 0);
     return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }
+
+static int run(char *const argv[], char *err, size_t cap) { return run_in(NULL, NULL, 0, argv, err, cap); }
 
 static int count_files(void)
 {
@@ -178,6 +184,27 @@ START_TEST(sample_then_info)
 }
 END_TEST
 
+START_TEST(no_gl_context)
+{
+    /* No EGL vendor at all: render --backend gl fails with one line and no
+     * file; the GL suite reports "skipped" (77) with the reason. */
+    setup_dir();
+    char err[4096];
+    const char *out = path_in("gl.png");
+    char *argv[] = {"splatref", "render", "--backend", "gl", "--out", (char *)out, "--quiet", NULL};
+    int rc = run_in(NULL, "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent", 0, argv, err, sizeof err);
+    printf("cli: no GL context: exit %d: %s", rc, err);
+    ck_assert_int_eq(rc, 2);
+    ck_assert_ptr_nonnull(strstr(err, "gl: "));
+    ck_assert_ptr_eq(strchr(err, '\n'), err + strlen(err) - 1);
+    ck_assert_int_ne(access(out, F_OK), 0);
+    char *targv[] = {"splatref_tests", "gl", NULL};
+    rc = run_in("/proc/self/exe", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent", 1, targv, err, sizeof err);
+    ck_assert_int_eq(rc, 77);
+    ck_assert_ptr_nonnull(strstr(err, "gl: skipped: gl: "));
+}
+END_TEST
+
 Suite *make_cli_suite(void)
 {
     Suite *s = suite_create("cli");
@@ -186,6 +213,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, bad_inputs);
     tcase_add_test(tc, render_writes_outputs);
     tcase_add_test(tc, sample_then_info);
+    tcase_add_test(tc, no_gl_context);
     suite_add_tcase(s, tc);
     return s;
 }

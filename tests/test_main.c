@@ -1,5 +1,6 @@
 /* test_main.c — the one Check runner: `splatref_tests [suite]`. */
 #include <check.h>
+#include "spr_glbackend.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,18 +13,32 @@ Suite *make_group_suite(void);
 Suite *make_io_suite(void);
 Suite *make_cli_suite(void);
 Suite *make_determinism_suite(void);
+Suite *make_gl_suite(void);
 
-static const struct { const char *name; Suite *(*make)(void); } suites[] = {
-    {"kernel", make_kernel_suite}, {"camera", make_camera_suite}, {"raster", make_raster_suite},
-    {"algo", make_algo_suite},     {"group", make_group_suite},   {"io", make_io_suite},
-    {"cli", make_cli_suite},       {"determinism", make_determinism_suite},
+static const struct { const char *name; Suite *(*make)(void); int gl; } suites[] = {
+    {"kernel", make_kernel_suite, 0}, {"camera", make_camera_suite, 0}, {"raster", make_raster_suite, 0},
+    {"algo", make_algo_suite, 0},     {"group", make_group_suite, 0},   {"io", make_io_suite, 0},
+    {"cli", make_cli_suite, 0},       {"determinism", make_determinism_suite, 0}, {"gl", make_gl_suite, 1},
 };
 
 int main(int argc, char **argv)
 {
     SRunner *sr = NULL;
+    int gl_suites = 0;
     for (size_t i = 0; i < sizeof suites / sizeof suites[0]; i++) {
         if (argc > 1 && strcmp(argv[1], suites[i].name)) continue;
+        if (suites[i].gl) {
+            /* GL suites are skipped (CTest code 77) only when no context can be made at all. */
+            spr_error err = {0};
+            spr_backend *gl = spr_gl_create(NULL, &err);
+            if (!gl) {
+                printf("%s: skipped: %s\n", suites[i].name, err.msg);
+                if (argc > 1) return 77;
+                continue;
+            }
+            spr_backend_destroy(gl);
+            gl_suites++;
+        }
         if (!sr) sr = srunner_create(suites[i].make());
         else srunner_add_suite(sr, suites[i].make());
     }
@@ -31,6 +46,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "splatref_tests: no suite named '%s'\n", argv[1]);
         return 2;
     }
+    if (gl_suites) srunner_set_fork_status(sr, CK_NOFORK); /* one GL context per process (STYLE 9) */
     srunner_run_all(sr, CK_NORMAL);
     int failed = srunner_ntests_failed(sr);
     srunner_free(sr);

@@ -1,0 +1,418 @@
+/* test_gl.c — Tier A parity: the GL backend equals the CPU reference in
+ * every plane of every pass (PARITY.md).  Runs without fork (one GL
+ * context); the runner reports the suite skipped (77) when no GL context
+ * can be created at all. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "spr_glbackend.h"
+#include "spr_parity.h"
+#include "test_util.h"
+
+static spr_backend *cpu, *gl;
+
+static void setup(void)
+{
+    spr_error err = {0};
+    cpu = spr_swrast_create(2, &err);
+    gl = spr_gl_create(NULL, &err);
+    ck_assert_msg(cpu && gl, "%s", err.msg);
+}
+
+static void teardown(void)
+{
+    spr_backend_destroy(cpu);
+    spr_backend_destroy(gl);
+}
+
+static int cases, planes_checked;
+
+static void expect_exact(const char *label, const spr_view *v, const spr_cloud *c, const spr_render_desc *d)
+{
+    spr_parity_report rep;
+    spr_error err = {0};
+    ck_assert_msg(spr_parity_run(cpu, gl, v, c, d, d, NULL, label, &rep, &err) == SPR_OK, "%s: %s", label, err.msg);
+    int exact = spr_parity_exact(&rep);
+    if (!exact) {
+        printf("%s:\n", label);
+        for (int i = 0; i < rep.n_planes; i++) {
+            const spr_plane_diff *p = &rep.planes[i];
+            if (!p->differing_pixels) continue;
+            printf("  pass %d %s k=%d plane %d: %zu pixels, max ulp %llu, first (%d,%d): cpu %.9g gl %.9g\n", p->pass, p->pass_name,
+                   p->group, p->plane, p->differing_pixels, (unsigned long long)p->max_ulp, p->first_x, p->first_y, p->first_ref,
+                   p->first_test);
+        }
+        if (rep.stats_mismatches) printf("  %s\n", rep.first_stats_mismatch);
+    }
+    cases++;
+    planes_checked += rep.n_planes;
+    ck_assert_msg(exact, "%s: %d/%d planes bit-exact, max ulp %llu", label, rep.exact_planes, rep.n_planes,
+                  (unsigned long long)rep.max_ulp);
+    spr_parity_report_free(&rep);
+}
+
+typedef struct config {
+    const char *name;
+    spr_algo algo;
+    int groups; /* 0: none, 1: MGC, 2: hash K = 8 */
+    int voronoi;
+} config;
+
+static const config configs[] = {
+    {"pbr2p1", SPR_ALGO_PBR2P1, 0, 0},       {"deferred-mgc", SPR_ALGO_DEFERRED, 1, 0},
+    {"deferred-mgc-voronoi", SPR_ALGO_DEFERRED, 1, 1}, {"deferred-hash8", SPR_ALGO_DEFERRED, 2, 0},
+    {"deferred-hash8-voronoi", SPR_ALGO_DEFERRED, 2, 1}};
+#define N_CONFIGS (int)(sizeof configs / sizeof configs[0])
+
+typedef struct model_groups {
+    spr_groups mgc, hash;
+} model_groups;
+
+static void make_groups(const spr_cloud *c, double cf, model_groups *mg)
+{
+    int32_t *lab = malloc(c->n * sizeof *lab);
+    spr_group_stats st;
+    spr_error err;
+    spr_mgc_desc md;
+    spr_mgc_defaults(&md);
+    md.c = cf;
+    ck_assert_int_eq(spr_group_mgc(c, &md, lab, &st, &err), SPR_OK);
+    ck_assert_int_eq(spr_groups_from_labels(lab, c->n, st.K, &mg->mgc, &err), SPR_OK);
+    ck_assert_int_eq(spr_group_hash(c, 8, lab, &st, &err), SPR_OK);
+    ck_assert_int_eq(spr_groups_from_labels(lab, c->n, 8, &mg->hash, &err), SPR_OK);
+    free(lab);
+}
+
+static void free_groups(model_groups *mg)
+{
+    spr_groups_free(&mg->mgc);
+    spr_groups_free(&mg->hash);
+}
+
+static void all_configs(const char *scene, const spr_view *v, const spr_cloud *c, const model_groups *mg, spr_kernel kernel)
+{
+    for (int i = 0; i < N_CONFIGS; i++) {
+        spr_render_desc d = {.algo = configs[i].algo, .voronoi = configs[i].voronoi, .kernel = kernel};
+        d.groups = configs[i].groups == 1 ? &mg->mgc : configs[i].groups == 2 ? &mg->hash : NULL;
+        char label[160];
+        snprintf(label, sizeof label, "%s/%s/%s", scene, configs[i].name, spr_kernel_name(kernel));
+        expect_exact(label, v, c, &d);
+    }
+}
+
+static void view_for(const spr_cloud *c, spr_camera_desc *cam, spr_view *v)
+{
+    spr_bounds bd;
+    spr_cloud_bounds(c, &bd);
+    spr_camera_frame(cam, &bd);
+    spr_error err;
+    ck_assert_msg(spr_view_make(cam, v, &err) == SPR_OK, "%s", err.msg);
+}
+
+START_TEST(blend_modes_and_depth_funcs_match)
+{
+    /* Raw draws, every blend mode × depth function × output, on float targets:
+     * PARITY.md rule 7 checked directly, not only through the algorithms. */
+    spr_cloud c;
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    ld.points = 3000;
+    spr_error err;
+    ck_assert_int_eq(spr_load("builtin:sphere", &ld, &c, &err), SPR_OK);
+    for (size_t i = 0; i < c.n; i++) c.alpha[i] = (float)(i % 17) / 16.0f;
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.width = 96;
+    cam.height = 80;
+    spr_view v;
+    view_for(&c, &cam, &v);
+    size_t np = (size_t)v.width * v.height;
+    float *a = malloc(np * 16), *b = malloc(np * 16);
+    for (int blend = 0; blend < SPR_BLEND__COUNT; blend++)
+        for (int func = 0; func < SPR_FUNC__COUNT; func++)
+            for (int out = 0; out < SPR_OUT__COUNT; out++) {
+                spr_backend *be[2] = {cpu, gl};
+                int t[2];
+                for (int k = 0; k < 2; k++) {
+                    ck_assert_int_eq(spr_backend_set_view(be[k], &v), SPR_OK);
+                    ck_assert_int_eq(spr_backend_target_create(be[k], &t[k]), SPR_OK);
+                    static const float bg[4] = {0.1f, 0.2f, 0.3f, 0.4f};
+                    ck_assert_int_eq(spr_backend_clear(be[k], t[k], bg), SPR_OK);
+                    spr_draw_desc d = {.cloud = &c};
+                    spr_pass_state_defaults(&d.state);
+                    d.state.blend = (spr_blend)blend;
+                    d.state.depth_func = (spr_depth_func)func;
+                    d.state.output = (spr_frag_output)out;
+                    d.state.depth_write = func != SPR_FUNC_ALWAYS;
+                    d.state.depth_value = SPR_DEPTH_EPS_OFFSET;
+                    d.state.eps_t = 0.01f;
+                    for (int rep = 0; rep < 2; rep++) /* twice: the second draw blends onto the first */
+                        ck_assert_int_eq(spr_backend_draw(be[k], t[k], &d, NULL), SPR_OK);
+                }
+                for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+                    ck_assert_int_eq(spr_backend_read_plane(cpu, t[0], (spr_plane)p, a), SPR_OK);
+                    ck_assert_int_eq(spr_backend_read_plane(gl, t[1], (spr_plane)p, b), SPR_OK);
+                    size_t bytes = np * 4 * (size_t)spr_plane_channels((spr_plane)p);
+                    ck_assert_msg(memcmp(a, b, bytes) == 0, "blend %d func %d output %d: plane %s differs", blend, func, out,
+                                  spr_plane_name((spr_plane)p));
+                }
+                spr_backend_target_destroy(cpu, t[0]);
+                spr_backend_target_destroy(gl, t[1]);
+            }
+    free(a);
+    free(b);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(bunny_six_views)
+{
+    spr_cloud c;
+    tu_load("meshes/bunny00.off", &c);
+    model_groups mg;
+    make_groups(&c, 0.6, &mg);
+    static const struct { const char *name; double eye[3], target[3], up[3], fov, ortho; } views[] = {
+        {"front", {0, 0, 3.2}, {0, 0, 0}, {0, 1, 0}, 30, 0},
+        {"back", {0.2, 0.1, -3.2}, {0, 0, 0}, {0, 1, 0}, 30, 0},
+        {"side", {3.2, 0.3, 0.4}, {0, 0, 0}, {0, 1, 0}, 30, 0},
+        {"top", {0.05, 3.2, 0.2}, {0, 0, 0}, {0, 0, -1}, 30, 0},
+        {"grazing", {2.6, -0.46, 2.4}, {0, -0.3, 0}, {0, 1, 0}, 35, 0},
+        {"closeup", {0.1, 0.1, 1.1}, {0.1, 0.1, 0}, {0, 1, 0}, 20, 0},
+        {"ortho", {1.5, 1.0, 2.5}, {0, 0, 0}, {0, 1, 0}, 0, 1.2},
+    };
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
+        spr_camera_desc cam;
+        spr_camera_defaults(&cam);
+        cam.width = 192;
+        cam.height = 160;
+        memcpy(cam.eye, views[i].eye, sizeof cam.eye);
+        memcpy(cam.target, views[i].target, sizeof cam.target);
+        memcpy(cam.up, views[i].up, sizeof cam.up);
+        cam.fov_deg = views[i].fov;
+        cam.ortho_height = views[i].ortho;
+        spr_view v;
+        view_for(&c, &cam, &v);
+        char scene[64];
+        snprintf(scene, sizeof scene, "bunny-%s", views[i].name);
+        all_configs(scene, &v, &c, &mg, (spr_kernel)(i % SPR_KERNEL__COUNT));
+    }
+    free_groups(&mg);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(builtin_models)
+{
+    static const char *names[] = {"builtin:sphere", "builtin:torus", "builtin:octahedron", "builtin:cube"};
+    for (int m = 0; m < 4; m++) {
+        spr_cloud c;
+        spr_load_desc ld;
+        spr_load_defaults(&ld);
+        ld.points = 8000;
+        spr_error err;
+        ck_assert_int_eq(spr_load(names[m], &ld, &c, &err), SPR_OK);
+        model_groups mg;
+        make_groups(&c, 1.0, &mg);
+        spr_camera_desc cam;
+        spr_camera_defaults(&cam);
+        cam.width = 160;
+        cam.height = 160;
+        cam.eye[0] = 2.0; cam.eye[1] = 2.5; cam.eye[2] = 4.5;
+        spr_view v;
+        view_for(&c, &cam, &v);
+        all_configs(names[m] + 8, &v, &c, &mg, (spr_kernel)(m % SPR_KERNEL__COUNT));
+        free_groups(&mg);
+        spr_cloud_free(&c);
+    }
+}
+END_TEST
+
+/* A grid of n×n splats in the plane through `origin` spanned by u and w. */
+static void grid(spr_cloud *c, size_t first, int n, const double origin[3], const double u[3], const double w[3],
+                 const double nrm[3], float r, const float col[3])
+{
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < n; b++) {
+            size_t i = first + (size_t)a * n + b;
+            for (int k = 0; k < 3; k++) {
+                c->pos[3 * i + k] = (float)(origin[k] + u[k] * (a - n / 2) + w[k] * (b - n / 2));
+                c->nrm[3 * i + k] = (float)nrm[k];
+                c->color[3 * i + k] = col[k];
+            }
+            spr__normalize3(c->nrm + 3 * i);
+            c->radius[i] = r;
+        }
+}
+
+START_TEST(adversarial_scenes)
+{
+    spr_error err;
+    spr_camera_desc cam;
+    spr_view v;
+    model_groups mg;
+    /* 1. splats nearly edge-on: the view direction lies almost in their plane */
+    {
+        spr_cloud c;
+        ck_assert_int_eq(spr_cloud_alloc(&c, 1600), SPR_OK);
+        grid(&c, 0, 40, (double[]){0, 0, 0}, (double[]){0.05, 0, 0}, (double[]){0, 0.0004, 0.05}, (double[]){0, 1, 0.0015}, 0.04f,
+             (float[]){0.8f, 0.4f, 0.2f});
+        for (size_t i = 0; i < c.n; i++) c.nrm[3 * i] = (float)((int)(i % 7) - 3) * 1e-4f, spr__normalize3(c.nrm + 3 * i);
+        spr_camera_defaults(&cam);
+        cam.width = cam.height = 160;
+        cam.eye[0] = 0.01; cam.eye[1] = 0.03; cam.eye[2] = 3.0;
+        view_for(&c, &cam, &v);
+        make_groups(&c, 1.0, &mg);
+        all_configs("edge-on", &v, &c, &mg, SPR_KERNEL_GAUSS);
+        free_groups(&mg);
+        spr_cloud_free(&c);
+    }
+    /* 2. splats crossing the near plane (and behind the eye) */
+    {
+        spr_cloud c;
+        tu_load("meshes/bunny00.off", &c);
+        spr_camera_defaults(&cam);
+        cam.width = cam.height = 160;
+        cam.eye[0] = 0.05; cam.eye[1] = 0.05; cam.eye[2] = 0.45;
+        cam.near_plane = 0.12;
+        cam.far_plane = 1.5;
+        cam.fov_deg = 60;
+        view_for(&c, &cam, &v);
+        make_groups(&c, 0.6, &mg);
+        all_configs("near-plane", &v, &c, &mg, SPR_KERNEL_EPANECHNIKOV);
+        free_groups(&mg);
+        spr_cloud_free(&c);
+    }
+    /* 3. one splat larger than the screen, with small ones in front */
+    {
+        spr_cloud c;
+        ck_assert_int_eq(spr_cloud_alloc(&c, 101), SPR_OK);
+        grid(&c, 0, 1, (double[]){0, 0, -0.5}, (double[]){0, 0, 0}, (double[]){0, 0, 0}, (double[]){0.2, 0.1, 1}, 60.0f,
+             (float[]){0.2f, 0.5f, 0.9f});
+        grid(&c, 1, 10, (double[]){0, 0, 0.2}, (double[]){0.12, 0, 0}, (double[]){0, 0.12, 0}, (double[]){0, 0, 1}, 0.07f,
+             (float[]){0.9f, 0.8f, 0.1f});
+        spr_camera_defaults(&cam);
+        cam.width = cam.height = 128;
+        cam.eye[2] = 3.0;
+        cam.near_plane = 1.0;
+        cam.far_plane = 6.0;
+        view_for(&c, &cam, &v);
+        make_groups(&c, 1.0, &mg);
+        all_configs("huge-splat", &v, &c, &mg, SPR_KERNEL_LINEAR);
+        free_groups(&mg);
+        spr_cloud_free(&c);
+    }
+    /* 4. thousands of splats on one pixel */
+    {
+        spr_cloud c;
+        ck_assert_int_eq(spr_cloud_alloc(&c, 5000), SPR_OK);
+        for (size_t i = 0; i < c.n; i++) {
+            c.pos[3 * i] = 0.001f * (float)(i % 5);
+            c.pos[3 * i + 1] = 0.0f;
+            c.pos[3 * i + 2] = -0.0001f * (float)(i % 97);
+            c.nrm[3 * i] = 0; c.nrm[3 * i + 1] = 0; c.nrm[3 * i + 2] = 1;
+            c.radius[i] = 0.02f;
+            c.color[3 * i] = (float)(i % 13) / 12.0f;
+            c.color[3 * i + 1] = (float)(i % 7) / 6.0f;
+            c.color[3 * i + 2] = 0.5f;
+        }
+        spr_camera_defaults(&cam);
+        cam.width = cam.height = 64;
+        cam.eye[2] = 2.0;
+        cam.ortho_height = 0.2;
+        cam.fov_deg = 0;
+        cam.near_plane = 1.0;
+        cam.far_plane = 3.0;
+        view_for(&c, &cam, &v);
+        make_groups(&c, 1.0, &mg);
+        all_configs("pixel-stack", &v, &c, &mg, SPR_KERNEL_GAUSS);
+        free_groups(&mg);
+        spr_cloud_free(&c);
+    }
+    /* 5. depth ties: identical grids at the same depth, a third offset */
+    {
+        spr_cloud c;
+        ck_assert_int_eq(spr_cloud_alloc(&c, 3 * 400), SPR_OK);
+        grid(&c, 0, 20, (double[]){0, 0, 0}, (double[]){0.1, 0, 0}, (double[]){0, 0.1, 0}, (double[]){0, 0, 1}, 0.08f,
+             (float[]){1, 0, 0});
+        grid(&c, 400, 20, (double[]){0, 0, 0}, (double[]){0.1, 0, 0}, (double[]){0, 0.1, 0}, (double[]){0, 0, 1}, 0.08f,
+             (float[]){0, 1, 0});
+        grid(&c, 800, 20, (double[]){0.05, 0.05, 0}, (double[]){0.1, 0, 0}, (double[]){0, 0.1, 0}, (double[]){0, 0, 1}, 0.08f,
+             (float[]){0, 0, 1});
+        spr_camera_defaults(&cam);
+        cam.width = cam.height = 128;
+        view_for(&c, &cam, &v);
+        make_groups(&c, 1.0, &mg);
+        all_configs("depth-ties", &v, &c, &mg, SPR_KERNEL_CONSTANT);
+        free_groups(&mg);
+        spr_cloud_free(&c);
+    }
+    /* 6. denormals: w·c falls below FLT_MIN (both sides flush: PARITY.md rule 6) */
+    {
+        spr_cloud c;
+        ck_assert_int_eq(spr_cloud_alloc(&c, 400), SPR_OK);
+        grid(&c, 0, 20, (double[]){0, 0, 0}, (double[]){0.1, 0, 0}, (double[]){0, 0.1, 0}, (double[]){0.1, 0.2, 1}, 0.09f,
+             (float[]){3e-38f, 1e-39f, 0.5f});
+        spr_camera_defaults(&cam);
+        cam.width = cam.height = 96;
+        view_for(&c, &cam, &v);
+        make_groups(&c, 1.0, &mg);
+        all_configs("denormals", &v, &c, &mg, SPR_KERNEL_GAUSS);
+        free_groups(&mg);
+        spr_cloud_free(&c);
+    }
+    (void)err;
+}
+END_TEST
+
+START_TEST(report_shows_a_perturbation)
+{
+    /* a different ε on the GL side must be reported, with a located first difference */
+    spr_cloud c;
+    tu_load("meshes/bunny00.off", &c);
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.width = cam.height = 128;
+    spr_view v;
+    view_for(&c, &cam, &v);
+    spr_render_desc d = {.algo = SPR_ALGO_PBR2P1, .eps = 0.02}, dt = d;
+    dt.eps = 0.021;
+    spr_parity_report rep;
+    spr_error err;
+    ck_assert_int_eq(spr_parity_run(cpu, gl, &v, &c, &d, &dt, NULL, "perturbed", &rep, &err), SPR_OK);
+    ck_assert(!spr_parity_exact(&rep));
+    ck_assert_int_lt(rep.exact_planes, rep.n_planes);
+    const spr_plane_diff *first = NULL;
+    for (int i = 0; i < rep.n_planes && !first; i++)
+        if (rep.planes[i].differing_pixels) first = &rep.planes[i];
+    ck_assert_ptr_nonnull(first);
+    ck_assert_int_eq(first->pass, 0);              /* the visibility pass is where it starts */
+    ck_assert_int_eq(first->plane, SPR_PLANE_TEST); /* in the test depth d_f + ε_t */
+    ck_assert_int_ge(first->first_x, 0);
+    ck_assert(first->first_ref != first->first_test);
+    spr_parity_report_free(&rep);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(summary)
+{
+    printf("gl: %s — %d parity cases, %d planes compared, all bit-exact\n", spr_gl_renderer(gl), cases, planes_checked);
+}
+END_TEST
+
+Suite *make_gl_suite(void)
+{
+    Suite *s = suite_create("gl");
+    TCase *tc = tcase_create("gl");
+    tcase_set_timeout(tc, 900);
+    tcase_add_unchecked_fixture(tc, setup, teardown);
+    tcase_add_test(tc, blend_modes_and_depth_funcs_match);
+    tcase_add_test(tc, bunny_six_views);
+    tcase_add_test(tc, builtin_models);
+    tcase_add_test(tc, adversarial_scenes);
+    tcase_add_test(tc, report_shows_a_perturbation);
+    tcase_add_test(tc, summary);
+    suite_add_tcase(s, tc);
+    return s;
+}
