@@ -4,6 +4,7 @@
  * noisy): each configuration keeps the best of --reps renders.
  */
 #include "cli.h"
+#include "spr_glbackend.h"
 #include "spr_swrast.h"
 
 #include <stdio.h>
@@ -49,13 +50,15 @@ static void keep_best(bench_run *best, const spr_render_result *res, double ms)
     if (ngeo) snprintf(best->passes + o, sizeof best->passes - o, "geometry x%d %.1f", ngeo, geometry);
 }
 
-/* 1- and 2-thread renders alternate, so a burst of load on the shared
- * machine hits both configurations alike; the best of each is kept. */
-static int run_pair(spr_backend *b[2], const cli_scene *s, const spr_render_desc *rd, int reps, bench_run best[2])
+/* The CPU on 1 and 2 threads and the GL backend run in turn, so a burst of
+ * load on the shared machine hits every configuration alike; the best of
+ * each is kept. */
+static int run_set(spr_backend *b[3], const cli_scene *s, const spr_render_desc *rd, int reps, bench_run best[3])
 {
-    best[0].ms = best[1].ms = 1e300;
+    best[0].ms = best[1].ms = best[2].ms = 1e300;
     for (int r = 0; r < reps; r++)
-        for (int t = 0; t < 2; t++) {
+        for (int t = 0; t < 3; t++) {
+            if (!b[t]) continue;
             spr_render_result res;
             spr_error err = {0};
             double t0 = now_ms();
@@ -69,6 +72,9 @@ static int run_pair(spr_backend *b[2], const cli_scene *s, const spr_render_desc
     return 0;
 }
 
+static spr_backend *bench_gl;     /* NULL when no GL context could be made */
+static const char *bench_gl_reason;
+
 static int bench_scene(const cli_args *a, const char *label, cli_scene *s, int reps, int quiet)
 {
     spr_bounds bd;
@@ -78,7 +84,7 @@ static int bench_scene(const cli_args *a, const char *label, cli_scene *s, int r
     if (spr_view_make(&s->cam, &s->view, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
     if (cli_make_groups(a, s, "hash", 1.0, NULL, 8, 0, cli_progress(quiet))) return -1;
     printf("\nscene %s: %zu splats, %dx%d\n", label, s->cloud.n, s->view.width, s->view.height);
-    printf("  %-22s %7s %10s %12s %14s  %s\n", "algorithm", "threads", "ms", "splats/s", "fragments/s", "ms per pass");
+    printf("  %-22s %7s %10s %12s %14s  %s\n", "algorithm", "backend", "ms", "splats/s", "fragments/s", "ms per pass");
     static const struct { const char *name; spr_algo algo; int voronoi; } algos[] = {
         {"pbr2p1", SPR_ALGO_PBR2P1, 0}, {"deferred hash K=8 +vor", SPR_ALGO_DEFERRED, 1}};
     for (size_t i = 0; i < sizeof algos / sizeof algos[0]; i++) {
@@ -86,19 +92,24 @@ static int bench_scene(const cli_args *a, const char *label, cli_scene *s, int r
         rd.algo = algos[i].algo;
         rd.voronoi = algos[i].voronoi;
         rd.groups = &s->groups;
-        bench_run run[2];
-        spr_backend *b[2] = {spr_swrast_create(1, &err), spr_swrast_create(2, &err)};
+        bench_run run[3];
+        spr_backend *b[3] = {spr_swrast_create(1, &err), spr_swrast_create(2, &err), bench_gl};
         int bad = !b[0] || !b[1];
         if (bad) fprintf(stderr, "splatref bench: %s\n", err.msg);
-        else bad = run_pair(b, s, &rd, reps, run);
+        else bad = run_set(b, s, &rd, reps, run);
         spr_backend_destroy(b[0]);
         spr_backend_destroy(b[1]);
         if (bad) return -1;
-        for (int t = 0; t < 2; t++) {
-            printf("  %-22s %7d %10.1f %12.3g %14.3g  %s\n", algos[i].name, t + 1, run[t].ms, s->cloud.n / (run[t].ms * 1e-3),
+        for (int t = 0; t < 3; t++) {
+            if (!b[t]) continue;
+            char who[16];
+            snprintf(who, sizeof who, t < 2 ? "cpu %d" : "gl", t + 1);
+            printf("  %-22s %7s %10.1f %12.3g %14.3g  %s\n", algos[i].name, who, run[t].ms, s->cloud.n / (run[t].ms * 1e-3),
                    run[t].fragments / (run[t].ms * 1e-3), run[t].passes);
         }
-        printf("  %-22s speed-up 2 threads / 1 thread: %.2fx\n", algos[i].name, run[0].ms / run[1].ms);
+        printf("  %-22s speed-up 2 threads / 1 thread: %.2fx", algos[i].name, run[0].ms / run[1].ms);
+        if (b[2]) printf("; time CPU (2 threads) / GL: %.2f", run[1].ms / run[2].ms);
+        printf("\n");
     }
     return 0;
 }
@@ -118,7 +129,11 @@ int cmd_bench(int argc, char **argv)
         cli_error(&a, "--scene: '%s' is not bunny, armadillo-1m or all", scene);
         return 2;
     }
-    printf("splatref bench: CPU reference, best of %d, OpenMP threads 1 and 2\n", reps);
+    spr_error gerr = {0};
+    bench_gl = spr_gl_create(NULL, &gerr);
+    bench_gl_reason = bench_gl ? NULL : gerr.msg;
+    printf("splatref bench: CPU reference on 1 and 2 OpenMP threads and the GL backend [%s], best of %d\n",
+           bench_gl ? spr_gl_renderer(bench_gl) : bench_gl_reason, reps);
     spr_load_desc ld;
     spr_load_defaults(&ld);
     ld.progress = cli_progress(quiet);
@@ -151,5 +166,7 @@ int cmd_bench(int argc, char **argv)
         rc |= bench_scene(&a, label, &s, reps, quiet);
         cli_scene_free(&s);
     }
+    spr_backend_destroy(bench_gl);
+    bench_gl = NULL;
     return rc ? 2 : 0;
 }
