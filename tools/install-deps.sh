@@ -8,7 +8,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 pkgs="build-essential cmake pkg-config ca-certificates \
   libflann-dev liblz4-dev check libsubunit-dev \
   libpng-dev zlib1g-dev \
-  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev \
+  libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
   libqhull-dev libcgal-demo"
 
 missing=""
