@@ -28,15 +28,26 @@ static spr_result bad(spr_backend *b, const char *fmt, int v)
     return spr__fail(&b->err, SPR_E_ARG, fmt, v);
 }
 
-spr_result spr__backend_add_target(spr_backend *b, int *out_target)
+spr_result spr__backend_add_target(spr_backend *b, int *out_target, void **slots, int *cap, size_t slot_size)
 {
-    for (int t = 0; t < b->n_targets; t++)
-        if (!b->target_live[t]) { b->target_live[t] = 1; *out_target = t; return SPR_OK; }
-    unsigned char *nl = realloc(b->target_live, (size_t)b->n_targets + 1);
-    if (!nl) return spr__fail(&b->err, SPR_E_NOMEM, "%s: out of memory for a target", b->name);
-    b->target_live = nl;
-    b->target_live[b->n_targets] = 1;
-    *out_target = b->n_targets++;
+    int t = 0;
+    while (t < b->n_targets && b->target_live[t]) t++;
+    if (t == b->n_targets) {
+        unsigned char *nl = realloc(b->target_live, (size_t)b->n_targets + 1);
+        if (!nl) return spr__fail(&b->err, SPR_E_NOMEM, "%s: out of memory for a target", b->name);
+        b->target_live = nl;
+        b->target_live[b->n_targets++] = 0;
+    }
+    if (t >= *cap) {
+        int ncap = *cap ? 2 * *cap : 8;
+        char *ns = realloc(*slots, (size_t)ncap * slot_size);
+        if (!ns) return spr__fail(&b->err, SPR_E_NOMEM, "%s: out of memory for a target", b->name);
+        memset(ns + (size_t)*cap * slot_size, 0, (size_t)(ncap - *cap) * slot_size);
+        *slots = ns;
+        *cap = ncap;
+    }
+    b->target_live[t] = 1;
+    *out_target = t;
     return SPR_OK;
 }
 

@@ -156,7 +156,9 @@ spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c);
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out);
 void spr_backend_destroy(spr_backend *b);
 
-/* Bookkeeping helpers for implementations: grow the live-target table. */
-spr_result spr__backend_add_target(spr_backend *b, int *out_target);
+/* Bookkeeping for implementations: take the lowest free handle and make the
+ * backend's own per-target array (*slots, *cap entries of slot_size bytes,
+ * new entries zeroed) long enough to hold it. */
+spr_result spr__backend_add_target(spr_backend *b, int *out_target, void **slots, int *cap, size_t slot_size);
 
 #endif

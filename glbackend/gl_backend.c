@@ -82,16 +82,8 @@ static spr_result gl_target_create(spr_backend *b, int *out)
 {
     gl_context *c = gl_ctx(b);
     int t;
-    spr_result r = spr__backend_add_target(b, &t);
+    spr_result r = spr__backend_add_target(b, &t, (void **)&c->targets, &c->cap, sizeof *c->targets);
     if (r) return r;
-    if (t >= c->cap) {
-        int cap = c->cap ? 2 * c->cap : 8;
-        gl_target *nt = realloc(c->targets, (size_t)cap * sizeof *nt);
-        if (!nt) { b->target_live[t] = 0; return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory"); }
-        memset(nt + c->cap, 0, (size_t)(cap - c->cap) * sizeof *nt);
-        c->targets = nt;
-        c->cap = cap;
-    }
     int W = b->view.width, H = b->view.height;
     gl_target *tg = &c->targets[t];
     free_target(tg);

@@ -41,16 +41,8 @@ static spr_result sw_target_create(spr_backend *b, int *out)
 {
     sw_context *c = sw_ctx(b);
     int t;
-    spr_result r = spr__backend_add_target(b, &t);
+    spr_result r = spr__backend_add_target(b, &t, (void **)&c->targets, &c->cap, sizeof *c->targets);
     if (r) return r;
-    if (t >= c->cap) {
-        int cap = c->cap ? 2 * c->cap : 8;
-        sw_target *nt = realloc(c->targets, (size_t)cap * sizeof *nt);
-        if (!nt) { b->target_live[t] = 0; return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory"); }
-        memset(nt + c->cap, 0, (size_t)(cap - c->cap) * sizeof *nt);
-        c->targets = nt;
-        c->cap = cap;
-    }
     size_t np = (size_t)b->view.width * (size_t)b->view.height;
     sw_target *tg = &c->targets[t];
     if (tg->color && tg->pixels == np) { /* memory kept from a destroyed target of this size */
