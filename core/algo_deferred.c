@@ -4,6 +4,7 @@
  *       clear I_k; draw S_k with depth test LESS and depth write on,
  *       test value z = d_f, or z̃ + ρ/n with Voronoi depth ([ZP] Eq. 14);
  *       each surviving fragment replaces the pixel with (w·c, w) and d_f (Eq. 4)
+ *       (with enlarged radii r̃ = scale_k·r_i when the groups carry them, [ZP] §4.4.2)
  *   compositing pass (one full-screen operation over I_0 … I_{K−1}):
  *       d = min_k d_f(k); sum the I_k with d_f(k) ≤ d + ε_t; normalise
  */
@@ -34,12 +35,22 @@ spr_result spr__algo_deferred(spr__run *run, int *final_target)
     d.state.depth_write = 1;
     d.state.blend = SPR_BLEND_REPLACE;
     d.state.write_mask = SPR_WRITE_ALL;
+    float *radius = NULL;
+    if (g && g->radius_scale && !(radius = malloc(run->cloud->n * sizeof *radius))) {
+        r = spr__fail(run->err, SPR_E_NOMEM, "deferred: out of memory");
+        goto done;
+    }
     for (int k = 0; k < K; k++) {
         /* S_k: the memberships of group k, in submission order */
         d.indices = g ? g->members + g->start[k] : NULL;
         d.count = g ? g->start[k + 1] - g->start[k] : run->cloud->n;
-        if ((r = spr__run_draw(run, "geometry", k, I[k], &d))) goto done;
+        if (radius) { /* r̃ = scale_k · r_i, rounded once on the host: both backends get the same bits */
+            for (size_t m = 0; m < d.count; m++) radius[d.indices[m]] = g->radius_scale[k] * run->cloud->radius[d.indices[m]];
+            d.radius_override = radius;
+        }
+        if ((r = spr__run_draw(run, "geometry", k, I[k], &d))) { free(radius); goto done; }
     }
+    free(radius);
     spr_composite_desc c = {SPR_COMP_DEFERRED, I, K, I[K], run->eps_t,
                             {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
     if ((r = spr__run_composite(run, "composite", &c))) goto done;

@@ -73,7 +73,7 @@ spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *l
     spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
     if (r) return r;
     spr_graph g;
-    r = spr_knn_radius_graph(kn, d.c * 2.0 * b.max_radius, d.threads, &g, &d.progress, err);
+    r = spr_knn_radius_graph(kn, c->radius, d.c, b.max_radius, d.threads, &g, &d.progress, err);
     spr_knn_free(kn);
     if (r) return r;
     /* Keep only conflict edges, in place (lists stay ascending). */

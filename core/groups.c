@@ -36,6 +36,7 @@ void spr_groups_free(spr_groups *g)
 {
     free(g->start);
     free(g->members);
+    free(g->radius_scale);
     memset(g, 0, sizeof *g);
 }
 

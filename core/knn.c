@@ -128,8 +128,8 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_graph *g, const spr_progress *prog,
-                                spr_error *err)
+spr_result spr_knn_radius_graph(spr_knn *kn, const float *rad, double f, double r_max, int threads, spr_graph *g,
+                                const spr_progress *prog, spr_error *err)
 {
     memset(g, 0, sizeof *g);
     const size_t n = kn->n;
@@ -143,9 +143,6 @@ spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_gra
         g->start = NULL;
         return spr__fail(err, SPR_E_NOMEM, "knn: out of memory for the neighbour graph");
     }
-    /* FLANN's radius is squared for L2; search slightly wider in float and
-     * decide membership in double below. */
-    float r2 = (float)(radius * radius * 1.0001) + 1e-30f;
     int failed = 0;
 #pragma omp parallel num_threads(threads > 0 ? threads : 1)
     {
@@ -158,6 +155,10 @@ spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_gra
         for (size_t i = 0; i < n; i++) {
             if (!fi || !fd) { failed = 1; continue; }
             if ((i & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", i, n);
+            /* FLANN's radius is squared for L2; search slightly wider in float
+             * and decide membership in double below. */
+            double radius = f * ((rad ? (double)rad[i] : r_max) + r_max);
+            float r2 = (float)(radius * radius * 1.0001) + 1e-30f;
             int got;
             for (;;) {
                 p.max_neighbors = cap;

@@ -18,6 +18,7 @@ typedef struct spr_groups {
     size_t n_splats;
     uint32_t *start;    /* K + 1 */
     uint32_t *members;
+    float *radius_scale; /* K factors for enlarged radii ([ZP] §4.4.2), NULL = 1 */
 } spr_groups;
 
 /* Labels in [0, K) → memberships (K = 1 + largest label when K_hint <= 0). */
@@ -45,7 +46,10 @@ typedef struct spr_group_stats {
     int max_degree;
     double avg_degree;
     size_t edges;
-    double ms_graph, ms_color;
+    double ms_graph, ms_color, ms_optimise;
+    double cost_before, cost_after;  /* WGC: L(G, K) of [ZP] Eq. 6 */
+    size_t pops;                     /* WGC optimisation steps */
+    size_t displaced;                /* hash modes 2/3: splats moved off their cell's group */
 } spr_group_stats;
 
 /* [ZP] Eq. 5 with the active relaxations: 1 when splats i and j conflict
@@ -54,13 +58,106 @@ int spr_mgc_conflict(const spr_cloud *c, const spr_mgc_desc *d, size_t i, size_t
 /* Largest-first greedy colouring of the conflict graph (SPEC §5.1). */
 spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *d, int32_t *label, spr_group_stats *st, spr_error *err);
 
-/* Hash grouping mode 1 ([ZP] Eq. 9, SPEC §5.3) with the axis from each
- * splat's own normal: label = (x + s·y) mod K. */
-spr_result spr_group_hash(const spr_cloud *c, int K, int32_t *label, spr_group_stats *st, spr_error *err);
+/* ---- hash grouping ([ZP] §4.3, Eq. 9, Fig. 9; SPEC §5.3) ---- */
+typedef enum spr_hash_axis {
+    SPR_HASH_AXIS_BSP = 0,   /* largest |component| of the BSP leaf's average normal (default) */
+    SPR_HASH_AXIS_NORMAL     /* largest |component| of the splat's own normal */
+} spr_hash_axis;
+typedef struct spr_hash_desc {
+    int K;                /* default 8 */
+    int mode;             /* 1: no collision handling, 2: collisions handled, 3: mixed (default 1) */
+    spr_hash_axis axis;
+    double eye[3];        /* mode 3: collisions handled for splats with |p − eye| < near_dist */
+    double near_dist;
+    double eps;           /* overlap areas of collision handling (0 = spr_group_default_eps) */
+    const int32_t *axes;  /* optional: the axis of every splat, e.g. from a BSP kept across frames */
+    int threads;
+    spr_progress progress;
+} spr_hash_desc;
+/* Axis of every splat from the BSP leaves' average normals (or own normals). */
+spr_result spr_hash_axes(const spr_cloud *c, spr_hash_axis how, int32_t *axis, spr_error *err);
+void spr_hash_defaults(spr_hash_desc *d);
+/* label = (x + s·y) mod K, then (modes 2/3) collisions: the first splat of a
+ * cell keeps the table group, later ones take the group of minimal total
+ * overlap A with the neighbours placed before them (ties: the table group
+ * if minimal, else the smallest k). */
+spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *d, int32_t *label, spr_group_stats *st, spr_error *err);
+/* Dynamic clouds: regroup only the m splats in `changed` (their positions or
+ * normals moved); every other label is left as it is.  A changed splat takes
+ * its cell's table group unless an unchanged splat already occupies the cell
+ * (modes 2/3), in which case it takes the minimal-overlap group. */
+spr_result spr_group_hash_update(const spr_cloud *c, const spr_hash_desc *d, int32_t *label, const uint32_t *changed,
+                                 size_t m, spr_group_stats *st, spr_error *err);
 /* Step s in [1, K−1] maximising the shortest distance between distinct
  * same-group cells (ties: smallest s); 3 for K = 8. */
 int spr_hash_step(int K);
-/* Cell coordinates of Eq. 9 for splat i (exposed for tests and tools). */
-void spr_hash_cell(const spr_cloud *c, size_t i, int64_t *x, int64_t *y);
+/* Enlarged-radius factor for hash groups: the circumradius, in cell units, of
+ * the triangle of the two shortest same-group lattice vectors; √50/4 for K = 8. */
+double spr_hash_enlarge_factor(int K);
+/* Axis (0..2) and cell (Eq. 9) of splat i; `leaf_normal` NULL = own normal. */
+int spr_hash_axis_of(const float n[3]);
+void spr_hash_cell(const spr_cloud *c, size_t i, int d, int64_t *x, int64_t *y);
+/* Table group of a cell: (x + s·y) mod K, non-negative. */
+int spr_hash_table(int64_t x, int64_t y, int K, int s);
+
+/* ---- overlap graph shared by WGC, hash collisions and the metrics ---- */
+/* All pairs with |p_i − p_j| < r_i + r_j (FLANN), and for every directed
+ * edge e = (i → j) the area A_ij of [ZP] Eq. 8 (spr_overlap.h). */
+typedef struct spr_overlap_graph {
+    spr_graph g;
+    float *A;            /* per directed edge */
+    double eps;
+} spr_overlap_graph;
+spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
+                                   spr_overlap_graph *og, spr_error *err);
+void spr_overlap_graph_free(spr_overlap_graph *og);
+/* Default ε of the grouping areas: 2 × mean radius, as rendering. */
+double spr_group_default_eps(const spr_cloud *c);
+
+/* ---- WGC: weighted graph colouring with K colours (SPEC §5.2) ---- */
+typedef struct spr_wgc_desc {
+    int K;              /* default 8 */
+    double eps;         /* 0 = spr_group_default_eps */
+    double tau_w;       /* optimisation threshold τ_w (default 0) */
+    size_t max_pops;    /* 0 = 10·n */
+    int threads;
+    spr_progress progress;
+} spr_wgc_desc;
+void spr_wgc_defaults(spr_wgc_desc *d);
+spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *d, int32_t *label, spr_group_stats *st, spr_error *err);
+/* w_ij = (A_ij + A_ji)(1 − n_i·n_j), [ZP] Eq. 7, per directed edge (malloc'd). */
+float *spr_wgc_weights(const spr_cloud *c, const spr_overlap_graph *og);
+/* L(G, K) of [ZP] Eq. 6: Σ w_ij over edges whose ends share a colour. */
+double spr_wgc_cost(const spr_overlap_graph *og, const float *w, const int32_t *label);
+/* MinimizeOverlap: the colour k minimising Σ A_vj over neighbours j with
+ * colour k (label < 0 = uncoloured, ignored); ties: smallest k. */
+int spr_minimize_overlap(const spr_overlap_graph *og, size_t v, const int32_t *label, int K);
+
+/* ---- extended grouping for surface coverage ([ZP] §4.4.2, SPEC §5.5) ---- */
+typedef struct spr_extend_desc {
+    double eps;          /* 0 = spr_group_default_eps */
+    double max_share;    /* duplication: drop a candidate covered beyond this share (default 0.5) */
+    int threads;
+    spr_progress progress;
+} spr_extend_desc;
+void spr_extend_defaults(spr_extend_desc *d);
+/* Duplication: for each group k, splats not in k, least covered by S_k first
+ * [decision: ascending, SPEC §5.5], re-evaluated on pop, inserted when the
+ * value held, dropped beyond max_share; groups built from `label` plus the
+ * duplicates (memberships ordered by group, then submission order). */
+spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, const spr_extend_desc *d, spr_groups *out,
+                               double *dup_ratio, spr_error *err);
+/* Radius enlargement by [ZP] Eq. 13 per group: n·π·r̃² = A + Σ Clipped(p_i, r̃, k),
+ * iterated from r̃ = r until the relative change is below 1e-3; the result
+ * is a radius scale per group in g->radius_scale (allocated here). */
+spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *g, const spr_extend_desc *d, spr_error *err);
+/* Mean over groups k and splats i of the share of disk i covered by S_k
+ * (with S_k's radius scale): how completely each group alone covers the surface. */
+double spr_group_coverage(const spr_cloud *c, const spr_groups *g, double eps, int threads);
+
+/* ---- metrics (SPEC §5.7) ---- */
+/* Mean over splats of Σ (r_i + r_k − |p_i − p_k|)/r_i over overlapping
+ * same-group neighbours k ([ZP] §6.1 with unequal radii [decision]). */
+double spr_overlap_factor(const spr_cloud *c, const spr_graph *g, const int32_t *label);
 
 #endif

@@ -32,15 +32,17 @@ void spr_knn_free(spr_knn *k);
 spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, double *dist, const spr_progress *prog,
                              spr_error *err);
 
-/* Neighbour graph in CSR form: for every i, all j ≠ i with |p_i − p_j| < radius
- * (radius in world units), ascending j. */
+/* Neighbour graph in CSR form: for every i, all j ≠ i with
+ * |p_i − p_j| < f·(r_i + r_max) (r NULL: r_i = r_max), ascending j.  With
+ * r_max the largest radius this finds every pair closer than f·(r_i + r_j)
+ * from both ends while searching far less than f·2·r_max around small splats. */
 typedef struct spr_graph {
     size_t n;
     uint64_t *start;  /* n + 1 */
     uint32_t *adj;
 } spr_graph;
-spr_result spr_knn_radius_graph(spr_knn *kn, double radius, int threads, spr_graph *g, const spr_progress *prog,
-                                spr_error *err);
+spr_result spr_knn_radius_graph(spr_knn *kn, const float *r, double f, double r_max, int threads, spr_graph *g,
+                                const spr_progress *prog, spr_error *err);
 void spr_graph_free(spr_graph *g);
 
 #endif

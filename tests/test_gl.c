@@ -79,7 +79,9 @@ static void make_groups(const spr_cloud *c, double cf, model_groups *mg)
     md.c = cf;
     ck_assert_int_eq(spr_group_mgc(c, &md, lab, &st, &err), SPR_OK);
     ck_assert_int_eq(spr_groups_from_labels(lab, c->n, st.K, &mg->mgc, &err), SPR_OK);
-    ck_assert_int_eq(spr_group_hash(c, 8, lab, &st, &err), SPR_OK);
+    spr_hash_desc hd;
+    spr_hash_defaults(&hd);
+    ck_assert_int_eq(spr_group_hash(c, &hd, lab, &st, &err), SPR_OK);
     ck_assert_int_eq(spr_groups_from_labels(lab, c->n, 8, &mg->hash, &err), SPR_OK);
     free(lab);
 }

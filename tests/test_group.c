@@ -117,11 +117,14 @@ START_TEST(hash_step_and_table)
     int32_t *lab = malloc(c.n * sizeof *lab);
     spr_group_stats st;
     spr_error err;
-    ck_assert_int_eq(spr_group_hash(&c, 8, lab, &st, &err), SPR_OK);
+    spr_hash_desc hd;
+    spr_hash_defaults(&hd);
+    hd.axis = SPR_HASH_AXIS_NORMAL; /* Eq. 9 with the splat's own normal */
+    ck_assert_int_eq(spr_group_hash(&c, &hd, lab, &st, &err), SPR_OK);
     for (size_t i = 0; i < c.n; i++) {
         const float *n = c.nrm + 3 * i, *p = c.pos + 3 * i;
         int d = fabsf(n[0]) >= fabsf(n[1]) && fabsf(n[0]) >= fabsf(n[2]) ? 0 : (fabsf(n[1]) >= fabsf(n[2]) ? 1 : 2);
-        double x = floor(p[(d + 1) % 3] / (double)c.radius[i]), y = floor(p[(d + 2) % 3] / (double)c.radius[i]);
+        double x = floorf(p[(d + 1) % 3] / c.radius[i]), y = floorf(p[(d + 2) % 3] / c.radius[i]); /* Eq. 9 in float */
         double m = fmod(x + 3.0 * y, 8.0);
         if (m < 0) m += 8.0;
         if (lab[i] != (int)m) ck_abort_msg("splat %zu: group %d, Eq. 9 gives %d", i, lab[i], (int)m); /* Fig. 9's table */

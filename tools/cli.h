@@ -57,8 +57,19 @@ typedef struct cli_scene {
     char model[1024];
     int threads;
     int all_algos;          /* parity/reference: --algo all (the default there) */
-    double load_ms, group_ms;
+    double load_ms, group_ms;     /* group_ms: grouping and extension, as seen by render */
+    double ms_grouping, ms_extend, dup_ratio;
 } cli_scene;
+/* Grouping options shared by render, parity, reference and group. */
+typedef struct cli_group_opts {
+    const char *method;   /* none | mgc | wgc | hash */
+    double c;
+    const char *relax;
+    int K, mode, axis;
+    double hash_near;
+    const char *extend;   /* NULL | dup | radius | hash-radius */
+} cli_group_opts;
+int cli_parse_group_opts(const cli_args *a, cli_group_opts *o);
 /* Read the scene options of CLI_SCENE_OPTS, load and frame the model, build
  * the groups; fills rd (no hook).  allow_all: accept --algo all.  0 or −1
  * after printing one line. */
@@ -67,8 +78,7 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
 spr_backend *cli_backend(const cli_args *a, const char *name, int threads, int gl_device);
 void cli_scene_free(cli_scene *s);
 /* Build labels/groups for `method` ("none", "mgc", "hash") on s->cloud. */
-int cli_make_groups(const cli_args *a, cli_scene *s, const char *method, double c, const char *relax, int K, int threads,
-                    spr_progress prog);
+int cli_make_groups(const cli_args *a, cli_scene *s, const cli_group_opts *o, spr_progress prog);
 
 struct spr_parity_report;
 /* One summary line per algorithm, then its first differing planes. */
@@ -81,6 +91,7 @@ int cmd_sample(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_parity(int argc, char **argv);
+int cmd_group(int argc, char **argv);
 int cmd_reference(int argc, char **argv);
 
 /* Where the CGAL demo data lives: $SPLATREF_DATA, else ./data/cgal/data. */

@@ -7,18 +7,21 @@
 #include "spr_glbackend.h"
 #include "spr_swrast.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 static const cli_opt bench_opts[] = {
-    {"scene", "NAME", "bunny | armadillo-1m | all (default all)"},
+    {"scene", "NAME", "bunny | armadillo-1m | all (rendering, default all) | grouping (hash and WGC ratios)"},
     {"size", "WxH", "image size (default 1024x1024)"},
     {"reps", "N", "renders per configuration, best kept (default 5)"},
     {"points", "N", "size of the armadillo resampling (default 1000000)"},
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
+
+int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet);
 
 static double now_ms(void)
 {
@@ -82,7 +85,8 @@ static int bench_scene(const cli_args *a, const char *label, cli_scene *s, int r
     spr_camera_frame(&s->cam, &bd);
     spr_error err = {0};
     if (spr_view_make(&s->cam, &s->view, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
-    if (cli_make_groups(a, s, "hash", 1.0, NULL, 8, 0, cli_progress(quiet))) return -1;
+    cli_group_opts go = {.method = "hash", .c = 1.0, .K = 8, .mode = 1, .axis = SPR_HASH_AXIS_BSP};
+    if (cli_make_groups(a, s, &go, cli_progress(quiet))) return -1;
     printf("\nscene %s: %zu splats, %dx%d\n", label, s->cloud.n, s->view.width, s->view.height);
     printf("  %-22s %7s %10s %12s %14s  %s\n", "algorithm", "backend", "ms", "splats/s", "fragments/s", "ms per pass");
     static const struct { const char *name; spr_algo algo; int voronoi; } algos[] = {
@@ -125,8 +129,12 @@ int cmd_bench(int argc, char **argv)
     if (cli_get_wh(&a, "size", &W, &H) < 0 || cli_get_int(&a, "reps", &reps, 1, 100) < 0 ||
         cli_get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0)
         return 2;
+    if (!strcmp(scene, "grouping")) {
+        if (!cli_get(&a, "points")) npts = 1100000;
+        return cli_bench_grouping(&a, npts, reps, quiet);
+    }
     if (strcmp(scene, "all") && strcmp(scene, "bunny") && strcmp(scene, "armadillo-1m")) {
-        cli_error(&a, "--scene: '%s' is not bunny, armadillo-1m or all", scene);
+        cli_error(&a, "--scene: '%s' is not bunny, armadillo-1m, all or grouping", scene);
         return 2;
     }
     spr_error gerr = {0};
@@ -169,4 +177,88 @@ int cmd_bench(int argc, char **argv)
     spr_backend_destroy(bench_gl);
     bench_gl = NULL;
     return rc ? 2 : 0;
+}
+
+/* ---- grouping figures of issue 4: ratios measured in one run ---- */
+static volatile int32_t sink;
+
+/* One streaming pass: read every position and radius, write one integer per splat. */
+static double streaming_pass(const spr_cloud *c, int32_t *out)
+{
+    double t0 = now_ms();
+    for (size_t i = 0; i < c->n; i++)
+        out[i] = (int32_t)((c->pos[3 * i] + c->pos[3 * i + 1] + c->pos[3 * i + 2]) / c->radius[i]);
+    sink = out[c->n / 2];
+    return now_ms() - t0;
+}
+
+int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet)
+{
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    ld.progress = cli_progress(quiet);
+    spr_error err = {0};
+    char path[1200];
+    snprintf(path, sizeof path, "%s/meshes/armadillo.off", cli_data_dir());
+    spr_cloud c;
+    if (spr_sample_mesh(path, npts, 1, &ld, &c, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
+    int32_t *lab = malloc(c.n * sizeof *lab), *axes = malloc(c.n * sizeof *axes);
+    printf("grouping benchmark: armadillo resampled to %zu points, best of %d, single-threaded hash, 2-thread FLANN/WGC\n", c.n, reps);
+    double t_stream = 1e300, t_hash = 1e300, t_hash_normal = 1e300, t_bsp = 1e300;
+    for (int r = 0; r < reps; r++) {
+        double t = streaming_pass(&c, lab);
+        if (t < t_stream) t_stream = t;
+        double t0 = now_ms();
+        spr_hash_axes(&c, SPR_HASH_AXIS_BSP, axes, &err);
+        t = now_ms() - t0;
+        if (t < t_bsp) t_bsp = t;
+        spr_hash_desc hd;
+        spr_hash_defaults(&hd);
+        hd.axes = axes;
+        spr_group_stats st;
+        t0 = now_ms();
+        spr_group_hash(&c, &hd, lab, &st, &err);
+        t = now_ms() - t0;
+        if (t < t_hash) t_hash = t;
+        hd.axes = NULL;
+        hd.axis = SPR_HASH_AXIS_NORMAL;
+        t0 = now_ms();
+        spr_group_hash(&c, &hd, lab, &st, &err);
+        t = now_ms() - t0;
+        if (t < t_hash_normal) t_hash_normal = t;
+    }
+    printf("  streaming pass (read p, r; write int)  %9.1f ms\n", t_stream);
+    printf("  hash mode 1, axes from a kept BSP      %9.1f ms   ratio to streaming %.2f\n", t_hash, t_hash / t_stream);
+    printf("  hash mode 1, axis from own normal      %9.1f ms   ratio to streaming %.2f\n", t_hash_normal, t_hash_normal / t_stream);
+    printf("  (BSP build and leaf axes, once         %9.1f ms)\n", t_bsp);
+    /* WGC against the FLANN neighbour graph alone */
+    double t0 = now_ms();
+    spr_bounds b;
+    spr_cloud_bounds(&c, &b);
+    spr_knn *kn;
+    spr_graph g;
+    spr_progress prog = cli_progress(quiet);
+    if (spr_knn_build(c.pos, c.n, &kn, &err) || spr_knn_radius_graph(kn, c.radius, 1.0, b.max_radius, 2, &g, &prog, &err)) {
+        fprintf(stderr, "splatref bench: %s\n", err.msg);
+        return 2;
+    }
+    spr_knn_free(kn);
+    spr_graph_free(&g);
+    double t_graph = now_ms() - t0;
+    spr_wgc_desc wd;
+    spr_wgc_defaults(&wd);
+    wd.threads = 2;
+    wd.progress = prog;
+    spr_group_stats st;
+    t0 = now_ms();
+    if (spr_group_wgc(&c, &wd, lab, &st, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
+    double t_wgc = now_ms() - t0;
+    printf("  FLANN neighbour graph (build + radius search)  %9.1f ms\n", t_graph);
+    printf("  WGC K=8 (graph %.0f, colouring %.0f, optimisation %.0f)  %9.1f ms   ratio to the graph %.2f\n", st.ms_graph, st.ms_color,
+           st.ms_optimise, t_wgc, t_wgc / t_graph);
+    free(lab);
+    free(axes);
+    spr_cloud_free(&c);
+    (void)a;
+    return 0;
 }

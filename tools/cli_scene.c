@@ -24,8 +24,39 @@ void cli_scene_free(cli_scene *s)
     s->labels = NULL;
 }
 
-int cli_make_groups(const cli_args *a, cli_scene *s, const char *method, double c, const char *relax, int K, int threads,
-                    spr_progress prog)
+int cli_parse_group_opts(const cli_args *a, cli_group_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->method = cli_get(a, "method") ? cli_get(a, "method") : cli_get(a, "groups") ? cli_get(a, "groups") : "mgc";
+    o->c = 1.0;
+    o->K = 8;
+    o->mode = 1;
+    o->relax = cli_get(a, "relax");
+    o->extend = cli_get(a, "extend");
+    const char *axis = cli_get(a, "hash-axis");
+    if (cli_get_double(a, "c", &o->c, 1e-6, 1.0) < 0 || cli_get_int(a, "k", &o->K, 1, SPR_MAX_GROUPS) < 0 ||
+        cli_get_int(a, "mode", &o->mode, 1, 3) < 0 || cli_get_double(a, "hash-near", &o->hash_near, 0.0, 1e30) < 0)
+        return -1;
+    if (strcmp(o->method, "none") && strcmp(o->method, "mgc") && strcmp(o->method, "wgc") && strcmp(o->method, "hash")) {
+        cli_error(a, "--groups: '%s' is not none, mgc, wgc or hash", o->method);
+        return -1;
+    }
+    if (axis && strcmp(axis, "bsp") && strcmp(axis, "normal")) { cli_error(a, "--hash-axis: '%s' is not bsp or normal", axis); return -1; }
+    o->axis = axis && !strcmp(axis, "normal") ? SPR_HASH_AXIS_NORMAL : SPR_HASH_AXIS_BSP;
+    if (o->mode == 3 && !cli_get(a, "hash-near")) { cli_error(a, "--mode 3 needs --hash-near DIST (eye distance below which collisions are handled)"); return -1; }
+    if (o->extend && strcmp(o->extend, "dup") && strcmp(o->extend, "radius") && strcmp(o->extend, "hash-radius")) {
+        cli_error(a, "--extend: '%s' is not dup, radius or hash-radius", o->extend);
+        return -1;
+    }
+    if (o->relax && strcmp(o->relax, "none") && strcmp(o->relax, "coplanar") && strcmp(o->relax, "opposite") &&
+        strcmp(o->relax, "coplanar,opposite") && strcmp(o->relax, "opposite,coplanar")) {
+        cli_error(a, "--relax: '%s' is not coplanar,opposite | coplanar | opposite | none", o->relax);
+        return -1;
+    }
+    return 0;
+}
+
+int cli_make_groups(const cli_args *a, cli_scene *s, const cli_group_opts *o, spr_progress prog)
 {
     spr_error err = {0};
     size_t n = s->cloud.n;
@@ -33,34 +64,62 @@ int cli_make_groups(const cli_args *a, cli_scene *s, const char *method, double 
     if (!s->labels) { cli_error(a, "out of memory"); return -1; }
     memset(&s->gstats, 0, sizeof s->gstats);
     spr_result r = SPR_OK;
-    s->group_method = method;
-    if (!strcmp(method, "none")) {
+    s->group_method = o->method;
+    double t0 = now_ms();
+    if (!strcmp(o->method, "none")) {
         memset(s->labels, 0, n * sizeof(int32_t));
         s->gstats.K = 1;
-    } else if (!strcmp(method, "mgc")) {
+    } else if (!strcmp(o->method, "mgc")) {
         spr_mgc_desc d;
         spr_mgc_defaults(&d);
-        d.c = c;
-        d.threads = threads;
+        d.c = o->c;
+        d.threads = s->threads;
         d.progress = prog;
-        if (relax) {
-            if (!strcmp(relax, "none")) d.relax_coplanar = d.relax_opposite = 0;
-            else if (!strcmp(relax, "coplanar")) d.relax_opposite = 0;
-            else if (!strcmp(relax, "opposite")) d.relax_coplanar = 0;
-            else if (strcmp(relax, "coplanar,opposite") && strcmp(relax, "opposite,coplanar")) {
-                cli_error(a, "--relax: '%s' is not coplanar,opposite | coplanar | opposite | none", relax);
-                return -1;
-            }
+        if (o->relax) {
+            d.relax_coplanar = strstr(o->relax, "coplanar") != NULL;
+            d.relax_opposite = strstr(o->relax, "opposite") != NULL;
         }
         r = spr_group_mgc(&s->cloud, &d, s->labels, &s->gstats, &err);
-    } else if (!strcmp(method, "hash")) {
-        r = spr_group_hash(&s->cloud, K, s->labels, &s->gstats, &err);
+    } else if (!strcmp(o->method, "wgc")) {
+        spr_wgc_desc d;
+        spr_wgc_defaults(&d);
+        d.K = o->K;
+        d.threads = s->threads;
+        d.progress = prog;
+        r = spr_group_wgc(&s->cloud, &d, s->labels, &s->gstats, &err);
     } else {
-        cli_error(a, "--groups: '%s' is not none, mgc or hash", method);
-        return -1;
+        spr_hash_desc d;
+        spr_hash_defaults(&d);
+        d.K = o->K;
+        d.mode = o->mode;
+        d.axis = o->axis;
+        d.near_dist = o->hash_near;
+        memcpy(d.eye, s->cam.eye, sizeof d.eye);
+        d.threads = s->threads;
+        d.progress = prog;
+        r = spr_group_hash(&s->cloud, &d, s->labels, &s->gstats, &err);
     }
-    if (!r) r = spr_groups_from_labels(s->labels, n, s->gstats.K, &s->groups, &err);
-    if (r) { cli_error(a, "%s", err.msg); return -1; }
+    s->ms_grouping = now_ms() - t0;
+    if (r) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
+    t0 = now_ms();
+    spr_extend_desc ed;
+    spr_extend_defaults(&ed);
+    ed.threads = s->threads;
+    ed.progress = prog;
+    if (o->extend && !strcmp(o->extend, "dup")) {
+        r = spr_group_duplicate(&s->cloud, s->labels, s->gstats.K, &ed, &s->groups, &s->dup_ratio, &err);
+    } else {
+        r = spr_groups_from_labels(s->labels, n, s->gstats.K, &s->groups, &err);
+        if (!r && o->extend && !strcmp(o->extend, "radius")) r = spr_group_enlarge(&s->cloud, &s->groups, &ed, &err);
+        if (!r && o->extend && !strcmp(o->extend, "hash-radius")) {
+            /* [ZP] §4.4.2's fast approximation: the lattice circumradius, √50/4 for K = 8 */
+            s->groups.radius_scale = malloc((size_t)s->groups.K * sizeof(float));
+            if (!s->groups.radius_scale) r = spr__fail(&err, SPR_E_NOMEM, "out of memory");
+            for (int k = 0; !r && k < s->groups.K; k++) s->groups.radius_scale[k] = (float)spr_hash_enlarge_factor(s->groups.K);
+        }
+    }
+    s->ms_extend = o->extend ? now_ms() - t0 : 0.0;
+    if (r) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
     return 0;
 }
 
@@ -72,10 +131,10 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
     spr_load_desc ld;
     spr_load_defaults(&ld);
     spr_camera_defaults(&s->cam);
-    double c = 1.0, bg[3] = {0, 0, 0};
-    int K = 8, quiet = cli_flag(a, "quiet");
+    double bg[3] = {0, 0, 0};
+    int quiet = cli_flag(a, "quiet");
+    cli_group_opts go;
     const char *model = cli_get(a, "model") ? cli_get(a, "model") : "builtin:torus";
-    const char *method = cli_get(a, "groups") ? cli_get(a, "groups") : "mgc";
     const char *kname = cli_get(a, "kernel"), *aname = cli_get(a, "algo");
     /* Parse and check every option before any work. */
     if (cli_get_size(a, "points", &ld.points, 16, SPR_MAX_SPLATS) < 0 || cli_get_int(a, "radius-k", &ld.radius_k, 1, 256) < 0 ||
@@ -84,7 +143,6 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
         cli_get_double(a, "fov", &s->cam.fov_deg, 1e-3, 179.0) < 0 || cli_get_double(a, "ortho", &s->cam.ortho_height, 1e-12, 1e30) < 0 ||
         cli_get_double(a, "near", &s->cam.near_plane, 0.0, 1e30) < 0 || cli_get_double(a, "far", &s->cam.far_plane, 0.0, 1e30) < 0 ||
         cli_get_wh(a, "size", &s->cam.width, &s->cam.height) < 0 || cli_get_vec3(a, "background", bg) < 0 ||
-        cli_get_double(a, "c", &c, 1e-6, 1.0) < 0 || cli_get_int(a, "k", &K, 1, SPR_MAX_GROUPS) < 0 ||
         cli_get_double(a, "eps", &rd->eps, 1e-30, 1e30) < 0 || cli_get_double(a, "lowres-n", &rd->lowres_n, 1.0, 16777216.0) < 0 ||
         cli_get_int(a, "threads", &s->threads, 0, 1024) < 0)
         return -1;
@@ -102,10 +160,7 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
         cli_error(a, "--kernel: '%s' is not gauss, constant, linear or epanechnikov", kname);
         return -1;
     }
-    if (strcmp(method, "none") && strcmp(method, "mgc") && strcmp(method, "hash")) {
-        cli_error(a, "--groups: '%s' is not none, mgc or hash", method);
-        return -1;
-    }
+    if (cli_parse_group_opts(a, &go)) return -1;
     rd->voronoi = cli_flag(a, "voronoi");
     ld.threads = s->threads;
     ld.progress = cli_progress(quiet);
@@ -130,7 +185,7 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
                 fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg);
                 return -1;
             }
-        } else if (cli_make_groups(a, s, method, c, cli_get(a, "relax"), K, s->threads, cli_progress(quiet))) {
+        } else if (cli_make_groups(a, s, &go, cli_progress(quiet))) {
             return -1;
         }
         rd->groups = &s->groups;

@@ -18,11 +18,15 @@
     {"size", "WxH", "image size (default 512x512)"}, \
     {"background", "R,G,B", "background colour in [0,1] (default 0,0,0)"}, \
     {"algo", "NAME", "pbr2p1 | deferred (default deferred)"}, \
-    {"groups", "METHOD", "deferred grouping: none | mgc | hash (default mgc)"}, \
+    {"groups", "METHOD", "deferred grouping: none | mgc | wgc | hash (default mgc)"}, \
     {"groups-file", "F", "read one group per splat (input order) from F"}, \
     {"c", "C", "MGC overlap relaxation factor in (0,1] (default 1.0)"}, \
     {"relax", "LIST", "MGC relaxations: coplanar,opposite | coplanar | opposite | none (default both)"}, \
-    {"k", "K", "hash grouping: number of groups (default 8)"}, \
+    {"k", "K", "wgc/hash grouping: number of groups (default 8)"}, \
+    {"mode", "M", "hash: 1 no collision handling, 2 collisions handled, 3 mixed (default 1)"}, \
+    {"hash-axis", "AXIS", "hash: bsp (leaf average normal, default) | normal (own normal)"}, \
+    {"hash-near", "DIST", "hash mode 3: handle collisions within this eye distance"}, \
+    {"extend", "HOW", "extended grouping: dup (duplication) | radius (Eq. 13) | hash-radius (sqrt(50)/4 for K=8)"}, \
     {"kernel", "NAME", "gauss | constant | linear | epanechnikov (default gauss)"}, \
     {"eps", "E", "depth tolerance in world units (default 2 x mean radius)"}, \
     {"voronoi", NULL, "deferred: Voronoi depth [ZP] Eq. 14"}, \

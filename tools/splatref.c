@@ -6,6 +6,7 @@
 
 static const struct { const char *name; int (*fn)(int, char **); const char *help; } commands[] = {
     {"render", cmd_render, "render a model with pbr2p1 or deferred blending (cpu or gl backend)"},
+    {"group", cmd_group, "group splats (mgc, wgc, hash, extended) and report the statistics of [ZP] Tables 1-3"},
     {"info", cmd_info, "counts, bounds, radius statistics and attribute sources of a model"},
     {"sample", cmd_sample, "resample a mesh to N uniformly distributed points (PLY out)"},
     {"compare", cmd_compare, "mean and largest difference of two PFM images over covered pixels"},

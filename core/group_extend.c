@@ -1,0 +1,314 @@
+/* group_extend.c — extended grouping for surface coverage ([ZP] §4.4.2, SPEC §5.5).
+ *
+ * Duplication, per group k:
+ *     Q = splats not in S_k keyed by Clipped(p_i, r_i, k), least first
+ *     pop i: v = Clipped(p_i, r_i, k) now
+ *            v/(π r_i²) > max_share → drop;  v == key → S_k += i;  else re-queue (v)
+ * Radius enlargement, per group k (Eq. 13, radii scaled by a common factor):
+ *     s_{t+1} = sqrt((A + Σ_{i∈S_k} Clipped(p_i, s_t r_i, k)) / Σ_{i∈S_k} π r_i²)
+ *     with A = area covered by all splats (the union, Eq. 11), until
+ *     |s_{t+1} − s_t| < 1e-3 s_t.
+ */
+#include "spr_group.h"
+#include "spr_overlap.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void spr_extend_defaults(spr_extend_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->max_share = 0.5;
+}
+
+/* Neighbour graph with |p_i − p_j| < f·(r_i + r_j). */
+static spr_result wide_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err)
+{
+    spr_bounds b;
+    spr_cloud_bounds(c, &b);
+    spr_knn *kn;
+    spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
+    if (r) return r;
+    r = spr_knn_radius_graph(kn, c->radius, f, b.max_radius, threads, g, prog, err);
+    spr_knn_free(kn);
+    if (r) return r;
+    uint64_t w = 0;
+    for (size_t i = 0; i < c->n; i++) {
+        uint64_t s = g->start[i], e = g->start[i + 1];
+        g->start[i] = w;
+        for (uint64_t k = s; k < e; k++) {
+            size_t j = g->adj[k];
+            double d2 = 0.0;
+            for (int a = 0; a < 3; a++) {
+                double q = (double)c->pos[3 * i + a] - c->pos[3 * j + a];
+                d2 += q * q;
+            }
+            double lim = f * ((double)c->radius[i] + c->radius[j]);
+            if (d2 < lim * lim) g->adj[w++] = g->adj[k];
+        }
+    }
+    g->start[c->n] = w;
+    return SPR_OK;
+}
+
+/* Clipped(p_i, s·r_i, k): disk i covered by its neighbours flagged in_k. */
+static double clipped(const spr_cloud *c, const spr_graph *g, size_t i, const unsigned char *in_k, double scale, double eps,
+                      uint32_t *buf)
+{
+    size_t m = 0;
+    for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++)
+        if (in_k[g->adj[e]]) buf[m++] = g->adj[e];
+    if (!m) return 0.0;
+    if (scale == 1.0) return spr_clipped_area(c, i, NULL, buf, m, eps);
+    /* every splat at the same scale: scale the radii through a per-splat table */
+    double ri = (double)c->radius[i] * scale, xs[3];
+    int hit = 0;
+    for (int s = 0; s < SPR_DISK_SAMPLES; s++) {
+        spr_disk_sample(c, i, ri, s, xs);
+        for (size_t k = 0; k < m; k++)
+            if (spr_splat_covers(c, buf[k], (double)c->radius[buf[k]] * scale, eps, xs)) { hit++; break; }
+    }
+    return M_PI * ri * ri * hit / SPR_DISK_SAMPLES;
+}
+
+static size_t max_degree(const spr_graph *g)
+{
+    size_t m = 0;
+    for (size_t i = 0; i < g->n; i++)
+        if (g->start[i + 1] - g->start[i] > m) m = (size_t)(g->start[i + 1] - g->start[i]);
+    return m;
+}
+
+typedef struct cand { double v; uint32_t i; } cand;
+typedef struct cheap { cand *a; size_t n, cap; } cheap;
+static int below(const cand *x, const cand *y) { return x->v < y->v || (x->v == y->v && x->i < y->i); }
+static int cpush(cheap *h, cand c)
+{
+    if (h->n == h->cap) {
+        size_t cap = h->cap ? 2 * h->cap : 1024;
+        cand *na = realloc(h->a, cap * sizeof *na);
+        if (!na) return -1;
+        h->a = na;
+        h->cap = cap;
+    }
+    size_t i = h->n++;
+    h->a[i] = c;
+    while (i && below(&h->a[i], &h->a[(i - 1) / 2])) {
+        cand t = h->a[i]; h->a[i] = h->a[(i - 1) / 2]; h->a[(i - 1) / 2] = t;
+        i = (i - 1) / 2;
+    }
+    return 0;
+}
+static cand cpop(cheap *h)
+{
+    cand top = h->a[0];
+    h->a[0] = h->a[--h->n];
+    size_t i = 0;
+    for (;;) {
+        size_t l = 2 * i + 1, r = l + 1, m = i;
+        if (l < h->n && below(&h->a[l], &h->a[m])) m = l;
+        if (r < h->n && below(&h->a[r], &h->a[m])) m = r;
+        if (m == i) break;
+        cand t = h->a[i]; h->a[i] = h->a[m]; h->a[m] = t;
+        i = m;
+    }
+    return top;
+}
+
+spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, const spr_extend_desc *din, spr_groups *out,
+                               double *dup_ratio, spr_error *err)
+{
+    spr_extend_desc d = *din;
+    if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
+    if (!(d.max_share > 0.0)) d.max_share = 0.5;
+    memset(out, 0, sizeof *out);
+    spr_graph g;
+    spr_result r = wide_graph(c, 1.0, d.threads, &d.progress, &g, err);
+    if (r) return r;
+    const size_t n = c->n;
+    unsigned char *in_k = malloc(n);
+    double *val = malloc(n * sizeof *val);
+    size_t total = 0;
+    uint32_t **lists = calloc((size_t)K, sizeof *lists);
+    size_t *lens = calloc((size_t)K, sizeof *lens);
+    size_t md = max_degree(&g) + 1;
+    uint32_t *buf = malloc(md * sizeof *buf);
+    cheap h = {0};
+    if (!in_k || !val || !lists || !lens || !buf) { r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory"); goto done; }
+    for (int k = 0; k < K && !r; k++) {
+        spr_progress_report(&d.progress, "duplication", (size_t)k, (size_t)K);
+        for (size_t i = 0; i < n; i++) in_k[i] = label[i] == k;
+#pragma omp parallel num_threads(d.threads > 0 ? d.threads : 1)
+        {
+            uint32_t *tb = malloc(md * sizeof *tb);
+#pragma omp for schedule(dynamic, 256)
+            for (long i = 0; i < (long)n; i++)
+                val[i] = in_k[i] || !tb ? -1.0 : clipped(c, &g, (size_t)i, in_k, 1.0, d.eps, tb);
+            free(tb);
+        }
+        h.n = 0;
+        for (size_t i = 0; i < n; i++)
+            if (!in_k[i] && cpush(&h, (cand){val[i], (uint32_t)i})) { r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory"); break; }
+        while (h.n && !r) {
+            cand top = cpop(&h);
+            size_t i = top.i;
+            double v = clipped(c, &g, i, in_k, 1.0, d.eps, buf);
+            double area = M_PI * (double)c->radius[i] * c->radius[i];
+            if (v > d.max_share * area) continue;    /* already covered enough */
+            if (v == top.v) in_k[i] = 2;             /* the value held: duplicate into S_k */
+            else if (cpush(&h, (cand){v, (uint32_t)i})) r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory");
+        }
+        size_t m = 0;
+        for (size_t i = 0; i < n; i++) m += in_k[i] != 0;
+        lists[k] = malloc((m ? m : 1) * sizeof(uint32_t));
+        if (!lists[k]) { r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory"); break; }
+        for (size_t i = 0; i < n; i++)
+            if (in_k[i]) lists[k][lens[k]++] = (uint32_t)i;
+        total += lens[k];
+    }
+    spr_progress_report(&d.progress, "duplication", (size_t)K, (size_t)K);
+    if (!r) {
+        out->start = malloc(((size_t)K + 1) * sizeof(uint32_t));
+        out->members = malloc((total ? total : 1) * sizeof(uint32_t));
+        if (!out->start || !out->members) { r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory"); spr_groups_free(out); }
+        else {
+            size_t o = 0;
+            for (int k = 0; k < K; k++) {
+                out->start[k] = (uint32_t)o;
+                memcpy(out->members + o, lists[k], lens[k] * sizeof(uint32_t));
+                o += lens[k];
+            }
+            out->start[K] = (uint32_t)o;
+            out->K = K;
+            out->n_splats = n;
+            *dup_ratio = n ? (double)(total - n) / (double)n : 0.0;
+        }
+    }
+done:
+    for (int k = 0; lists && k < K; k++) free(lists[k]);
+    free(lists);
+    free(lens);
+    free(h.a);
+    free(buf);
+    free(val);
+    free(in_k);
+    spr_graph_free(&g);
+    return r;
+}
+
+/* Union area of all splats (Eq. 11): each disk counts the share of its
+ * samples not covered by a lower-numbered neighbour. */
+static double union_area(const spr_cloud *c, const spr_graph *g, double eps)
+{
+    double A = 0.0;
+    for (size_t i = 0; i < c->n; i++) {
+        double ri = c->radius[i], xs[3];
+        int free_s = 0;
+        for (int s = 0; s < SPR_DISK_SAMPLES; s++) {
+            spr_disk_sample(c, i, ri, s, xs);
+            int hit = 0;
+            for (uint64_t e = g->start[i]; e < g->start[i + 1] && !hit; e++)
+                if (g->adj[e] < i)
+                    hit = spr_splat_covers(c, g->adj[e], c->radius[g->adj[e]], eps, xs);
+            free_s += !hit;
+        }
+        A += M_PI * ri * ri * free_s / SPR_DISK_SAMPLES;
+    }
+    return A;
+}
+
+spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_extend_desc *din, spr_error *err)
+{
+    spr_extend_desc d = *din;
+    if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
+    const double F = 3.0; /* neighbours for scales up to 3 */
+    spr_graph g1, gw;
+    spr_result r = wide_graph(c, 1.0, d.threads, &d.progress, &g1, err);
+    if (r) return r;
+    if ((r = wide_graph(c, F, d.threads, &d.progress, &gw, err))) { spr_graph_free(&g1); return r; }
+    double A = union_area(c, &g1, d.eps);
+    spr_graph_free(&g1);
+    unsigned char *in_k = calloc(c->n ? c->n : 1, 1);
+    free(grp->radius_scale);
+    grp->radius_scale = malloc((size_t)grp->K * sizeof(float));
+    size_t md = max_degree(&gw) + 1;
+    if (!in_k || !grp->radius_scale) { free(in_k); spr_graph_free(&gw); return spr__fail(err, SPR_E_NOMEM, "enlarge: out of memory"); }
+    for (int k = 0; k < grp->K; k++) {
+        spr_progress_report(&d.progress, "radius enlargement", (size_t)k, (size_t)grp->K);
+        memset(in_k, 0, c->n);
+        double disk_sum = 0.0;
+        for (uint32_t m = grp->start[k]; m < grp->start[k + 1]; m++) {
+            uint32_t i = grp->members[m];
+            in_k[i] = 1;
+            disk_sum += M_PI * (double)c->radius[i] * c->radius[i];
+        }
+        double s = 1.0;
+        for (int it = 0; it < 50 && disk_sum > 0.0; it++) {
+            double clip = 0.0;
+            const long nm = (long)(grp->start[k + 1] - grp->start[k]);
+#pragma omp parallel num_threads(d.threads > 0 ? d.threads : 1)
+            {
+                uint32_t *tb = malloc(md * sizeof *tb);
+#pragma omp for schedule(static) reduction(+ : clip)
+                for (long m = 0; m < nm; m++)
+                    if (tb) clip += clipped(c, &gw, grp->members[grp->start[k] + m], in_k, s, d.eps, tb);
+                free(tb);
+            }
+            double next = sqrt((A + clip) / disk_sum);
+            if (next > F) next = F;
+            int done = fabs(next - s) < 1e-3 * s;
+            s = next;
+            if (done) break;
+        }
+        grp->radius_scale[k] = (float)s;
+    }
+    spr_progress_report(&d.progress, "radius enlargement", (size_t)grp->K, (size_t)grp->K);
+    free(in_k);
+    spr_graph_free(&gw);
+    return SPR_OK;
+}
+
+double spr_group_coverage(const spr_cloud *c, const spr_groups *grp, double eps, int threads)
+{
+    spr_error err;
+    spr_graph gw;
+    double F = 1.0;
+    for (int k = 0; grp->radius_scale && k < grp->K; k++)
+        if (grp->radius_scale[k] > F) F = grp->radius_scale[k];
+    if (wide_graph(c, F, threads, NULL, &gw, &err)) return -1.0;
+    unsigned char *in_k = calloc(c->n ? c->n : 1, 1);
+    double total = 0.0;
+    size_t md = max_degree(&gw) + 1;
+    for (int k = 0; k < grp->K && in_k; k++) {
+        memset(in_k, 0, c->n);
+        for (uint32_t m = grp->start[k]; m < grp->start[k + 1]; m++) in_k[grp->members[m]] = 1;
+        double s = grp->radius_scale ? grp->radius_scale[k] : 1.0, cov = 0.0;
+#pragma omp parallel num_threads(threads > 0 ? threads : 1)
+        {
+            uint32_t *tb = malloc(md * sizeof *tb);
+            double xs[3];
+#pragma omp for schedule(static) reduction(+ : cov)
+            for (long i = 0; i < (long)c->n; i++) {
+                if (in_k[i]) { cov += 1.0; continue; }
+                if (!tb) continue;
+                /* share of disk i (its own radius) covered by S_k at scale s */
+                size_t m = 0;
+                for (uint64_t e = gw.start[i]; e < gw.start[i + 1]; e++)
+                    if (in_k[gw.adj[e]]) tb[m++] = gw.adj[e];
+                int hit = 0;
+                for (int q = 0; q < SPR_DISK_SAMPLES; q++) {
+                    spr_disk_sample(c, (size_t)i, c->radius[i], q, xs);
+                    for (size_t a = 0; a < m; a++)
+                        if (spr_splat_covers(c, tb[a], (double)c->radius[tb[a]] * s, eps, xs)) { hit++; break; }
+                }
+                cov += (double)hit / SPR_DISK_SAMPLES;
+            }
+            free(tb);
+        }
+        total += cov / (double)c->n;
+    }
+    free(in_k);
+    spr_graph_free(&gw);
+    return grp->K ? total / grp->K : 0.0;
+}
