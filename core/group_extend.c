@@ -8,6 +8,11 @@
  *     s_{t+1} = sqrt((A + Σ_{i∈S_k} Clipped(p_i, s_t r_i, k)) / Σ_{i∈S_k} π r_i²)
  *     with A = area covered by all splats (the union, Eq. 11), until
  *     |s_{t+1} − s_t| < 1e-3 s_t.
+ * [decision] In Eq. 13 an overlap is counted once, by the lower-numbered of
+ * the disks covering it, so that n·π·r̃² − Σ Clipped is the union of the
+ * group — the estimator A uses for all splats.  Counted by every disk (the
+ * literal reading), Σ Clipped approaches n·π·r̃² on densely overlapping
+ * groups and the iteration has no fixed point.
  */
 #include "spr_group.h"
 #include "spr_overlap.h"
@@ -52,13 +57,14 @@ static spr_result wide_graph(const spr_cloud *c, double f, int threads, const sp
     return SPR_OK;
 }
 
-/* Clipped(p_i, s·r_i, k): disk i covered by its neighbours flagged in_k. */
-static double clipped(const spr_cloud *c, const spr_graph *g, size_t i, const unsigned char *in_k, double scale, double eps,
-                      uint32_t *buf)
+/* Clipped(p_i, s·r_i, k): disk i covered by its neighbours flagged in_k
+ * (only those numbered below i when `lower_only`: each overlap counted once). */
+static double clipped_by(const spr_cloud *c, const spr_graph *g, size_t i, const unsigned char *in_k, double scale, double eps,
+                         uint32_t *buf, int lower_only)
 {
     size_t m = 0;
     for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++)
-        if (in_k[g->adj[e]]) buf[m++] = g->adj[e];
+        if (in_k[g->adj[e]] && (!lower_only || g->adj[e] < i)) buf[m++] = g->adj[e];
     if (!m) return 0.0;
     if (scale == 1.0) return spr_clipped_area(c, i, NULL, buf, m, eps);
     /* every splat at the same scale: scale the radii through a per-splat table */
@@ -70,6 +76,12 @@ static double clipped(const spr_cloud *c, const spr_graph *g, size_t i, const un
             if (spr_splat_covers(c, buf[k], (double)c->radius[buf[k]] * scale, eps, xs)) { hit++; break; }
     }
     return M_PI * ri * ri * hit / SPR_DISK_SAMPLES;
+}
+
+static double clipped(const spr_cloud *c, const spr_graph *g, size_t i, const unsigned char *in_k, double scale, double eps,
+                      uint32_t *buf)
+{
+    return clipped_by(c, g, i, in_k, scale, eps, buf, 0);
 }
 
 static size_t max_degree(const spr_graph *g)
@@ -252,7 +264,7 @@ spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_exte
                 uint32_t *tb = malloc(md * sizeof *tb);
 #pragma omp for schedule(static) reduction(+ : clip)
                 for (long m = 0; m < nm; m++)
-                    if (tb) clip += clipped(c, &gw, grp->members[grp->start[k] + m], in_k, s, d.eps, tb);
+                    if (tb) clip += clipped_by(c, &gw, grp->members[grp->start[k] + m], in_k, s, d.eps, tb, 1);
                 free(tb);
             }
             double next = sqrt((A + clip) / disk_sum);

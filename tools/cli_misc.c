@@ -44,6 +44,8 @@ static const cli_opt sample_opts[] = {
     {"model", "MESH", "mesh to resample (.off, or .ply with faces)"},
     {"points", "N", "number of points"},
     {"seed", "S", "random seed (default 1)"},
+    {"radius-k", "K", "radius rule r = rho*d_k: k (default 8)"},
+    {"radius-scale", "RHO", "radius rule: rho (default 1.0)"},
     {"out", "F.ply", "output PLY"},
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
@@ -59,6 +61,8 @@ int cmd_sample(int argc, char **argv)
     if (cli_get_size(&a, "points", &n, 2, SPR_MAX_SPLATS) < 0 || cli_get_size(&a, "seed", &seed, 0, (size_t)-1) < 0) return 2;
     spr_load_desc ld;
     spr_load_defaults(&ld);
+    if (cli_get_int(&a, "radius-k", &ld.radius_k, 1, 256) < 0 || cli_get_double(&a, "radius-scale", &ld.radius_rho, 1e-6, 1e6) < 0)
+        return 2;
     ld.progress = cli_progress(cli_flag(&a, "quiet"));
     spr_cloud c;
     spr_error err = {0};

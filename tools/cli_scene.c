@@ -4,6 +4,7 @@
 #include "spr_glbackend.h"
 #include "spr_swrast.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,8 +36,10 @@ int cli_parse_group_opts(const cli_args *a, cli_group_opts *o)
     o->extend = cli_get(a, "extend");
     const char *axis = cli_get(a, "hash-axis");
     if (cli_get_double(a, "c", &o->c, 1e-6, 1.0) < 0 || cli_get_int(a, "k", &o->K, 1, SPR_MAX_GROUPS) < 0 ||
-        cli_get_int(a, "mode", &o->mode, 1, 3) < 0 || cli_get_double(a, "hash-near", &o->hash_near, 0.0, 1e30) < 0)
+        cli_get_int(a, "mode", &o->mode, 1, 3) < 0)
         return -1;
+    if (cli_get(a, "hash-near") && !strcmp(cli_get(a, "hash-near"), "centre")) o->hash_near = -1.0; /* eye to model centre */
+    else if (cli_get_double(a, "hash-near", &o->hash_near, 0.0, 1e30) < 0) return -1;
     if (strcmp(o->method, "none") && strcmp(o->method, "mgc") && strcmp(o->method, "wgc") && strcmp(o->method, "hash")) {
         cli_error(a, "--groups: '%s' is not none, mgc, wgc or hash", o->method);
         return -1;
@@ -95,6 +98,13 @@ int cli_make_groups(const cli_args *a, cli_scene *s, const cli_group_opts *o, sp
         d.axis = o->axis;
         d.near_dist = o->hash_near;
         memcpy(d.eye, s->cam.eye, sizeof d.eye);
+        if (d.near_dist < 0.0) {
+            spr_bounds b;
+            spr_cloud_bounds(&s->cloud, &b);
+            d.near_dist = 0.0;
+            for (int k = 0; k < 3; k++) d.near_dist += (0.5 * (b.lo[k] + b.hi[k]) - d.eye[k]) * (0.5 * (b.lo[k] + b.hi[k]) - d.eye[k]);
+            d.near_dist = sqrt(d.near_dist);
+        }
         d.threads = s->threads;
         d.progress = prog;
         r = spr_group_hash(&s->cloud, &d, s->labels, &s->gstats, &err);

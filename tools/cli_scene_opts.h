@@ -25,7 +25,7 @@
     {"k", "K", "wgc/hash grouping: number of groups (default 8)"}, \
     {"mode", "M", "hash: 1 no collision handling, 2 collisions handled, 3 mixed (default 1)"}, \
     {"hash-axis", "AXIS", "hash: bsp (leaf average normal, default) | normal (own normal)"}, \
-    {"hash-near", "DIST", "hash mode 3: handle collisions within this eye distance"}, \
+    {"hash-near", "DIST", "hash mode 3: handle collisions within this eye distance ('centre': eye to model centre)"}, \
     {"extend", "HOW", "extended grouping: dup (duplication) | radius (Eq. 13) | hash-radius (sqrt(50)/4 for K=8)"}, \
     {"kernel", "NAME", "gauss | constant | linear | epanechnikov (default gauss)"}, \
     {"eps", "E", "depth tolerance in world units (default 2 x mean radius)"}, \

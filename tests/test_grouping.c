@@ -1,0 +1,340 @@
+/* test_grouping.c — SPEC §5.2–§5.6: WGC, hash collisions, enlarged radii,
+ * BSP order, duplication, dynamic regrouping. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "spr_bsp.h"
+#include "spr_overlap.h"
+#include "test_util.h"
+
+static spr_cloud model(const char *name, size_t n)
+{
+    spr_cloud c;
+    spr_load_desc d;
+    spr_load_defaults(&d);
+    d.points = n;
+    spr_error err;
+    if (strncmp(name, "builtin:", 8) == 0) ck_assert_int_eq(spr_load(name, &d, &c, &err), SPR_OK);
+    else tu_load(name, &c);
+    return c;
+}
+
+START_TEST(wgc_cost_never_rises)
+{
+    static const char *models[] = {"builtin:sphere", "builtin:torus", "builtin:cube", "meshes/bunny00.off"};
+    for (int m = 0; m < 4; m++) {
+        spr_cloud c = model(models[m], 6000);
+        int32_t *lab = malloc(c.n * sizeof *lab);
+        spr_wgc_desc d;
+        spr_wgc_defaults(&d);
+        d.threads = 2;
+        spr_group_stats st;
+        spr_error err;
+        ck_assert_int_eq(spr_group_wgc(&c, &d, lab, &st, &err), SPR_OK);
+        printf("grouping: WGC %s: K=%d cost L %.6g -> %.6g after %zu pops\n", models[m], st.K, st.cost_before, st.cost_after, st.pops);
+        ck_assert_double_le(st.cost_after, st.cost_before);
+        for (size_t i = 0; i < c.n; i++)
+            if (lab[i] < 0 || lab[i] >= 8) ck_abort_msg("label out of range");
+        /* the reported cost is L of the returned labels */
+        spr_overlap_graph og;
+        ck_assert_int_eq(spr_overlap_graph_build(&c, spr_group_default_eps(&c), 1, NULL, &og, &err), SPR_OK);
+        float *w = spr_wgc_weights(&c, &og);
+        ck_assert_double_eq_tol(spr_wgc_cost(&og, w, lab), st.cost_after, 1e-9 * (1.0 + st.cost_after));
+        free(w);
+        spr_overlap_graph_free(&og);
+        free(lab);
+        spr_cloud_free(&c);
+    }
+}
+END_TEST
+
+START_TEST(wgc_and_mgc_reproducible)
+{
+    spr_cloud c = model("meshes/bunny00.off", 0);
+    int32_t *a = malloc(c.n * sizeof *a), *b = malloc(c.n * sizeof *b);
+    spr_group_stats st;
+    spr_error err;
+    for (int threads = 1; threads <= 2; threads++) {
+        spr_wgc_desc d;
+        spr_wgc_defaults(&d);
+        d.threads = threads;
+        ck_assert_int_eq(spr_group_wgc(&c, &d, threads == 1 ? a : b, &st, &err), SPR_OK);
+    }
+    ck_assert_mem_eq(a, b, c.n * sizeof *a);
+    ck_assert_int_eq(spr_group_wgc(&c, &(spr_wgc_desc){.K = 8, .threads = 2}, b, &st, &err), SPR_OK); /* rerun */
+    ck_assert_mem_eq(a, b, c.n * sizeof *a);
+    for (int threads = 1; threads <= 2; threads++) {
+        spr_mgc_desc d;
+        spr_mgc_defaults(&d);
+        d.c = 0.6;
+        d.threads = threads;
+        ck_assert_int_eq(spr_group_mgc(&c, &d, threads == 1 ? a : b, &st, &err), SPR_OK);
+    }
+    ck_assert_mem_eq(a, b, c.n * sizeof *a);
+    free(a);
+    free(b);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+/* Independent recomputation of hash mode 2 (own-normal axis): cells, first
+ * splat of each cell, and for every displaced splat the overlap sums with
+ * the neighbours placed before it, by brute force. */
+START_TEST(hash_collisions_take_least_overlap)
+{
+    spr_cloud c = model("builtin:torus", 3000);
+    int32_t *lab = malloc(c.n * sizeof *lab);
+    spr_hash_desc d;
+    spr_hash_defaults(&d);
+    d.mode = 2;
+    d.axis = SPR_HASH_AXIS_NORMAL;
+    spr_group_stats st;
+    spr_error err;
+    ck_assert_int_eq(spr_group_hash(&c, &d, lab, &st, &err), SPR_OK);
+    double eps = spr_group_default_eps(&c);
+    size_t n = c.n, displaced = 0, moved = 0;
+    int64_t *cx = malloc(n * sizeof *cx), *cy = malloc(n * sizeof *cy);
+    int *ax = malloc(n * sizeof *ax), *first = malloc(n * sizeof *first);
+    unsigned char *placed = calloc(n, 1);
+    for (size_t i = 0; i < n; i++) {
+        const float *nv = c.nrm + 3 * i, *p = c.pos + 3 * i;
+        ax[i] = fabsf(nv[0]) >= fabsf(nv[1]) && fabsf(nv[0]) >= fabsf(nv[2]) ? 0 : (fabsf(nv[1]) >= fabsf(nv[2]) ? 1 : 2);
+        cx[i] = (int64_t)floorf(p[(ax[i] + 1) % 3] / c.radius[i]);
+        cy[i] = (int64_t)floorf(p[(ax[i] + 2) % 3] / c.radius[i]);
+        first[i] = 1;
+        for (size_t j = 0; j < i && first[i]; j++)
+            if (ax[j] == ax[i] && cx[j] == cx[i] && cy[j] == cy[i]) first[i] = 0;
+        placed[i] = (unsigned char)first[i];
+        if (first[i] && lab[i] != (int)(((cx[i] + 3 * cy[i]) % 8 + 8) % 8)) ck_abort_msg("splat %zu keeps its table group", i);
+    }
+    for (size_t i = 0; i < n; i++) {
+        if (first[i]) continue;
+        displaced++;
+        double sum[8] = {0};
+        for (size_t j = 0; j < n; j++) {
+            if (!placed[j] || j == i) continue;
+            double d2 = 0.0;
+            for (int k = 0; k < 3; k++) d2 += ((double)c.pos[3 * i + k] - c.pos[3 * j + k]) * ((double)c.pos[3 * i + k] - c.pos[3 * j + k]);
+            if (d2 >= ((double)c.radius[i] + c.radius[j]) * ((double)c.radius[i] + c.radius[j])) continue;
+            sum[lab[j]] += spr_overlap_area(&c, i, j, eps);
+        }
+        double mn = sum[0];
+        for (int k = 1; k < 8; k++) mn = sum[k] < mn ? sum[k] : mn;
+        if (sum[lab[i]] != mn) ck_abort_msg("displaced splat %zu in group %d (overlap %g), minimum %g", i, lab[i], sum[lab[i]], mn);
+        moved += lab[i] != (int)(((cx[i] + 3 * cy[i]) % 8 + 8) % 8);
+        placed[i] = 1;
+    }
+    printf("grouping: hash mode 2 on a %zu-splat torus: %zu collisions, %zu moved off their cell's group, all at minimal overlap\n",
+           n, displaced, moved);
+    ck_assert_uint_gt(displaced, 50);
+    ck_assert_uint_eq(moved, st.displaced);
+    free(cx); free(cy); free(ax); free(first); free(placed); free(lab);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(hash_update_touches_only_what_moved)
+{
+    spr_cloud c = model("builtin:sphere", 4000);
+    int32_t *lab = malloc(c.n * sizeof *lab), *ref = malloc(c.n * sizeof *ref);
+    for (int mode = 1; mode <= 2; mode++) {
+        spr_hash_desc d;
+        spr_hash_defaults(&d);
+        d.mode = mode;
+        d.axis = SPR_HASH_AXIS_NORMAL;
+        spr_group_stats st;
+        spr_error err;
+        ck_assert_int_eq(spr_group_hash(&c, &d, lab, &st, &err), SPR_OK);
+        memcpy(ref, lab, c.n * sizeof *lab);
+        uint32_t changed[40];
+        for (int k = 0; k < 40; k++) { /* move 40 splats */
+            changed[k] = (uint32_t)(k * 97 % c.n);
+            c.pos[3 * changed[k]] += 0.013f;
+        }
+        ck_assert_int_eq(spr_group_hash_update(&c, &d, lab, changed, 40, &st, &err), SPR_OK);
+        unsigned char *is_changed = calloc(c.n, 1);
+        for (int k = 0; k < 40; k++) is_changed[changed[k]] = 1;
+        for (size_t i = 0; i < c.n; i++)
+            if (!is_changed[i] && lab[i] != ref[i]) ck_abort_msg("mode %d: unchanged splat %zu regrouped", mode, i);
+        if (mode == 1) { /* mode 1 has no state: the update equals a full regrouping */
+            ck_assert_int_eq(spr_group_hash(&c, &d, ref, &st, &err), SPR_OK);
+            ck_assert_mem_eq(lab, ref, c.n * sizeof *lab);
+        }
+        for (int k = 0; k < 40; k++) c.pos[3 * changed[k]] -= 0.013f;
+        free(is_changed);
+    }
+    free(lab);
+    free(ref);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+/* The front plane of builtin:planes seen head-on: a group image has a hole
+ * where its stored depth is not the front plane's. */
+typedef struct hole_count { size_t holes, checked; int W; float t_front; } hole_count;
+static void count_holes(void *user, spr_backend *b, const spr_pass_info *info)
+{
+    hole_count *hc = user;
+    if (strcmp(info->name, "geometry")) return;
+    int W = b->view.width, H = b->view.height;
+    float *depth = malloc((size_t)W * H * sizeof(float));
+    spr_backend_read_plane(b, info->target, SPR_PLANE_DEPTH, depth);
+    /* the central 80% of the front plane (the outer rows are border effects of
+     * a finite lattice, not holes) */
+    for (int y = H / 10; y < H - H / 10; y++)
+        for (int x = W / 10; x < W - W / 10; x++) {
+            hc->checked++;
+            if (fabsf(depth[(size_t)y * W + x] - hc->t_front) > 1e-3f) hc->holes++;
+        }
+    free(depth);
+}
+
+START_TEST(hash_enlarged_radius_closes_holes)
+{
+    ck_assert_double_eq_tol(spr_hash_enlarge_factor(8), sqrt(50.0) / 4.0, 1e-12);
+    spr_cloud c = model("builtin:planes", 20000);
+    int32_t *lab = malloc(c.n * sizeof *lab);
+    spr_hash_desc d;
+    spr_hash_defaults(&d);
+    spr_group_stats st;
+    spr_error err;
+    ck_assert_int_eq(spr_group_hash(&c, &d, lab, &st, &err), SPR_OK);
+    spr_groups g;
+    ck_assert_int_eq(spr_groups_from_labels(lab, c.n, 8, &g, &err), SPR_OK);
+    /* orthographic, exactly the front plane's square, head-on */
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.eye[2] = 2.0;
+    cam.fov_deg = 0;
+    cam.ortho_height = 2.0;
+    cam.near_plane = 1.0;
+    cam.far_plane = 3.0;
+    cam.width = cam.height = 200;
+    spr_view v;
+    ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+    size_t holes[2];
+    for (int enlarged = 0; enlarged < 2; enlarged++) {
+        if (enlarged) {
+            g.radius_scale = malloc(8 * sizeof(float));
+            for (int k = 0; k < 8; k++) g.radius_scale[k] = (float)spr_hash_enlarge_factor(8);
+        }
+        hole_count hc = {0, 0, 200, 0.5f};
+        spr_render_desc rd = {.algo = SPR_ALGO_DEFERRED, .groups = &g, .hook = count_holes, .hook_user = &hc};
+        spr_render_result r;
+        tu_render(&v, &c, &rd, 2, &r);
+        spr_render_result_free(&r);
+        holes[enlarged] = hc.holes;
+        printf("grouping: planes, hash K=8 %s radii: %zu holes in %zu group-pixels\n", enlarged ? "enlarged (sqrt(50)/4)" : "original",
+               hc.holes, hc.checked);
+    }
+    ck_assert_uint_gt(holes[0], 0); /* without enlargement a single group does not cover */
+    ck_assert_uint_eq(holes[1], 0);
+    spr_groups_free(&g);
+    free(lab);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(bsp_back_to_front)
+{
+    /* 16 clusters of 64 splats strung along z: the kd splits fall between
+     * clusters, so back-to-front must order the clusters by depth. */
+    spr_cloud c;
+    ck_assert_int_eq(spr_cloud_alloc(&c, 1024), SPR_OK);
+    srand(11);
+    for (size_t i = 0; i < c.n; i++) {
+        int k = (int)(i / 64);
+        c.pos[3 * i] = 0.1f * rand() / (float)RAND_MAX;
+        c.pos[3 * i + 1] = 0.1f * rand() / (float)RAND_MAX;
+        c.pos[3 * i + 2] = (float)k + 0.1f * rand() / (float)RAND_MAX;
+        c.radius[i] = 0.01f;
+    }
+    spr_bsp t;
+    spr_error err;
+    ck_assert_int_eq(spr_bsp_build(&c, &t, &err), SPR_OK);
+    uint32_t *order = malloc(c.n * sizeof *order);
+    for (int view = 0; view < 40; view++) {
+        spr_camera_desc cam;
+        spr_camera_defaults(&cam);
+        double side = view & 1 ? 1.0 : -1.0;
+        cam.eye[0] = 6.0 * rand() / RAND_MAX - 3.0;
+        cam.eye[1] = 6.0 * rand() / RAND_MAX - 3.0;
+        cam.eye[2] = 7.5 + side * (20.0 + 10.0 * rand() / RAND_MAX);
+        cam.target[0] = 0.05; cam.target[1] = 0.05; cam.target[2] = 7.5;
+        cam.near_plane = 1.0;
+        cam.far_plane = 60.0;
+        spr_view v;
+        ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+        spr_bsp_back_to_front(&t, &c, &v, order);
+        double prev = INFINITY;
+        for (size_t k = 0; k < c.n; k++) { /* view depth of the centres, non-increasing */
+            const float *p = c.pos + 3 * order[k];
+            double z_eye = v.V[8] * p[0] + v.V[9] * p[1] + v.V[10] * p[2] + v.V[11];
+            if (-z_eye > prev + 1e-9) ck_abort_msg("view %d: splat %u (depth %g) after depth %g", view, order[k], -z_eye, prev);
+            prev = -z_eye;
+        }
+    }
+    /* leaf normals are unit length and agree with the members */
+    for (size_t nd = 0; nd < t.n_nodes; nd++)
+        if (t.nodes[nd].axis < 0) ck_assert_float_eq_tol(t.nodes[nd].normal[2], 1.0f, 1e-6f);
+    free(order);
+    spr_bsp_free(&t);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+START_TEST(duplication_raises_coverage)
+{
+    spr_cloud c = model("meshes/bunny00.off", 0);
+    int32_t *lab = malloc(c.n * sizeof *lab);
+    spr_hash_desc hd;
+    spr_hash_defaults(&hd);
+    hd.K = 4;
+    spr_group_stats st;
+    spr_error err;
+    ck_assert_int_eq(spr_group_hash(&c, &hd, lab, &st, &err), SPR_OK);
+    spr_groups before, after;
+    ck_assert_int_eq(spr_groups_from_labels(lab, c.n, 4, &before, &err), SPR_OK);
+    spr_extend_desc ed;
+    spr_extend_defaults(&ed);
+    ed.threads = 2;
+    double ratio = 0.0, eps = spr_group_default_eps(&c);
+    ck_assert_int_eq(spr_group_duplicate(&c, lab, 4, &ed, &after, &ratio, &err), SPR_OK);
+    double cov0 = spr_group_coverage(&c, &before, eps, 2), cov1 = spr_group_coverage(&c, &after, eps, 2);
+    printf("grouping: bunny, hash K=4: per-group coverage %.4f -> %.4f with duplication (+%.1f%% memberships)\n", cov0, cov1,
+           100.0 * ratio);
+    ck_assert_double_gt(cov1, cov0);
+    ck_assert_double_gt(ratio, 0.0);
+    /* memberships: by group, then submission order, each splat at most once per group */
+    for (int k = 0; k < after.K; k++)
+        for (uint32_t m = after.start[k] + 1; m < after.start[k + 1]; m++)
+            if (after.members[m] <= after.members[m - 1]) ck_abort_msg("group %d not in submission order", k);
+    /* radius enlargement by Eq. 13 also raises coverage */
+    ck_assert_int_eq(spr_group_enlarge(&c, &before, &ed, &err), SPR_OK);
+    double cov2 = spr_group_coverage(&c, &before, eps, 2);
+    printf("grouping: bunny, hash K=4: per-group coverage %.4f with Eq. 13 radius scales %.3f %.3f %.3f %.3f\n", cov2,
+           before.radius_scale[0], before.radius_scale[1], before.radius_scale[2], before.radius_scale[3]);
+    ck_assert_double_gt(cov2, cov0);
+    spr_groups_free(&before);
+    spr_groups_free(&after);
+    free(lab);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+Suite *make_grouping_suite(void)
+{
+    Suite *s = suite_create("grouping");
+    TCase *tc = tcase_create("grouping");
+    tcase_set_timeout(tc, 900);
+    tcase_add_test(tc, wgc_cost_never_rises);
+    tcase_add_test(tc, wgc_and_mgc_reproducible);
+    tcase_add_test(tc, hash_collisions_take_least_overlap);
+    tcase_add_test(tc, hash_update_touches_only_what_moved);
+    tcase_add_test(tc, hash_enlarged_radius_closes_holes);
+    tcase_add_test(tc, bsp_back_to_front);
+    tcase_add_test(tc, duplication_raises_coverage);
+    suite_add_tcase(s, tc);
+    return s;
+}
