@@ -21,7 +21,7 @@ mkdir -p "$D"
 num() { # num FILE KEY: the number after "KEY": in a stats JSON
   sed -n "s/^ *\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -1
 }
-ms() { sed -n "s/.*\"$2\": \([0-9.]*\).*/\1/p" "$1" | head -1; }
+ms() { printf '%.0f' "$(sed -n "s/.*\"$2\": \([0-9.]*\).*/\1/p" "$1" | head -1)"; }
 
 for n in 137000 303000 1100000; do
   f="$D/armadillo_$n.ply"
