@@ -170,7 +170,10 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
         axis = (int32_t *)d.axes; /* not freed below */
     } else if (d.axis == SPR_HASH_AXIS_BSP || d.mode != 1) {
         if (!(axis = malloc((c->n ? c->n : 1) * sizeof *axis))) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
-        if ((r = spr_hash_axes(c, d.axis, axis, err))) { free(axis); return r; }
+        spr_progress_report(&d.progress, "BSP tree", 0, 1);
+        r = spr_hash_axes(c, d.axis, axis, err);
+        spr_progress_report(&d.progress, "BSP tree", 1, 1);
+        if (r) { free(axis); return r; }
     }
     const int pow2 = (d.K & (d.K - 1)) == 0;
     for (size_t i = 0; i < c->n; i++) { /* the per-frame work: one pass */

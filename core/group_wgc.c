@@ -223,14 +223,17 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
     for (size_t i = 0; i < c->n; i++)
         for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++)
             if (g->adj[e] > i) edges[k++] = (edge_rec){w[e], (uint32_t)i, g->adj[e]};
+    spr_progress_report(&d.progress, "sorting edges", 0, 1);
     qsort(edges, ne, sizeof *edges, by_weight); /* total order: no ties left */
     for (size_t i = 0; i < c->n; i++) label[i] = -1;
     for (size_t e = 0; e < ne; e++) {
+        if ((e & 0xFFFFF) == 0) spr_progress_report(&d.progress, "colouring", e, ne);
         if (label[edges[e].j] < 0) label[edges[e].j] = spr_minimize_overlap(&og, edges[e].j, label, d.K);
         if (label[edges[e].i] < 0) label[edges[e].i] = spr_minimize_overlap(&og, edges[e].i, label, d.K);
     }
     for (size_t i = 0; i < c->n; i++)
         if (label[i] < 0) label[i] = (int32_t)(i % (size_t)d.K);
+    spr_progress_report(&d.progress, "colouring", ne, ne);
     st->cost_before = spr_wgc_cost(&og, w, label);
     st->ms_color = now_ms() - t0;
     t0 = now_ms();

@@ -184,6 +184,32 @@ START_TEST(sample_then_info)
 }
 END_TEST
 
+START_TEST(group_command)
+{
+    setup_dir();
+    char err[4096];
+    const char *out = path_in("g.txt"), *js = path_in("g.json");
+    char *argv[] = {"splatref", "group", "--model", "builtin:torus", "--points", "3000", "--method", "hash", "--mode", "2",
+                    "--extend", "dup", "--out", (char *)out, "--stats", (char *)js, "--quiet", NULL};
+    ck_assert_int_eq(run(argv, err, sizeof err), 0);
+    FILE *f = fopen(out, "r");
+    ck_assert_ptr_nonnull(f);
+    unsigned idx, prev_k = 0;
+    int k, lines = 0;
+    while (fscanf(f, "%u %d", &idx, &k) == 2) {
+        ck_assert_int_ge(k, (int)prev_k); /* memberships ordered by group */
+        prev_k = (unsigned)k;
+        lines++;
+    }
+    fclose(f);
+    ck_assert_int_ge(lines, 2976); /* every splat, plus duplicates */
+    char *bad[] = {"splatref", "group", "--model", "builtin:torus", "--method", "hash", "--mode", "3", "--out", (char *)path_in("x.txt"), NULL};
+    ck_assert_int_eq(run(bad, err, sizeof err), 2); /* mode 3 without --hash-near */
+    ck_assert_ptr_nonnull(strstr(err, "--hash-near"));
+    ck_assert_int_ne(access(path_in("x.txt"), F_OK), 0);
+}
+END_TEST
+
 START_TEST(no_gl_context)
 {
     /* No EGL vendor at all: render --backend gl fails with one line and no
@@ -214,6 +240,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, render_writes_outputs);
     tcase_add_test(tc, sample_then_info);
     tcase_add_test(tc, no_gl_context);
+    tcase_add_test(tc, group_command);
     suite_add_tcase(s, tc);
     return s;
 }
