@@ -1,4 +1,5 @@
 /* algo.c — the algorithm runner: shared parameters, pass bookkeeping, hooks. */
+#include "spr_util.h"
 #include "spr_algo.h"
 
 #include <stdio.h>
@@ -15,13 +16,6 @@ int spr_algo_from_name(const char *name)
     return -1;
 }
 const char *spr_algo_name(spr_algo a) { return (unsigned)a < SPR_ALGO__COUNT ? algo_names[a] : "?"; }
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 static spr_result record(spr__run *run, const char *name, int group, const spr_pass_state *state, int target,
                          const spr_draw_stats *st, double ms)
@@ -55,19 +49,19 @@ static spr_result backend_failed(spr__run *run, spr_result r)
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d)
 {
     spr_draw_stats st;
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     spr_result r = spr_backend_draw(run->b, target, d, &st);
     if (r) return backend_failed(run, r);
-    return record(run, name, group, &d->state, target, &st, now_ms() - t0);
+    return record(run, name, group, &d->state, target, &st, spr_now_ms() - t0);
 }
 
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c)
 {
     spr_draw_stats st = {0, 0, 0};
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     spr_result r = spr_backend_composite(run->b, c);
     if (r) return backend_failed(run, r);
-    return record(run, name, -1, NULL, c->output, &st, now_ms() - t0);
+    return record(run, name, -1, NULL, c->output, &st, spr_now_ms() - t0);
 }
 
 spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,

@@ -16,6 +16,7 @@
  */
 #include "spr_group.h"
 #include "spr_overlap.h"
+#include "spr_util.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -92,42 +93,6 @@ static size_t max_degree(const spr_graph *g)
     return m;
 }
 
-typedef struct cand { double v; uint32_t i; } cand;
-typedef struct cheap { cand *a; size_t n, cap; } cheap;
-static int below(const cand *x, const cand *y) { return x->v < y->v || (x->v == y->v && x->i < y->i); }
-static int cpush(cheap *h, cand c)
-{
-    if (h->n == h->cap) {
-        size_t cap = h->cap ? 2 * h->cap : 1024;
-        cand *na = realloc(h->a, cap * sizeof *na);
-        if (!na) return -1;
-        h->a = na;
-        h->cap = cap;
-    }
-    size_t i = h->n++;
-    h->a[i] = c;
-    while (i && below(&h->a[i], &h->a[(i - 1) / 2])) {
-        cand t = h->a[i]; h->a[i] = h->a[(i - 1) / 2]; h->a[(i - 1) / 2] = t;
-        i = (i - 1) / 2;
-    }
-    return 0;
-}
-static cand cpop(cheap *h)
-{
-    cand top = h->a[0];
-    h->a[0] = h->a[--h->n];
-    size_t i = 0;
-    for (;;) {
-        size_t l = 2 * i + 1, r = l + 1, m = i;
-        if (l < h->n && below(&h->a[l], &h->a[m])) m = l;
-        if (r < h->n && below(&h->a[r], &h->a[m])) m = r;
-        if (m == i) break;
-        cand t = h->a[i]; h->a[i] = h->a[m]; h->a[m] = t;
-        i = m;
-    }
-    return top;
-}
-
 spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, const spr_extend_desc *din, spr_groups *out,
                                double *dup_ratio, spr_error *err)
 {
@@ -146,7 +111,7 @@ spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, 
     size_t *lens = calloc((size_t)K, sizeof *lens);
     size_t md = max_degree(&g) + 1;
     uint32_t *buf = malloc(md * sizeof *buf);
-    cheap h = {0};
+    spr__heap h = {.max = 0}; /* least covered first, ties: smaller index */
     if (!in_k || !val || !lists || !lens || !buf) { r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory"); goto done; }
     for (int k = 0; k < K && !r; k++) {
         spr_progress_report(&d.progress, "duplication", (size_t)k, (size_t)K);
@@ -161,15 +126,15 @@ spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, 
         }
         h.n = 0;
         for (size_t i = 0; i < n; i++)
-            if (!in_k[i] && cpush(&h, (cand){val[i], (uint32_t)i})) { r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory"); break; }
+            if (!in_k[i] && spr__heap_push(&h, (spr__heap_item){val[i], (uint32_t)i, 0})) { r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory"); break; }
         while (h.n && !r) {
-            cand top = cpop(&h);
-            size_t i = top.i;
+            spr__heap_item top = spr__heap_pop(&h);
+            size_t i = top.id;
             double v = clipped(c, &g, i, in_k, 1.0, d.eps, buf);
             double area = M_PI * (double)c->radius[i] * c->radius[i];
             if (v > d.max_share * area) continue;    /* already covered enough */
-            if (v == top.v) in_k[i] = 2;             /* the value held: duplicate into S_k */
-            else if (cpush(&h, (cand){v, (uint32_t)i})) r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory");
+            if (v == top.key) in_k[i] = 2;             /* the value held: duplicate into S_k */
+            else if (spr__heap_push(&h, (spr__heap_item){v, (uint32_t)i, 0})) r = spr__fail(err, SPR_E_NOMEM, "duplication: out of memory");
         }
         size_t m = 0;
         for (size_t i = 0; i < n; i++) m += in_k[i] != 0;
@@ -201,7 +166,7 @@ done:
     for (int k = 0; lists && k < K; k++) free(lists[k]);
     free(lists);
     free(lens);
-    free(h.a);
+    spr__heap_free(&h);
     free(buf);
     free(val);
     free(in_k);

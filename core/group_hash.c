@@ -10,6 +10,7 @@
  *   mode 3: as mode 2 for splats nearer the eye than a threshold, as mode 1
  *   for the rest.
  */
+#include "spr_util.h"
 #include "spr_bsp.h"
 #include "spr_group.h"
 #include "spr_overlap.h"
@@ -18,13 +19,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 void spr_hash_defaults(spr_hash_desc *d)
 {
@@ -162,7 +156,7 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
     if (d.K < 1 || d.K > SPR_MAX_GROUPS) return spr__fail(err, SPR_E_ARG, "hash: --k %d outside 1..%d", d.K, SPR_MAX_GROUPS);
     if (d.mode < 1 || d.mode > 3) return spr__fail(err, SPR_E_ARG, "hash: --mode %d is not 1, 2 or 3", d.mode);
     memset(st, 0, sizeof *st);
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     const int s = d.K > 1 ? spr_hash_step(d.K) : 0;
     spr_result r = SPR_OK;
     int32_t *axis = NULL;
@@ -183,7 +177,7 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
         label[i] = pow2 ? (int32_t)((x + (int64_t)s * y) & (d.K - 1)) : spr_hash_table(x, y, d.K, s);
     }
     st->K = d.K;
-    st->ms_color = now_ms() - t0;
+    st->ms_color = spr_now_ms() - t0;
     if (axis == d.axes) axis = NULL;
     if (d.mode == 1) { free(axis); return SPR_OK; }
     if (!axis) {
@@ -219,10 +213,10 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
             placed[i] = placed[i] != 2;
         }
         spr_overlap_graph og;
-        double t1 = now_ms();
+        double t1 = spr_now_ms();
         if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c); /* a full pass: only when collisions need areas */
         if ((r = spr_overlap_graph_build(c, d.eps, d.threads, &d.progress, &og, err))) goto done;
-        st->ms_graph = now_ms() - t1;
+        st->ms_graph = spr_now_ms() - t1;
         for (size_t k = 0; k < nq; k++) {
             size_t i = queue[k];
             int g = least_overlap(&og, i, label, placed, d.K, label[i]);
@@ -232,7 +226,7 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
         }
         spr_overlap_graph_free(&og);
     }
-    st->ms_optimise = now_ms() - t0 - st->ms_color;
+    st->ms_optimise = spr_now_ms() - t0 - st->ms_color;
 done:
     free(keys);
     free(placed);

@@ -10,19 +10,13 @@
  * τ·r_i); we drop the edge only when it holds from both ends, so the graph
  * stays undirected and the relaxation never removes a visible overlap.
  */
+#include "spr_util.h"
 #include "spr_group.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 void spr_mgc_defaults(spr_mgc_desc *d)
 {
@@ -66,7 +60,7 @@ spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *l
     spr_mgc_desc d = *din;
     if (!(d.c > 0.0 && d.c <= 1.0)) return spr__fail(err, SPR_E_ARG, "mgc: --c %g outside (0, 1]", d.c);
     memset(st, 0, sizeof *st);
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     spr_bounds b;
     spr_cloud_bounds(c, &b);
     spr_knn *kn;
@@ -85,8 +79,8 @@ spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *l
             if (spr_mgc_conflict(c, &d, i, g.adj[k])) g.adj[w++] = g.adj[k];
     }
     g.start[c->n] = w;
-    st->ms_graph = now_ms() - t0;
-    t0 = now_ms();
+    st->ms_graph = spr_now_ms() - t0;
+    t0 = spr_now_ms();
     vdeg *order = malloc(c->n * sizeof *order);
     uint32_t *stamp = NULL;
     if (!order) { spr_graph_free(&g); return spr__fail(err, SPR_E_NOMEM, "mgc: out of memory"); }
@@ -116,7 +110,7 @@ spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *l
     st->max_degree = (int)maxdeg;
     st->edges = (size_t)(w / 2);
     st->avg_degree = c->n ? (double)w / (double)c->n : 0.0;
-    st->ms_color = now_ms() - t0;
+    st->ms_color = spr_now_ms() - t0;
     free(stamp);
     free(order);
     spr_graph_free(&g);

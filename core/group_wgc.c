@@ -12,6 +12,7 @@
  * MinimizeOverlap minimises Σ A while L weighs w, and without the guard a
  * step could raise L.  Every applied step lowers L by S_old − S_new ≥ 0.
  */
+#include "spr_util.h"
 #include "spr_group.h"
 #include "spr_overlap.h"
 
@@ -20,13 +21,6 @@
 #include <string.h>
 #include <omp.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 double spr_group_default_eps(const spr_cloud *c)
 {
@@ -153,43 +147,6 @@ static int by_weight(const void *a, const void *b)
     return (x->j > y->j) - (x->j < y->j);
 }
 
-/* max-heap of (S, v, version), ties: smaller v first */
-typedef struct heap_item { double s; uint32_t v, ver; } heap_item;
-typedef struct heap { heap_item *a; size_t n, cap; } heap;
-static int above(const heap_item *x, const heap_item *y) { return x->s > y->s || (x->s == y->s && x->v < y->v); }
-static int heap_push(heap *h, heap_item it)
-{
-    if (h->n == h->cap) {
-        size_t cap = h->cap ? 2 * h->cap : 1024;
-        heap_item *na = realloc(h->a, cap * sizeof *na);
-        if (!na) return -1;
-        h->a = na;
-        h->cap = cap;
-    }
-    size_t i = h->n++;
-    h->a[i] = it;
-    while (i && above(&h->a[i], &h->a[(i - 1) / 2])) {
-        heap_item t = h->a[i]; h->a[i] = h->a[(i - 1) / 2]; h->a[(i - 1) / 2] = t;
-        i = (i - 1) / 2;
-    }
-    return 0;
-}
-static heap_item heap_pop(heap *h)
-{
-    heap_item top = h->a[0];
-    h->a[0] = h->a[--h->n];
-    size_t i = 0;
-    for (;;) {
-        size_t l = 2 * i + 1, r = l + 1, m = i;
-        if (l < h->n && above(&h->a[l], &h->a[m])) m = l;
-        if (r < h->n && above(&h->a[r], &h->a[m])) m = r;
-        if (m == i) break;
-        heap_item t = h->a[i]; h->a[i] = h->a[m]; h->a[m] = t;
-        i = m;
-    }
-    return top;
-}
-
 void spr_wgc_defaults(spr_wgc_desc *d)
 {
     memset(d, 0, sizeof *d);
@@ -203,7 +160,7 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
     if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
     if (!d.max_pops) d.max_pops = 10 * c->n;
     memset(st, 0, sizeof *st);
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     spr_overlap_graph og;
     spr_result r = spr_overlap_graph_build(c, d.eps, d.threads, &d.progress, &og, err);
     if (r) return r;
@@ -214,10 +171,10 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
     for (size_t i = 0; i < c->n; i++)
         for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++) ne += g->adj[e] > i;
     edge_rec *edges = malloc((ne ? ne : 1) * sizeof *edges);
-    heap h = {0};
+    spr__heap h = {.max = 1}; /* by S(v) descending, ties: smaller v */
     if (!w || !ver || !edges) { r = spr__fail(err, SPR_E_NOMEM, "wgc: out of memory"); goto done; }
-    st->ms_graph = now_ms() - t0;
-    t0 = now_ms();
+    st->ms_graph = spr_now_ms() - t0;
+    t0 = spr_now_ms();
     /* 1. initialisation in edge-weight order */
     size_t k = 0;
     for (size_t i = 0; i < c->n; i++)
@@ -235,35 +192,35 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
         if (label[i] < 0) label[i] = (int32_t)(i % (size_t)d.K);
     spr_progress_report(&d.progress, "colouring", ne, ne);
     st->cost_before = spr_wgc_cost(&og, w, label);
-    st->ms_color = now_ms() - t0;
-    t0 = now_ms();
+    st->ms_color = spr_now_ms() - t0;
+    t0 = spr_now_ms();
     /* 2. optimisation */
     for (size_t v = 0; v < c->n; v++) {
         double s = same_sum(&og, w, v, label, label[v]);
-        if (s > 0.0 && s >= d.tau_w && heap_push(&h, (heap_item){s, (uint32_t)v, 0})) { r = spr__fail(err, SPR_E_NOMEM, "wgc: out of memory"); goto done; }
+        if (s > 0.0 && s >= d.tau_w && spr__heap_push(&h, (spr__heap_item){s, (uint32_t)v, 0})) { r = spr__fail(err, SPR_E_NOMEM, "wgc: out of memory"); goto done; }
     }
     while (h.n && st->pops < d.max_pops) {
-        heap_item it = heap_pop(&h);
-        if (it.ver != ver[it.v]) continue; /* superseded entry */
+        spr__heap_item it = spr__heap_pop(&h);
+        if (it.ver != ver[it.id]) continue; /* superseded entry */
         st->pops++;
         if ((st->pops & 0xFFFF) == 0) spr_progress_report(&d.progress, "optimisation", st->pops, d.max_pops);
-        size_t v = it.v;
+        size_t v = it.id;
         int best = spr_minimize_overlap(&og, v, label, d.K);
         double s_old = same_sum(&og, w, v, label, label[v]), s_new = same_sum(&og, w, v, label, best);
         ver[v]++;
         if (best == label[v] || s_new > s_old) continue; /* nothing better: out of the queue */
         label[v] = best;
-        if (s_new > 0.0 && s_new >= d.tau_w) heap_push(&h, (heap_item){s_new, (uint32_t)v, ver[v]});
+        if (s_new > 0.0 && s_new >= d.tau_w) spr__heap_push(&h, (spr__heap_item){s_new, (uint32_t)v, ver[v]});
         for (uint64_t e = g->start[v]; e < g->start[v + 1]; e++) { /* the neighbours' sums changed */
             uint32_t u = g->adj[e];
             double su = same_sum(&og, w, u, label, label[u]);
             ver[u]++;
-            if (su > 0.0 && su >= d.tau_w && heap_push(&h, (heap_item){su, u, ver[u]})) { r = spr__fail(err, SPR_E_NOMEM, "wgc: out of memory"); goto done; }
+            if (su > 0.0 && su >= d.tau_w && spr__heap_push(&h, (spr__heap_item){su, u, ver[u]})) { r = spr__fail(err, SPR_E_NOMEM, "wgc: out of memory"); goto done; }
         }
     }
     spr_progress_report(&d.progress, "optimisation", d.max_pops, d.max_pops);
     st->cost_after = spr_wgc_cost(&og, w, label);
-    st->ms_optimise = now_ms() - t0;
+    st->ms_optimise = spr_now_ms() - t0;
     st->K = d.K;
     st->edges = ne;
     for (size_t i = 0; i < c->n; i++) {
@@ -272,7 +229,7 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
     }
     st->avg_degree = c->n ? 2.0 * (double)ne / (double)c->n : 0.0;
 done:
-    free(h.a);
+    spr__heap_free(&h);
     free(edges);
     free(ver);
     free(w);

@@ -3,6 +3,7 @@
  * Figures are ratios measured within one run (the machine is shared and
  * noisy): each configuration keeps the best of --reps renders.
  */
+#include "spr_util.h"
 #include "cli.h"
 #include "spr_glbackend.h"
 #include "spr_swrast.h"
@@ -22,13 +23,6 @@ static const cli_opt bench_opts[] = {
     {NULL, NULL, NULL}};
 
 int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet);
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 typedef struct bench_run {
     double ms;
@@ -64,12 +58,12 @@ static int run_set(spr_backend *b[3], const cli_scene *s, const spr_render_desc 
             if (!b[t]) continue;
             spr_render_result res;
             spr_error err = {0};
-            double t0 = now_ms();
+            double t0 = spr_now_ms();
             if (spr_render(b[t], &s->view, &s->cloud, rd, &res, &err)) {
                 fprintf(stderr, "splatref bench: %s\n", err.msg);
                 return -1;
             }
-            keep_best(&best[t], &res, now_ms() - t0);
+            keep_best(&best[t], &res, spr_now_ms() - t0);
             spr_render_result_free(&res);
         }
     return 0;
@@ -166,9 +160,9 @@ int cmd_bench(int argc, char **argv)
         s.cam.width = W;
         s.cam.height = H;
         snprintf(path, sizeof path, "%s/meshes/armadillo.off", cli_data_dir());
-        double t0 = now_ms();
+        double t0 = spr_now_ms();
         if (spr_sample_mesh(path, npts, 1, &ld, &s.cloud, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
-        printf("\n(resampled armadillo.off to %zu points in %.0f ms)\n", s.cloud.n, now_ms() - t0);
+        printf("\n(resampled armadillo.off to %zu points in %.0f ms)\n", s.cloud.n, spr_now_ms() - t0);
         char label[64];
         snprintf(label, sizeof label, "armadillo resampled to %zu", npts);
         rc |= bench_scene(&a, label, &s, reps, quiet);
@@ -185,11 +179,11 @@ static volatile int32_t sink;
 /* One streaming pass: read every position and radius, write one integer per splat. */
 static double streaming_pass(const spr_cloud *c, int32_t *out)
 {
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     for (size_t i = 0; i < c->n; i++)
         out[i] = (int32_t)((c->pos[3 * i] + c->pos[3 * i + 1] + c->pos[3 * i + 2]) / c->radius[i]);
     sink = out[c->n / 2];
-    return now_ms() - t0;
+    return spr_now_ms() - t0;
 }
 
 int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet)
@@ -208,23 +202,23 @@ int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet)
     for (int r = 0; r < reps; r++) {
         double t = streaming_pass(&c, lab);
         if (t < t_stream) t_stream = t;
-        double t0 = now_ms();
+        double t0 = spr_now_ms();
         spr_hash_axes(&c, SPR_HASH_AXIS_BSP, axes, &err);
-        t = now_ms() - t0;
+        t = spr_now_ms() - t0;
         if (t < t_bsp) t_bsp = t;
         spr_hash_desc hd;
         spr_hash_defaults(&hd);
         hd.axes = axes;
         spr_group_stats st;
-        t0 = now_ms();
+        t0 = spr_now_ms();
         spr_group_hash(&c, &hd, lab, &st, &err);
-        t = now_ms() - t0;
+        t = spr_now_ms() - t0;
         if (t < t_hash) t_hash = t;
         hd.axes = NULL;
         hd.axis = SPR_HASH_AXIS_NORMAL;
-        t0 = now_ms();
+        t0 = spr_now_ms();
         spr_group_hash(&c, &hd, lab, &st, &err);
-        t = now_ms() - t0;
+        t = spr_now_ms() - t0;
         if (t < t_hash_normal) t_hash_normal = t;
     }
     printf("  streaming pass (read p, r; write int)  %9.1f ms\n", t_stream);
@@ -232,7 +226,7 @@ int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet)
     printf("  hash mode 1, axis from own normal      %9.1f ms   ratio to streaming %.2f\n", t_hash_normal, t_hash_normal / t_stream);
     printf("  (BSP build and leaf axes, once         %9.1f ms)\n", t_bsp);
     /* WGC against the FLANN neighbour graph alone */
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     spr_bounds b;
     spr_cloud_bounds(&c, &b);
     spr_knn *kn;
@@ -244,15 +238,15 @@ int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet)
     }
     spr_knn_free(kn);
     spr_graph_free(&g);
-    double t_graph = now_ms() - t0;
+    double t_graph = spr_now_ms() - t0;
     spr_wgc_desc wd;
     spr_wgc_defaults(&wd);
     wd.threads = 2;
     wd.progress = prog;
     spr_group_stats st;
-    t0 = now_ms();
+    t0 = spr_now_ms();
     if (spr_group_wgc(&c, &wd, lab, &st, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
-    double t_wgc = now_ms() - t0;
+    double t_wgc = spr_now_ms() - t0;
     printf("  FLANN neighbour graph (build + radius search)  %9.1f ms\n", t_graph);
     printf("  WGC K=8 (graph %.0f, colouring %.0f, optimisation %.0f)  %9.1f ms   ratio to the graph %.2f\n", st.ms_graph, st.ms_color,
            st.ms_optimise, t_wgc, t_wgc / t_graph);

@@ -1,5 +1,6 @@
 /* cli_group.c — `splatref group`: grouping alone, with the statistics of
  * [ZP] Tables 1–3 (K, degrees, overlap factor, cost L, duplication, time). */
+#include "spr_util.h"
 #include "cli.h"
 #include "cli_scene_opts.h"
 
@@ -14,13 +15,6 @@ static const cli_opt group_opts[] = {
     {"out", "FILE", "memberships, one line each: splat_index group"},
     {"stats", "FILE.json", "K, group sizes, degrees, overlap factor, cost L, duplication ratio, ms per phase"},
     {NULL, NULL, NULL}};
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 typedef struct group_report {
     const cli_scene *s;
@@ -71,7 +65,7 @@ int cmd_group(int argc, char **argv)
     if (rd.algo != SPR_ALGO_DEFERRED) { cli_error(&a, "--algo has no meaning here"); goto done; }
     /* metrics on the overlap graph (|p_i − p_j| < r_i + r_j, areas A_ij) */
     group_report rep = {&s, 0, 0, 0, 0, 0};
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     spr_overlap_graph og;
     spr_error err = {0};
     spr_progress prog = cli_progress(cli_flag(&a, "quiet"));
@@ -95,7 +89,7 @@ int cmd_group(int argc, char **argv)
     }
     free(w);
     spr_overlap_graph_free(&og);
-    rep.ms_metrics = now_ms() - t0;
+    rep.ms_metrics = spr_now_ms() - t0;
     if ((cli_get(&a, "out") && spr__write_atomic(cli_get(&a, "out"), memberships_body, &s.groups, &err)) ||
         (cli_get(&a, "stats") && spr__write_atomic(cli_get(&a, "stats"), stats_body, &rep, &err))) {
         fprintf(stderr, "splatref group: %s\n", err.msg);

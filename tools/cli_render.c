@@ -1,4 +1,5 @@
 /* cli_render.c — `splatref render`: load, frame, group, render, write. */
+#include "spr_util.h"
 #include "cli.h"
 #include "cli_scene_opts.h"
 #include "spr_image.h"
@@ -108,13 +109,6 @@ static int stats_body(FILE *f, const void *user)
     return ferror(f) ? -1 : 0;
 }
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 int cmd_render(int argc, char **argv)
 {
     cli_args a;
@@ -139,9 +133,9 @@ int cmd_render(int argc, char **argv)
         rd.hook = dump_hook;
         rd.hook_user = &dc;
     }
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     if (spr_render(b, &s.view, &s.cloud, &rd, &res, &err)) { fprintf(stderr, "splatref render: %s\n", err.msg); goto done; }
-    double render_ms = now_ms() - t0;
+    double render_ms = spr_now_ms() - t0;
     if (dc.failed) { fprintf(stderr, "splatref render: --dump: %s\n", dc.err.msg); goto done; }
 
     size_t covered = 0, np = (size_t)res.width * res.height;

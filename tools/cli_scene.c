@@ -1,5 +1,6 @@
 /* cli_scene.c — what render, parity and reference share: reading the scene
  * options, loading and framing the model, grouping, making a backend. */
+#include "spr_util.h"
 #include "cli.h"
 #include "spr_glbackend.h"
 #include "spr_swrast.h"
@@ -9,13 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 void cli_scene_free(cli_scene *s)
 {
@@ -68,7 +62,7 @@ int cli_make_groups(const cli_args *a, cli_scene *s, const cli_group_opts *o, sp
     memset(&s->gstats, 0, sizeof s->gstats);
     spr_result r = SPR_OK;
     s->group_method = o->method;
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     if (!strcmp(o->method, "none")) {
         memset(s->labels, 0, n * sizeof(int32_t));
         s->gstats.K = 1;
@@ -109,9 +103,9 @@ int cli_make_groups(const cli_args *a, cli_scene *s, const cli_group_opts *o, sp
         d.progress = prog;
         r = spr_group_hash(&s->cloud, &d, s->labels, &s->gstats, &err);
     }
-    s->ms_grouping = now_ms() - t0;
+    s->ms_grouping = spr_now_ms() - t0;
     if (r) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
-    t0 = now_ms();
+    t0 = spr_now_ms();
     spr_extend_desc ed;
     spr_extend_defaults(&ed);
     ed.threads = s->threads;
@@ -128,7 +122,7 @@ int cli_make_groups(const cli_args *a, cli_scene *s, const cli_group_opts *o, sp
             for (int k = 0; !r && k < s->groups.K; k++) s->groups.radius_scale[k] = (float)spr_hash_enlarge_factor(s->groups.K);
         }
     }
-    s->ms_extend = o->extend ? now_ms() - t0 : 0.0;
+    s->ms_extend = o->extend ? spr_now_ms() - t0 : 0.0;
     if (r) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
     return 0;
 }
@@ -175,16 +169,16 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
     ld.threads = s->threads;
     ld.progress = cli_progress(quiet);
 
-    double t0 = now_ms();
+    double t0 = spr_now_ms();
     snprintf(s->model, sizeof s->model, "%s", model);
     if (spr_load(model, &ld, &s->cloud, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
-    s->load_ms = now_ms() - t0;
+    s->load_ms = spr_now_ms() - t0;
     spr_bounds bd;
     spr_cloud_bounds(&s->cloud, &bd);
     spr_camera_frame(&s->cam, &bd);
     if (spr_view_make(&s->cam, &s->view, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
 
-    t0 = now_ms();
+    t0 = spr_now_ms();
     if (rd->algo == SPR_ALGO_DEFERRED || s->all_algos) {
         const char *gf = cli_get(a, "groups-file");
         if (gf) {
@@ -200,7 +194,7 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
         }
         rd->groups = &s->groups;
     }
-    s->group_ms = now_ms() - t0;
+    s->group_ms = spr_now_ms() - t0;
     return 0;
 }
 

@@ -1,0 +1,63 @@
+/* util.c — monotonic clock and the binary heap of spr_util.h. */
+#include "spr_util.h"
+
+#include <stdlib.h>
+#include <time.h>
+
+double spr_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+static int first(const spr__heap *h, const spr__heap_item *x, const spr__heap_item *y)
+{
+    if (x->key != y->key) return h->max ? x->key > y->key : x->key < y->key;
+    return x->id < y->id;
+}
+
+int spr__heap_push(spr__heap *h, spr__heap_item it)
+{
+    if (h->n == h->cap) {
+        size_t cap = h->cap ? 2 * h->cap : 1024;
+        spr__heap_item *na = realloc(h->a, cap * sizeof *na);
+        if (!na) return -1;
+        h->a = na;
+        h->cap = cap;
+    }
+    size_t i = h->n++;
+    h->a[i] = it;
+    while (i && first(h, &h->a[i], &h->a[(i - 1) / 2])) {
+        spr__heap_item t = h->a[i];
+        h->a[i] = h->a[(i - 1) / 2];
+        h->a[(i - 1) / 2] = t;
+        i = (i - 1) / 2;
+    }
+    return 0;
+}
+
+spr__heap_item spr__heap_pop(spr__heap *h)
+{
+    spr__heap_item top = h->a[0];
+    h->a[0] = h->a[--h->n];
+    size_t i = 0;
+    for (;;) {
+        size_t l = 2 * i + 1, r = l + 1, m = i;
+        if (l < h->n && first(h, &h->a[l], &h->a[m])) m = l;
+        if (r < h->n && first(h, &h->a[r], &h->a[m])) m = r;
+        if (m == i) break;
+        spr__heap_item t = h->a[i];
+        h->a[i] = h->a[m];
+        h->a[m] = t;
+        i = m;
+    }
+    return top;
+}
+
+void spr__heap_free(spr__heap *h)
+{
+    free(h->a);
+    h->a = NULL;
+    h->n = h->cap = 0;
+}
