@@ -28,36 +28,6 @@ void spr_extend_defaults(spr_extend_desc *d)
     d->max_share = 0.5;
 }
 
-/* Neighbour graph with |p_i − p_j| < f·(r_i + r_j). */
-static spr_result wide_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err)
-{
-    spr_bounds b;
-    spr_cloud_bounds(c, &b);
-    spr_knn *kn;
-    spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
-    if (r) return r;
-    r = spr_knn_radius_graph(kn, c->radius, f, b.max_radius, threads, g, prog, err);
-    spr_knn_free(kn);
-    if (r) return r;
-    uint64_t w = 0;
-    for (size_t i = 0; i < c->n; i++) {
-        uint64_t s = g->start[i], e = g->start[i + 1];
-        g->start[i] = w;
-        for (uint64_t k = s; k < e; k++) {
-            size_t j = g->adj[k];
-            double d2 = 0.0;
-            for (int a = 0; a < 3; a++) {
-                double q = (double)c->pos[3 * i + a] - c->pos[3 * j + a];
-                d2 += q * q;
-            }
-            double lim = f * ((double)c->radius[i] + c->radius[j]);
-            if (d2 < lim * lim) g->adj[w++] = g->adj[k];
-        }
-    }
-    g->start[c->n] = w;
-    return SPR_OK;
-}
-
 /* Clipped(p_i, s·r_i, k): disk i covered by its neighbours flagged in_k
  * (only those numbered below i when `lower_only`: each overlap counted once). */
 static double clipped_by(const spr_cloud *c, const spr_graph *g, size_t i, const unsigned char *in_k, double scale, double eps,
@@ -101,7 +71,7 @@ spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, 
     if (!(d.max_share > 0.0)) d.max_share = 0.5;
     memset(out, 0, sizeof *out);
     spr_graph g;
-    spr_result r = wide_graph(c, 1.0, d.threads, &d.progress, &g, err);
+    spr_result r = spr__pair_graph(c, 1.0, d.threads, &d.progress, &g, err);
     if (r) return r;
     const size_t n = c->n;
     unsigned char *in_k = malloc(n);
@@ -201,9 +171,9 @@ spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_exte
     if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
     const double F = 3.0; /* neighbours for scales up to 3 */
     spr_graph g1, gw;
-    spr_result r = wide_graph(c, 1.0, d.threads, &d.progress, &g1, err);
+    spr_result r = spr__pair_graph(c, 1.0, d.threads, &d.progress, &g1, err);
     if (r) return r;
-    if ((r = wide_graph(c, F, d.threads, &d.progress, &gw, err))) { spr_graph_free(&g1); return r; }
+    if ((r = spr__pair_graph(c, F, d.threads, &d.progress, &gw, err))) { spr_graph_free(&g1); return r; }
     double A = union_area(c, &g1, d.eps);
     spr_graph_free(&g1);
     unsigned char *in_k = calloc(c->n ? c->n : 1, 1);
@@ -253,7 +223,7 @@ double spr_group_coverage(const spr_cloud *c, const spr_groups *grp, double eps,
     double F = 1.0;
     for (int k = 0; grp->radius_scale && k < grp->K; k++)
         if (grp->radius_scale[k] > F) F = grp->radius_scale[k];
-    if (wide_graph(c, F, threads, NULL, &gw, &err)) return -1.0;
+    if (spr__pair_graph(c, F, threads, NULL, &gw, &err)) return -1.0;
     unsigned char *in_k = calloc(c->n ? c->n : 1, 1);
     double total = 0.0;
     size_t md = max_degree(&gw) + 1;

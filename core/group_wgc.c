@@ -36,21 +36,17 @@ void spr_overlap_graph_free(spr_overlap_graph *og)
     memset(og, 0, sizeof *og);
 }
 
-spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
-                                   spr_overlap_graph *og, spr_error *err)
+/* Neighbour graph with |p_i − p_j| < f·(r_i + r_j). */
+spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err)
 {
-    memset(og, 0, sizeof *og);
-    og->eps = eps;
     spr_bounds b;
     spr_cloud_bounds(c, &b);
     spr_knn *kn;
     spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
     if (r) return r;
-    r = spr_knn_radius_graph(kn, c->radius, 1.0, b.max_radius, threads, &og->g, prog, err);
+    r = spr_knn_radius_graph(kn, c->radius, f, b.max_radius, threads, g, prog, err);
     spr_knn_free(kn);
     if (r) return r;
-    /* keep |p_i − p_j| < r_i + r_j, in place */
-    spr_graph *g = &og->g;
     uint64_t w = 0;
     for (size_t i = 0; i < c->n; i++) {
         uint64_t s = g->start[i], e = g->start[i + 1];
@@ -62,11 +58,23 @@ spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, 
                 double q = (double)c->pos[3 * i + a] - c->pos[3 * j + a];
                 d2 += q * q;
             }
-            double lim = (double)c->radius[i] + c->radius[j];
+            double lim = f * ((double)c->radius[i] + c->radius[j]);
             if (d2 < lim * lim) g->adj[w++] = g->adj[k];
         }
     }
     g->start[c->n] = w;
+    return SPR_OK;
+}
+
+spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
+                                   spr_overlap_graph *og, spr_error *err)
+{
+    memset(og, 0, sizeof *og);
+    og->eps = eps;
+    spr_result r = spr__pair_graph(c, 1.0, threads, prog, &og->g, err);
+    if (r) return r;
+    const spr_graph *g = &og->g;
+    const uint64_t w = g->start[c->n];
     og->A = malloc((w ? w : 1) * sizeof(float));
     if (!og->A) { spr_overlap_graph_free(og); return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas"); }
     const long n = (long)c->n;

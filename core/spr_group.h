@@ -111,6 +111,8 @@ typedef struct spr_overlap_graph {
 spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
                                    spr_overlap_graph *og, spr_error *err);
 void spr_overlap_graph_free(spr_overlap_graph *og);
+/* All pairs with |p_i − p_j| < f·(r_i + r_j) (no areas). */
+spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err);
 /* Default ε of the grouping areas: 2 × mean radius, as rendering. */
 double spr_group_default_eps(const spr_cloud *c);
 
