@@ -128,3 +128,38 @@ int cmd_compare(int argc, char **argv)
     free(im[1]);
     return 0;
 }
+
+static const cli_opt show_opts[] = {
+    {"out", "FILE.png", "the picture (required)"},
+    {"range", "LO,HI", "map LO..HI to black..white (default: the plane's finite range; -1 = none is excluded)"},
+    {NULL, NULL, NULL}};
+
+/* `splatref show PLANE.pfm --out P.png`: a dump plane as a picture (grey for
+ * 1-channel planes, colour for RGB), values mapped linearly from a range. */
+int cmd_show(int argc, char **argv)
+{
+    cli_args a;
+    int pr = cli_parse(&a, "show", show_opts, "PLANE.pfm --out FILE.png [--range LO,HI]", 1, argc, argv);
+    if (pr) return pr == 1 ? 0 : 2;
+    if (a.n_positional != 1 || !cli_get(&a, "out")) { cli_error(&a, "a PFM file and --out are required"); return 2; }
+    float *im;
+    int w, h, ch;
+    spr_error err = {0};
+    if (spr_read_pfm(a.positional[0], &im, &w, &h, &ch, &err)) { fprintf(stderr, "splatref show: %s\n", err.msg); return 2; }
+    double lo = INFINITY, hi = -INFINITY;
+    const char *range = cli_get(&a, "range");
+    if (range) {
+        char tail;
+        if (sscanf(range, "%lf,%lf%c", &lo, &hi, &tail) != 2 || !(hi > lo)) { cli_error(&a, "--range: '%s' is not LO,HI with HI > LO", range); free(im); return 2; }
+    } else {
+        for (size_t i = 0; i < (size_t)w * h * ch; i++)
+            if (isfinite(im[i]) && im[i] != -1.0f) { lo = im[i] < lo ? im[i] : lo; hi = im[i] > hi ? im[i] : hi; }
+        if (!(hi > lo)) { lo = 0.0; hi = lo + 1.0; }
+    }
+    for (size_t i = 0; i < (size_t)w * h * ch; i++) im[i] = (float)((im[i] - lo) / (hi - lo));
+    int rc = 0;
+    if (spr_write_png(cli_get(&a, "out"), im, w, h, ch, &err)) { fprintf(stderr, "splatref show: %s\n", err.msg); rc = 2; }
+    else printf("show: %s [%g, %g] -> %s\n", a.positional[0], lo, hi, cli_get(&a, "out"));
+    free(im);
+    return rc;
+}

@@ -9,6 +9,7 @@ static const struct { const char *name; int (*fn)(int, char **); const char *hel
     {"group", cmd_group, "group splats (mgc, wgc, hash, extended) and report the statistics of [ZP] Tables 1-3"},
     {"info", cmd_info, "counts, bounds, radius statistics and attribute sources of a model"},
     {"sample", cmd_sample, "resample a mesh to N uniformly distributed points (PLY out)"},
+    {"show", cmd_show, "turn a dumped plane (PFM) into a PNG to look at"},
     {"compare", cmd_compare, "mean and largest difference of two PFM images over covered pixels"},
     {"parity", cmd_parity, "compare the CPU reference and the GL backend, every plane of every pass"},
     {"reference", cmd_reference, "check (or --update) the reference images of reference_images/"},
