@@ -138,6 +138,12 @@ START_TEST(render_writes_outputs)
     ck_assert_int_eq(access(js, F_OK), 0);
     ck_assert_int_eq(access(gout, F_OK), 0);
     ck_assert_int_eq(access(path_in("dump/000_geometry_k000_color.pfm"), F_OK), 0);
+    ck_assert_int_eq(access(path_in("dump/000_geometry_k000_weight.pfm"), F_OK), 0);
+    /* a dumped plane as a picture */
+    const char *shown = path_in("w.png");
+    char *sargv[] = {"splatref", "show", (char *)path_in("dump/000_geometry_k000_weight.pfm"), "--out", (char *)shown, NULL};
+    ck_assert_int_eq(run(sargv, err, sizeof err), 0);
+    ck_assert_int_eq(access(shown, F_OK), 0);
     /* the float image is RGB, little-endian, 64×48 */
     float *im;
     int w, h, ch;
