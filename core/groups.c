@@ -71,6 +71,96 @@ done:
     return r;
 }
 
+typedef struct { uint32_t splat, group; } membership;
+static int by_membership(const void *a, const void *b)
+{
+    const membership *x = a, *y = b;
+    if (x->group != y->group) return x->group < y->group ? -1 : 1;
+    return (x->splat > y->splat) - (x->splat < y->splat);
+}
+
+spr_result spr_groups_read_any(const char *path, size_t n, spr_groups *g, int32_t *label, spr_error *err)
+{
+    memset(g, 0, sizeof *g);
+    char *buf;
+    size_t len;
+    spr_result r = spr__read_file(path, &buf, &len, err);
+    if (r) return r;
+    /* the first data line tells the format: one number, or two */
+    const char *p = buf;
+    while (*p == '\n' || *p == '\r' || *p == ' ' || *p == '\t') p++;
+    int tokens = 0;
+    for (const char *t = p; *t && *t != '\n';) {
+        while (*t == ' ' || *t == '\t' || *t == '\r') t++;
+        if (!*t || *t == '\n') break;
+        tokens++;
+        while (*t && !strchr(" \t\r\n", *t)) t++;
+    }
+    if (tokens != 2) {
+        free(buf);
+        if ((r = spr_groups_read(path, n, label, err))) return r;
+        return spr_groups_from_labels(label, n, 0, g, err);
+    }
+    size_t cap = n + n / 2 + 16, m = 0, line = 1;
+    membership *ms = malloc(cap * sizeof *ms);
+    if (!ms) { free(buf); return spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); }
+    for (size_t i = 0; i < n; i++) label[i] = -1;
+    int K = 0;
+    for (char *q = buf; *q;) {
+        char *eol = strchr(q, '\n');
+        if (eol) *eol = 0;
+        char *t = q;
+        while (*t == ' ' || *t == '\t' || *t == '\r') t++;
+        if (*t) {
+            char *e1, *e2;
+            errno = 0;
+            unsigned long sp = strtoul(t, &e1, 10), gr = e1 != t ? strtoul(e1, &e2, 10) : 0;
+            while (e1 != t && (*e2 == ' ' || *e2 == '\t' || *e2 == '\r')) e2++;
+            if (e1 == t || e2 == e1 || *e2 || errno || sp >= n || gr >= SPR_MAX_GROUPS) {
+                r = spr__fail(err, SPR_E_FORMAT, "%s:%zu: expected `splat_index group` with splat < %zu and group < %d", path, line, n,
+                              SPR_MAX_GROUPS);
+                break;
+            }
+            if (m == cap) {
+                membership *nm = realloc(ms, 2 * cap * sizeof *ms);
+                if (!nm) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); break; }
+                ms = nm;
+                cap *= 2;
+            }
+            ms[m++] = (membership){(uint32_t)sp, (uint32_t)gr};
+            if (label[sp] < 0) label[sp] = (int32_t)gr;
+            if ((int)gr + 1 > K) K = (int)gr + 1;
+        }
+        line++;
+        if (!eol) break;
+        q = eol + 1;
+    }
+    free(buf);
+    for (size_t i = 0; !r && i < n; i++)
+        if (label[i] < 0) r = spr__fail(err, SPR_E_VALUE, "%s: splat %zu is in no group", path, i);
+    if (!r) {
+        qsort(ms, m, sizeof *ms, by_membership);
+        for (size_t i = 1; !r && i < m; i++)
+            if (ms[i].group == ms[i - 1].group && ms[i].splat == ms[i - 1].splat)
+                r = spr__fail(err, SPR_E_VALUE, "%s: splat %u listed twice in group %u", path, ms[i].splat, ms[i].group);
+    }
+    if (!r) {
+        g->start = calloc((size_t)K + 1, sizeof(uint32_t));
+        g->members = malloc((m ? m : 1) * sizeof(uint32_t));
+        if (!g->start || !g->members) r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path);
+        for (size_t i = 0; !r && i < m; i++) {
+            g->members[i] = ms[i].splat;
+            g->start[ms[i].group + 1]++;
+        }
+        for (int k = 0; !r && k < K; k++) g->start[k + 1] += g->start[k];
+        g->K = K;
+        g->n_splats = n;
+    }
+    free(ms);
+    if (r) spr_groups_free(g);
+    return r;
+}
+
 typedef struct { const int32_t *label; size_t n; } labels_ref;
 
 static int write_labels(FILE *f, const void *user)
@@ -85,4 +175,18 @@ spr_result spr_groups_write(const char *path, const int32_t *label, size_t n, sp
 {
     labels_ref l = {label, n};
     return spr__write_atomic(path, write_labels, &l, err);
+}
+
+static int write_memberships(FILE *f, const void *user)
+{
+    const spr_groups *g = user;
+    for (int k = 0; k < g->K; k++)
+        for (uint32_t m = g->start[k]; m < g->start[k + 1]; m++)
+            if (fprintf(f, "%u %d\n", g->members[m], k) < 0) return -1;
+    return 0;
+}
+
+spr_result spr_groups_write_memberships(const char *path, const spr_groups *g, spr_error *err)
+{
+    return spr__write_atomic(path, write_memberships, g, err);
 }

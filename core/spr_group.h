@@ -26,8 +26,15 @@ spr_result spr_groups_from_labels(const int32_t *label, size_t n, int K_hint, sp
 void spr_groups_free(spr_groups *g);
 /* Read one integer group per line for n splats; the file, line and value on error. */
 spr_result spr_groups_read(const char *path, size_t n, int32_t *label, spr_error *err);
+/* Read either format: one group per line (render --groups-out), or one
+ * membership `splat_index group` per line (splatref group --out, which may
+ * list a splat in several groups).  Every splat must belong to a group.
+ * label (n entries) gets each splat's first group. */
+spr_result spr_groups_read_any(const char *path, size_t n, spr_groups *g, int32_t *label, spr_error *err);
 /* Write labels, one per line, through a temporary file. */
 spr_result spr_groups_write(const char *path, const int32_t *label, size_t n, spr_error *err);
+/* Write memberships, `splat_index group` per line, by group then splat. */
+spr_result spr_groups_write_memberships(const char *path, const spr_groups *g, spr_error *err);
 
 /* MGC options, zero = defaults of SPEC §5.1 (via spr_mgc_defaults). */
 typedef struct spr_mgc_desc {

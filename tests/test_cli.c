@@ -209,6 +209,10 @@ START_TEST(group_command)
     }
     fclose(f);
     ck_assert_int_ge(lines, 2976); /* every splat, plus duplicates */
+    /* render reads the memberships back, duplicates included */
+    char *rargv[] = {"splatref", "render", "--model", "builtin:torus", "--points", "3000", "--groups-file", (char *)out,
+                     "--size", "64x64", "--out", (char *)path_in("gr.png"), "--quiet", NULL};
+    ck_assert_int_eq(run(rargv, err, sizeof err), 0);
     char *bad[] = {"splatref", "group", "--model", "builtin:torus", "--method", "hash", "--mode", "3", "--out", (char *)path_in("x.txt"), NULL};
     ck_assert_int_eq(run(bad, err, sizeof err), 2); /* mode 3 without --hash-near */
     ck_assert_ptr_nonnull(strstr(err, "--hash-near"));

@@ -159,6 +159,23 @@ START_TEST(groups_file_round_trip_and_errors)
     fclose(f);
     ck_assert_int_eq(spr_groups_read(path, 3, back, &err), SPR_E_FORMAT);
     ck_assert_ptr_nonnull(strstr(err.msg, ":3:"));
+    /* memberships: splat 1 in two groups; splat 2 in none is an error */
+    f = fopen(path, "w");
+    fputs("0 1\n1 0\n1 1\n2 0\n", f);
+    fclose(f);
+    int32_t lab3[3];
+    ck_assert_int_eq(spr_groups_read_any(path, 3, &g, lab3, &err), SPR_OK);
+    ck_assert_int_eq(g.K, 2);
+    ck_assert_uint_eq(g.start[1], 2);         /* group 0: splats 1, 2 */
+    ck_assert_uint_eq(g.start[2] - g.start[1], 2); /* group 1: splats 0, 1 */
+    ck_assert_uint_eq(g.members[2], 0);
+    ck_assert_int_eq(lab3[1], 0);
+    spr_groups_free(&g);
+    f = fopen(path, "w");
+    fputs("0 1\n1 0\n", f);
+    fclose(f);
+    ck_assert_int_eq(spr_groups_read_any(path, 3, &g, lab3, &err), SPR_E_VALUE);
+    ck_assert_ptr_nonnull(strstr(err.msg, "splat 2 is in no group"));
     remove(path);
 }
 END_TEST

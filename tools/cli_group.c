@@ -23,15 +23,6 @@ typedef struct group_report {
     double avg_degree;
 } group_report;
 
-static int memberships_body(FILE *f, const void *user)
-{
-    const spr_groups *g = user;
-    for (int k = 0; k < g->K; k++)
-        for (uint32_t m = g->start[k]; m < g->start[k + 1]; m++)
-            if (fprintf(f, "%u %d\n", g->members[m], k) < 0) return -1;
-    return 0;
-}
-
 static int stats_body(FILE *f, const void *user)
 {
     const group_report *r = user;
@@ -90,7 +81,7 @@ int cmd_group(int argc, char **argv)
     free(w);
     spr_overlap_graph_free(&og);
     rep.ms_metrics = spr_now_ms() - t0;
-    if ((cli_get(&a, "out") && spr__write_atomic(cli_get(&a, "out"), memberships_body, &s.groups, &err)) ||
+    if ((cli_get(&a, "out") && spr_groups_write_memberships(cli_get(&a, "out"), &s.groups, &err)) ||
         (cli_get(&a, "stats") && spr__write_atomic(cli_get(&a, "stats"), stats_body, &rep, &err))) {
         fprintf(stderr, "splatref group: %s\n", err.msg);
         goto done;

@@ -145,7 +145,10 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "splatref render: %s\n", err.msg);
         goto done;
     }
-    if (cli_get(&a, "groups-out") && s.labels && spr_groups_write(cli_get(&a, "groups-out"), s.labels, s.cloud.n, &err)) {
+    /* one group per splat, or memberships when duplication put splats in several groups */
+    if (cli_get(&a, "groups-out") && s.labels &&
+        (s.groups.start && s.groups.start[s.groups.K] != s.cloud.n ? spr_groups_write_memberships(cli_get(&a, "groups-out"), &s.groups, &err)
+                                                                  : spr_groups_write(cli_get(&a, "groups-out"), s.labels, s.cloud.n, &err))) {
         fprintf(stderr, "splatref render: %s\n", err.msg);
         goto done;
     }

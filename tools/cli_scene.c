@@ -185,7 +185,7 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
             s->labels = malloc(s->cloud.n * sizeof(int32_t));
             if (!s->labels) { cli_error(a, "out of memory"); return -1; }
             s->group_method = "file";
-            if (spr_groups_read(gf, s->cloud.n, s->labels, &err) || spr_groups_from_labels(s->labels, s->cloud.n, 0, &s->groups, &err)) {
+            if (spr_groups_read_any(gf, s->cloud.n, &s->groups, s->labels, &err)) {
                 fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg);
                 return -1;
             }
