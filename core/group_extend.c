@@ -36,23 +36,7 @@ static double clipped_by(const spr_cloud *c, const spr_graph *g, size_t i, const
     size_t m = 0;
     for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++)
         if (in_k[g->adj[e]] && (!lower_only || g->adj[e] < i)) buf[m++] = g->adj[e];
-    if (!m) return 0.0;
-    if (scale == 1.0) return spr_clipped_area(c, i, NULL, buf, m, eps);
-    /* every splat at the same scale: scale the radii through a per-splat table */
-    double ri = (double)c->radius[i] * scale, xs[3];
-    int hit = 0;
-    for (int s = 0; s < SPR_DISK_SAMPLES; s++) {
-        spr_disk_sample(c, i, ri, s, xs);
-        for (size_t k = 0; k < m; k++)
-            if (spr_splat_covers(c, buf[k], (double)c->radius[buf[k]] * scale, eps, xs)) { hit++; break; }
-    }
-    return M_PI * ri * ri * hit / SPR_DISK_SAMPLES;
-}
-
-static double clipped(const spr_cloud *c, const spr_graph *g, size_t i, const unsigned char *in_k, double scale, double eps,
-                      uint32_t *buf)
-{
-    return clipped_by(c, g, i, in_k, scale, eps, buf, 0);
+    return spr_clipped_area(c, i, scale, buf, m, scale, eps);
 }
 
 static size_t max_degree(const spr_graph *g)
@@ -91,7 +75,7 @@ spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, 
             uint32_t *tb = malloc(md * sizeof *tb);
 #pragma omp for schedule(dynamic, 256)
             for (long i = 0; i < (long)n; i++)
-                val[i] = in_k[i] || !tb ? -1.0 : clipped(c, &g, (size_t)i, in_k, 1.0, d.eps, tb);
+                val[i] = in_k[i] || !tb ? -1.0 : clipped_by(c, &g, (size_t)i, in_k, 1.0, d.eps, tb, 0);
             free(tb);
         }
         h.n = 0;
@@ -100,7 +84,7 @@ spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, 
         while (h.n && !r) {
             spr__heap_item top = spr__heap_pop(&h);
             size_t i = top.id;
-            double v = clipped(c, &g, i, in_k, 1.0, d.eps, buf);
+            double v = clipped_by(c, &g, i, in_k, 1.0, d.eps, buf, 0);
             double area = M_PI * (double)c->radius[i] * c->radius[i];
             if (v > d.max_share * area) continue;    /* already covered enough */
             if (v == top.key) in_k[i] = 2;             /* the value held: duplicate into S_k */
@@ -144,23 +128,17 @@ done:
     return r;
 }
 
-/* Union area of all splats (Eq. 11): each disk counts the share of its
- * samples not covered by a lower-numbered neighbour. */
-static double union_area(const spr_cloud *c, const spr_graph *g, double eps)
+/* Union area of all splats (Eq. 11): each disk counts what no lower-numbered
+ * neighbour covers. */
+static double union_area(const spr_cloud *c, const spr_graph *g, double eps, uint32_t *buf)
 {
     double A = 0.0;
     for (size_t i = 0; i < c->n; i++) {
-        double ri = c->radius[i], xs[3];
-        int free_s = 0;
-        for (int s = 0; s < SPR_DISK_SAMPLES; s++) {
-            spr_disk_sample(c, i, ri, s, xs);
-            int hit = 0;
-            for (uint64_t e = g->start[i]; e < g->start[i + 1] && !hit; e++)
-                if (g->adj[e] < i)
-                    hit = spr_splat_covers(c, g->adj[e], c->radius[g->adj[e]], eps, xs);
-            free_s += !hit;
-        }
-        A += M_PI * ri * ri * free_s / SPR_DISK_SAMPLES;
+        size_t m = 0;
+        for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++)
+            if (g->adj[e] < i) buf[m++] = g->adj[e];
+        double ri = c->radius[i];
+        A += M_PI * ri * ri - spr_clipped_area(c, i, 1.0, buf, m, 1.0, eps);
     }
     return A;
 }
@@ -170,39 +148,46 @@ spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_exte
     spr_extend_desc d = *din;
     if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
     const double F = 3.0; /* neighbours for scales up to 3 */
-    spr_graph g1, gw;
-    spr_result r = spr__pair_graph(c, 1.0, d.threads, &d.progress, &g1, err);
+    spr_graph gw;
+    spr_result r = spr__pair_graph(c, F, d.threads, &d.progress, &gw, err);
     if (r) return r;
-    if ((r = spr__pair_graph(c, F, d.threads, &d.progress, &gw, err))) { spr_graph_free(&g1); return r; }
-    double A = union_area(c, &g1, d.eps);
-    spr_graph_free(&g1);
+    size_t md = max_degree(&gw) + 1;
     unsigned char *in_k = calloc(c->n ? c->n : 1, 1);
+    uint32_t *buf = malloc(md * sizeof *buf);
+    double *clip = malloc((c->n ? c->n : 1) * sizeof *clip);
     free(grp->radius_scale);
     grp->radius_scale = malloc((size_t)grp->K * sizeof(float));
-    size_t md = max_degree(&gw) + 1;
-    if (!in_k || !grp->radius_scale) { free(in_k); spr_graph_free(&gw); return spr__fail(err, SPR_E_NOMEM, "enlarge: out of memory"); }
+    if (!in_k || !buf || !clip || !grp->radius_scale) {
+        free(in_k);
+        free(buf);
+        free(clip);
+        spr_graph_free(&gw);
+        return spr__fail(err, SPR_E_NOMEM, "enlarge: out of memory");
+    }
+    /* the wider graph holds every overlapping pair (and some that cannot cover) */
+    double A = union_area(c, &gw, d.eps, buf);
     for (int k = 0; k < grp->K; k++) {
         spr_progress_report(&d.progress, "radius enlargement", (size_t)k, (size_t)grp->K);
         memset(in_k, 0, c->n);
         double disk_sum = 0.0;
-        for (uint32_t m = grp->start[k]; m < grp->start[k + 1]; m++) {
-            uint32_t i = grp->members[m];
-            in_k[i] = 1;
-            disk_sum += M_PI * (double)c->radius[i] * c->radius[i];
+        const long nm = (long)(grp->start[k + 1] - grp->start[k]);
+        const uint32_t *S_k = grp->members + grp->start[k];
+        for (long m = 0; m < nm; m++) {
+            in_k[S_k[m]] = 1;
+            disk_sum += M_PI * (double)c->radius[S_k[m]] * c->radius[S_k[m]];
         }
         double s = 1.0;
         for (int it = 0; it < 50 && disk_sum > 0.0; it++) {
-            double clip = 0.0;
-            const long nm = (long)(grp->start[k + 1] - grp->start[k]);
 #pragma omp parallel num_threads(d.threads > 0 ? d.threads : 1)
             {
                 uint32_t *tb = malloc(md * sizeof *tb);
-#pragma omp for schedule(static) reduction(+ : clip)
-                for (long m = 0; m < nm; m++)
-                    if (tb) clip += clipped_by(c, &gw, grp->members[grp->start[k] + m], in_k, s, d.eps, tb, 1);
+#pragma omp for schedule(static)
+                for (long m = 0; m < nm; m++) clip[m] = tb ? clipped_by(c, &gw, S_k[m], in_k, s, d.eps, tb, 1) : 0.0;
                 free(tb);
             }
-            double next = sqrt((A + clip) / disk_sum);
+            double sum = 0.0; /* in member order: the same bits for any thread count */
+            for (long m = 0; m < nm; m++) sum += clip[m];
+            double next = sqrt((A + sum) / disk_sum);
             if (next > F) next = F;
             int done = fabs(next - s) < 1e-3 * s;
             s = next;
@@ -212,6 +197,8 @@ spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_exte
     }
     spr_progress_report(&d.progress, "radius enlargement", (size_t)grp->K, (size_t)grp->K);
     free(in_k);
+    free(buf);
+    free(clip);
     spr_graph_free(&gw);
     return SPR_OK;
 }
@@ -225,37 +212,34 @@ double spr_group_coverage(const spr_cloud *c, const spr_groups *grp, double eps,
         if (grp->radius_scale[k] > F) F = grp->radius_scale[k];
     if (spr__pair_graph(c, F, threads, NULL, &gw, &err)) return -1.0;
     unsigned char *in_k = calloc(c->n ? c->n : 1, 1);
+    double *share = malloc((c->n ? c->n : 1) * sizeof *share);
     double total = 0.0;
     size_t md = max_degree(&gw) + 1;
-    for (int k = 0; k < grp->K && in_k; k++) {
+    for (int k = 0; k < grp->K && in_k && share; k++) {
         memset(in_k, 0, c->n);
         for (uint32_t m = grp->start[k]; m < grp->start[k + 1]; m++) in_k[grp->members[m]] = 1;
-        double s = grp->radius_scale ? grp->radius_scale[k] : 1.0, cov = 0.0;
+        double s = grp->radius_scale ? grp->radius_scale[k] : 1.0;
 #pragma omp parallel num_threads(threads > 0 ? threads : 1)
         {
             uint32_t *tb = malloc(md * sizeof *tb);
-            double xs[3];
-#pragma omp for schedule(static) reduction(+ : cov)
+#pragma omp for schedule(static)
             for (long i = 0; i < (long)c->n; i++) {
-                if (in_k[i]) { cov += 1.0; continue; }
-                if (!tb) continue;
+                if (in_k[i] || !tb) { share[i] = in_k[i] ? 1.0 : 0.0; continue; }
                 /* share of disk i (its own radius) covered by S_k at scale s */
                 size_t m = 0;
                 for (uint64_t e = gw.start[i]; e < gw.start[i + 1]; e++)
                     if (in_k[gw.adj[e]]) tb[m++] = gw.adj[e];
-                int hit = 0;
-                for (int q = 0; q < SPR_DISK_SAMPLES; q++) {
-                    spr_disk_sample(c, (size_t)i, c->radius[i], q, xs);
-                    for (size_t a = 0; a < m; a++)
-                        if (spr_splat_covers(c, tb[a], (double)c->radius[tb[a]] * s, eps, xs)) { hit++; break; }
-                }
-                cov += (double)hit / SPR_DISK_SAMPLES;
+                double ri = c->radius[i];
+                share[i] = spr_clipped_area(c, (size_t)i, 1.0, tb, m, s, eps) / (M_PI * ri * ri);
             }
             free(tb);
         }
+        double cov = 0.0;
+        for (size_t i = 0; i < c->n; i++) cov += share[i];
         total += cov / (double)c->n;
     }
     free(in_k);
+    free(share);
     spr_graph_free(&gw);
     return grp->K ? total / grp->K : 0.0;
 }

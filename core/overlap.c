@@ -35,15 +35,7 @@ static void frame(const float *n, double e1[3], double e2[3])
     e2[2] = n[0] * e1[1] - n[1] * e1[0];
 }
 
-void spr_disk_sample(const spr_cloud *c, size_t i, double r, int s, double out[3])
-{
-    pthread_once(&pattern_once, make_pattern);
-    double e1[3], e2[3];
-    frame(c->nrm + 3 * i, e1, e2);
-    for (int k = 0; k < 3; k++) out[k] = c->pos[3 * i + k] + r * (pattern[s][0] * e1[k] + pattern[s][1] * e2[k]);
-}
-
-int spr_splat_covers(const spr_cloud *c, size_t j, double rj, double eps, const double x[3])
+static int covers(const spr_cloud *c, size_t j, double rj, double eps, const double x[3])
 {
     const float *p = c->pos + 3 * j, *n = c->nrm + 3 * j;
     double q[3] = {x[0] - p[0], x[1] - p[1], x[2] - p[2]};
@@ -103,9 +95,11 @@ double spr_overlap_area(const spr_cloud *c, size_t i, size_t j, double eps)
     return a;
 }
 
-double spr_clipped_area(const spr_cloud *c, size_t i, const float *scale, const uint32_t *cover, size_t m, double eps)
+double spr_clipped_area(const spr_cloud *c, size_t i, double own_scale, const uint32_t *cover, size_t m, double cover_scale,
+                        double eps)
 {
-    double ri = (double)c->radius[i] * (scale ? scale[i] : 1.0f);
+    if (!m) return 0.0;
+    double ri = (double)c->radius[i] * own_scale;
     double xs[SPR_DISK_SAMPLES][3];
     samples(c, i, ri, xs);
     int hit = 0;
@@ -113,7 +107,7 @@ double spr_clipped_area(const spr_cloud *c, size_t i, const float *scale, const 
         for (size_t k = 0; k < m; k++) {
             size_t j = cover[k];
             if (j == i) continue;
-            if (spr_splat_covers(c, j, (double)c->radius[j] * (scale ? scale[j] : 1.0f), eps, xs[s])) { hit++; break; }
+            if (covers(c, j, (double)c->radius[j] * cover_scale, eps, xs[s])) { hit++; break; }
         }
     return M_PI * ri * ri * hit / SPR_DISK_SAMPLES;
 }

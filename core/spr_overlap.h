@@ -14,22 +14,16 @@
 
 #define SPR_DISK_SAMPLES 256
 
-/* Sample s of disk i with radius r (world coordinates). */
-void spr_disk_sample(const spr_cloud *c, size_t i, double r, int s, double out[3]);
-
-/* Does splat j (radius rj) cover point x: |(x − p_j)·n_j| ≤ eps and the
- * projection x − ((x − p_j)·n_j) n_j lies in disk j (SPEC §5.2 [decision]). */
-int spr_splat_covers(const spr_cloud *c, size_t j, double rj, double eps, const double x[3]);
-
 /* A_ij of [ZP] Eq. 8: area of disk i within eps of plane j whose projection
  * lies in disk j (rounded to float, as stored in the overlap graph). */
 double spr_overlap_area(const spr_cloud *c, size_t i, size_t j, double eps);
 /* A_ij for the m splats js[] at once (the same arithmetic, one frame). */
 void spr_overlap_areas(const spr_cloud *c, size_t i, const uint32_t *js, size_t m, double eps, float *out);
 
-/* Clipped(p_i, r_i·scale, k) of [ZP] §4.4.2: the area of disk i (radius
- * r_i·scale_i) covered by any of the splats cover[0..m) (radius
- * r_j·scale_j; scale NULL = 1). */
-double spr_clipped_area(const spr_cloud *c, size_t i, const float *scale, const uint32_t *cover, size_t m, double eps);
+/* Clipped(p_i, r_i·own_scale, k) of [ZP] §4.4.2: the area of disk i (radius
+ * r_i·own_scale) where some splat of cover[0..m) (radius r_j·cover_scale)
+ * lies within eps of the sample and projects onto it (SPEC §5.2 [decision]). */
+double spr_clipped_area(const spr_cloud *c, size_t i, double own_scale, const uint32_t *cover, size_t m, double cover_scale,
+                        double eps);
 
 #endif
