@@ -61,14 +61,8 @@ spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *l
     if (!(d.c > 0.0 && d.c <= 1.0)) return spr__fail(err, SPR_E_ARG, "mgc: --c %g outside (0, 1]", d.c);
     memset(st, 0, sizeof *st);
     double t0 = spr_now_ms();
-    spr_bounds b;
-    spr_cloud_bounds(c, &b);
-    spr_knn *kn;
-    spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
-    if (r) return r;
-    spr_graph g;
-    r = spr_knn_radius_graph(kn, c->radius, d.c, b.max_radius, d.threads, &g, &d.progress, err);
-    spr_knn_free(kn);
+    spr_graph g; /* |p_i − p_j| < c·(r_i + r_j): relaxation 3 applied by the search */
+    spr_result r = spr__pair_graph(c, d.c, d.threads, &d.progress, &g, err);
     if (r) return r;
     /* Keep only conflict edges, in place (lists stay ascending). */
     uint64_t w = 0;
