@@ -56,34 +56,60 @@ size_t spr__mesh_normals(const spr__mesh *m, spr_cloud *c)
     return missing;
 }
 
-spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, const spr_progress *prog, spr_error *err)
+/* The k nearest neighbours of every splat, computed once and shared by the
+ * PCA normals and the radius rule when a file lacks both. */
+typedef struct knn_table {
+    int k;
+    uint32_t *idx;
+    double *dist;
+} knn_table;
+
+static void knn_table_free(knn_table *t)
 {
-    if (c->n < 3) return spr__fail(err, SPR_E_VALUE, "normals: %zu points are too few for PCA", c->n);
-    if ((size_t)k >= c->n) k = (int)c->n - 1;
+    free(t->idx);
+    free(t->dist);
+    t->idx = NULL;
+    t->dist = NULL;
+}
+
+static spr_result knn_table_make(const spr_cloud *c, int k, int threads, const spr_progress *prog, knn_table *t, spr_error *err)
+{
+    t->idx = NULL;
+    t->dist = NULL;
+    t->k = (size_t)k >= c->n ? (int)c->n - 1 : k;
     spr_knn *kn;
     spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
     if (r) return r;
-    uint32_t *idx = malloc(c->n * (size_t)k * sizeof(uint32_t));
-    double *dist = malloc(c->n * (size_t)k * sizeof(double));
-    if (!idx || !dist) { r = spr__fail(err, SPR_E_NOMEM, "normals: out of memory"); goto done; }
-    if ((r = spr_knn_query_all(kn, k, threads, idx, dist, prog, err))) goto done;
+    t->idx = malloc(c->n * (size_t)t->k * sizeof(uint32_t));
+    t->dist = malloc(c->n * (size_t)t->k * sizeof(double));
+    if (!t->idx || !t->dist) r = spr__fail(err, SPR_E_NOMEM, "neighbours: out of memory");
+    else r = spr_knn_query_all(kn, t->k, threads, t->idx, t->dist, prog, err);
+    spr_knn_free(kn);
+    if (r) knn_table_free(t);
+    return r;
+}
+
+/* PCA normals from the first k neighbours of the table. */
+static spr_result pca_from(spr_cloud *c, const knn_table *t, int k, int all, spr_error *err)
+{
+    if (k > t->k) k = t->k;
     spr_bounds b;
     spr_cloud_bounds(c, &b);
     for (size_t i = 0; i < c->n; i++) {
         float *nv = c->nrm + 3 * i;
         if (!all && (nv[0] != 0.0f || nv[1] != 0.0f || nv[2] != 0.0f)) continue;
+        const uint32_t *nb = t->idx + i * (size_t)t->k;
         double mean[3] = {c->pos[3 * i], c->pos[3 * i + 1], c->pos[3 * i + 2]};
         int m = 1;
         for (int j = 0; j < k; j++) {
-            uint32_t o = idx[i * k + j];
-            if (o == UINT32_MAX) continue;
-            for (int d = 0; d < 3; d++) mean[d] += c->pos[3 * (size_t)o + d];
+            if (nb[j] == UINT32_MAX) continue;
+            for (int d = 0; d < 3; d++) mean[d] += c->pos[3 * (size_t)nb[j] + d];
             m++;
         }
         for (int d = 0; d < 3; d++) mean[d] /= m;
         double A[6] = {0};
         for (int j = -1; j < k; j++) {
-            uint32_t o = j < 0 ? (uint32_t)i : idx[i * k + j];
+            uint32_t o = j < 0 ? (uint32_t)i : nb[j];
             if (o == UINT32_MAX) continue;
             double q[3] = {c->pos[3 * (size_t)o] - mean[0], c->pos[3 * (size_t)o + 1] - mean[1], c->pos[3 * (size_t)o + 2] - mean[2]};
             A[0] += q[0] * q[0]; A[1] += q[0] * q[1]; A[2] += q[0] * q[2];
@@ -96,29 +122,19 @@ spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, const spr
         for (int d = 0; d < 3; d++) out += evec[d] * (c->pos[3 * i + d] - 0.5 * (b.lo[d] + b.hi[d]));
         double s = out < 0.0 ? -1.0 : 1.0;
         for (int d = 0; d < 3; d++) nv[d] = (float)(s * evec[d]);
-        if (spr__normalize3(nv)) { r = spr__fail(err, SPR_E_VALUE, "normals: splat %zu: PCA gave no normal", i); goto done; }
+        if (spr__normalize3(nv)) return spr__fail(err, SPR_E_VALUE, "normals: splat %zu: PCA gave no normal", i);
     }
-done:
-    free(idx);
-    free(dist);
-    spr_knn_free(kn);
-    return r;
+    return SPR_OK;
 }
 
-spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, const spr_progress *prog, spr_error *err)
+/* r_i = ρ·d_k(i) from the table (exact search: the k-th distance does not
+ * depend on how many neighbours the table holds). */
+static void radii_from(spr_cloud *c, const knn_table *t, int k, double rho)
 {
-    if (c->n < 2) return spr__fail(err, SPR_E_VALUE, "radii: %zu points: no neighbour to size a splat", c->n);
-    if ((size_t)k >= c->n) k = (int)c->n - 1;
-    spr_knn *kn;
-    spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
-    if (r) return r;
-    uint32_t *idx = malloc(c->n * (size_t)k * sizeof(uint32_t));
-    double *dist = malloc(c->n * (size_t)k * sizeof(double));
-    if (!idx || !dist) { r = spr__fail(err, SPR_E_NOMEM, "radii: out of memory"); goto done; }
-    if ((r = spr_knn_query_all(kn, k, threads, idx, dist, prog, err))) goto done;
+    if (k > t->k) k = t->k;
     double floor_r = INFINITY;
     for (size_t i = 0; i < c->n; i++) {
-        double d = rho * dist[i * k + k - 1];
+        double d = rho * t->dist[i * (size_t)t->k + (size_t)k - 1];
         if (d > 0.0 && d < floor_r) floor_r = d;
         c->radius[i] = (float)d;
     }
@@ -126,26 +142,51 @@ spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, const sp
      * smallest positive radius of the cloud instead of 0. */
     for (size_t i = 0; i < c->n; i++)
         if (!(c->radius[i] > 0.0f)) c->radius[i] = isfinite(floor_r) ? (float)floor_r : 1.0f;
-done:
-    free(idx);
-    free(dist);
-    spr_knn_free(kn);
+}
+
+spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, const spr_progress *prog, spr_error *err)
+{
+    if (c->n < 3) return spr__fail(err, SPR_E_VALUE, "normals: %zu points are too few for PCA", c->n);
+    knn_table t;
+    spr_result r = knn_table_make(c, k, threads, prog, &t, err);
+    if (!r) r = pca_from(c, &t, k, all, err);
+    knn_table_free(&t);
+    return r;
+}
+
+spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, const spr_progress *prog, spr_error *err)
+{
+    if (c->n < 2) return spr__fail(err, SPR_E_VALUE, "radii: %zu points: no neighbour to size a splat", c->n);
+    knn_table t;
+    spr_result r = knn_table_make(c, k, threads, prog, &t, err);
+    if (!r) radii_from(c, &t, k, rho);
+    knn_table_free(&t);
     return r;
 }
 
 static spr_result complete(spr_cloud *c, const spr__mesh *mesh, const spr_load_desc *d, const char *path, spr_error *err)
 {
-    spr_result r;
+    spr_result r = SPR_OK;
+    int need_normals = 0, need_radii = !(c->flags & SPR_SRC_RADII);
     if (!(c->flags & SPR_SRC_NORMALS)) {
         size_t missing = c->n;
         if (mesh && mesh->nt) {
             missing = spr__mesh_normals(mesh, c);
             c->flags |= SPR_SRC_FACES;
         }
-        if (missing && (r = spr__pca_normals(c, d->normal_k, 0, d->threads, &d->progress, err))) return r;
+        need_normals = missing > 0;
     }
-    if (!(c->flags & SPR_SRC_RADII)) {
-        if ((r = spr__knn_radii(c, d->radius_k, d->radius_rho, d->threads, &d->progress, err))) return r;
+    if (need_normals && c->n < 3) return spr__fail(err, SPR_E_VALUE, "%s: %zu points are too few for PCA normals", path, c->n);
+    if (need_radii && c->n < 2) return spr__fail(err, SPR_E_VALUE, "%s: %zu points: no neighbour to size a splat", path, c->n);
+    if (need_normals || need_radii) { /* one neighbour search for both */
+        knn_table t;
+        int k = need_normals ? d->normal_k : 0;
+        if (need_radii && d->radius_k > k) k = d->radius_k;
+        if ((r = knn_table_make(c, k, d->threads, &d->progress, &t, err))) return r;
+        if (need_normals) r = pca_from(c, &t, d->normal_k, 0, err);
+        if (!r && need_radii) radii_from(c, &t, d->radius_k, d->radius_rho);
+        knn_table_free(&t);
+        if (r) return r;
     }
     if (!(c->flags & SPR_SRC_COLORS)) spr_cloud_color_by_normal(c);
     return spr_cloud_validate(c, path, err);
