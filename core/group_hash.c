@@ -150,6 +150,42 @@ static int least_overlap(const spr_overlap_graph *og, size_t v, const int32_t *l
     return best;
 }
 
+static int same_cell(const cell_key *a, const cell_key *b) { return a->d == b->d && a->x == b->x && a->y == b->y; }
+
+enum { PLACED = 0, PENDING = 1, PENDING_COLLIDES = 2 };
+
+/* Place the pending splats in submission order, after every placed one: a
+ * colliding splat takes the group of least total overlap A with the splats
+ * placed before it (ties: its table group if minimal, else the smallest k);
+ * the others keep their table group. */
+static spr_result place_pending(const spr_cloud *c, spr_hash_desc *d, int32_t *label, const unsigned char *state,
+                                spr_group_stats *st, spr_error *err)
+{
+    size_t colliding = 0;
+    for (size_t i = 0; i < c->n; i++) colliding += state[i] == PENDING_COLLIDES;
+    if (!colliding) return SPR_OK;
+    unsigned char *placed = malloc(c->n);
+    if (!placed) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+    for (size_t i = 0; i < c->n; i++) placed[i] = state[i] == PLACED;
+    spr_overlap_graph og;
+    double t1 = spr_now_ms();
+    if (!(d->eps > 0.0)) d->eps = spr_group_default_eps(c); /* a full pass: only when collisions need areas */
+    spr_result r = spr_overlap_graph_build(c, d->eps, d->threads, &d->progress, &og, err);
+    st->ms_graph = spr_now_ms() - t1;
+    for (size_t i = 0; !r && i < c->n; i++) {
+        if (state[i] == PLACED) continue;
+        if (state[i] == PENDING_COLLIDES) {
+            int g = least_overlap(&og, i, label, placed, d->K, label[i]);
+            st->displaced += g != label[i];
+            label[i] = g;
+        }
+        placed[i] = 1;
+    }
+    if (!r) spr_overlap_graph_free(&og);
+    free(placed);
+    return r;
+}
+
 spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t *label, spr_group_stats *st, spr_error *err)
 {
     spr_hash_desc d = *din;
@@ -186,51 +222,24 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
         else if ((r = spr_hash_axes(c, d.axis, axis, err))) { free(axis); return r; }
     }
 
-    /* modes 2/3: the first splat of each cell keeps its group */
+    /* modes 2/3: the first splat of each cell keeps its group, the later
+     * ones (where collisions are handled) are queued */
     cell_key *keys = malloc(c->n * sizeof *keys);
-    unsigned char *placed = malloc(c->n);
-    uint32_t *queue = malloc(c->n * sizeof *queue);
-    if (!keys || !placed || !queue) { r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory"); goto done; }
+    unsigned char *state = calloc(c->n ? c->n : 1, 1);
+    if (!keys || !state) { r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory"); goto done; }
     for (size_t i = 0; i < c->n; i++) {
         keys[i].d = axis[i];
         spr_hash_cell(c, i, axis[i], &keys[i].x, &keys[i].y);
         keys[i].i = (uint32_t)i;
     }
     qsort(keys, c->n, sizeof *keys, by_cell);
-    memset(placed, 1, c->n);
-    size_t nq = 0;
-    for (size_t k = 1; k < c->n; k++) {
-        int same = keys[k].d == keys[k - 1].d && keys[k].x == keys[k - 1].x && keys[k].y == keys[k - 1].y;
-        if (same && handles_collision(&d, c, keys[k].i)) { placed[keys[k].i] = 0; queue[nq++] = keys[k].i; }
-    }
-    if (nq) {
-        /* queued splats in submission order */
-        memset(placed, 0, c->n);
-        for (size_t k = 0; k < nq; k++) placed[queue[k]] = 2;
-        nq = 0;
-        for (size_t i = 0; i < c->n; i++) {
-            if (placed[i] == 2) queue[nq++] = (uint32_t)i;
-            placed[i] = placed[i] != 2;
-        }
-        spr_overlap_graph og;
-        double t1 = spr_now_ms();
-        if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c); /* a full pass: only when collisions need areas */
-        if ((r = spr_overlap_graph_build(c, d.eps, d.threads, &d.progress, &og, err))) goto done;
-        st->ms_graph = spr_now_ms() - t1;
-        for (size_t k = 0; k < nq; k++) {
-            size_t i = queue[k];
-            int g = least_overlap(&og, i, label, placed, d.K, label[i]);
-            st->displaced += g != label[i];
-            label[i] = g;
-            placed[i] = 1;
-        }
-        spr_overlap_graph_free(&og);
-    }
+    for (size_t k = 1; k < c->n; k++)
+        if (same_cell(&keys[k], &keys[k - 1]) && handles_collision(&d, c, keys[k].i)) state[keys[k].i] = PENDING_COLLIDES;
+    r = place_pending(c, &d, label, state, st, err);
     st->ms_optimise = spr_now_ms() - t0 - st->ms_color;
 done:
     free(keys);
-    free(placed);
-    free(queue);
+    free(state);
     free(axis);
     return r;
 }
@@ -241,74 +250,51 @@ spr_result spr_group_hash_update(const spr_cloud *c, const spr_hash_desc *din, i
     spr_hash_desc d = *din;
     if (d.K < 1 || d.K > SPR_MAX_GROUPS || d.mode < 1 || d.mode > 3)
         return spr__fail(err, SPR_E_ARG, "hash update: K %d or mode %d out of range", d.K, d.mode);
-    if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
     memset(st, 0, sizeof *st);
     st->K = d.K;
     const int s = d.K > 1 ? spr_hash_step(d.K) : 0;
     int32_t *axis = malloc((c->n ? c->n : 1) * sizeof *axis);
-    unsigned char *moved = calloc(c->n ? c->n : 1, 1);
-    if (!axis || !moved) { free(axis); free(moved); return spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); }
+    unsigned char *state = calloc(c->n ? c->n : 1, 1);
+    cell_key *keys = NULL;
+    if (!axis || !state) { free(axis); free(state); return spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); }
     spr_result r = d.axes ? (memcpy(axis, d.axes, c->n * sizeof *axis), SPR_OK) : spr_hash_axes(c, d.axis, axis, err);
     for (size_t k = 0; k < m && !r; k++) {
         if (changed[k] >= c->n) r = spr__fail(err, SPR_E_ARG, "hash update: splat %u beyond the cloud", changed[k]);
-        else moved[changed[k]] = 1;
+        else state[changed[k]] = PENDING;
     }
-    if (r) { free(axis); free(moved); return r; }
+    if (r) goto done;
     for (size_t k = 0; k < m; k++) {
         int64_t x, y;
         spr_hash_cell(c, changed[k], axis[changed[k]], &x, &y);
         label[changed[k]] = spr_hash_table(x, y, d.K, s);
     }
     if (d.mode != 1 && m) {
-        /* cells held by unchanged splats: a changed splat landing there collides */
-        cell_key *keys = malloc(c->n * sizeof *keys);
-        unsigned char *placed = malloc(c->n);
-        if (!keys || !placed) { free(keys); free(placed); free(axis); free(moved); return spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); }
+        /* a changed splat collides when an unchanged splat holds its cell */
+        if (!(keys = malloc(c->n * sizeof *keys))) { r = spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); goto done; }
         size_t nk = 0;
         for (size_t i = 0; i < c->n; i++)
-            if (!moved[i]) {
-                keys[nk].d = axis[i];
+            if (!state[i]) {
+                keys[nk] = (cell_key){0, 0, axis[i], (uint32_t)i};
                 spr_hash_cell(c, i, axis[i], &keys[nk].x, &keys[nk].y);
-                keys[nk].i = (uint32_t)i;
                 nk++;
             }
         qsort(keys, nk, sizeof *keys, by_cell);
-        for (size_t i = 0; i < c->n; i++) placed[i] = !moved[i];
-        spr_overlap_graph og;
-        if (!(r = spr_overlap_graph_build(c, d.eps, d.threads, &d.progress, &og, err))) {
-            uint32_t *sorted = malloc(m * sizeof *sorted);
-            if (sorted) {
-                /* changed splats in submission order */
-                size_t q = 0;
-                for (size_t i = 0; i < c->n; i++)
-                    if (moved[i]) sorted[q++] = (uint32_t)i;
-                for (size_t k = 0; k < q; k++) {
-                    size_t i = sorted[k];
-                    cell_key probe = {0, 0, axis[i], 0};
-                    spr_hash_cell(c, i, axis[i], &probe.x, &probe.y);
-                    size_t lo = 0, hi = nk;
-                    while (lo < hi) {
-                        size_t mid = (lo + hi) / 2;
-                        if (by_cell(&keys[mid], &probe) < 0) lo = mid + 1; else hi = mid;
-                    }
-                    int occupied = lo < nk && keys[lo].d == probe.d && keys[lo].x == probe.x && keys[lo].y == probe.y;
-                    if (occupied && handles_collision(&d, c, i)) {
-                        int g = least_overlap(&og, i, label, placed, d.K, label[i]);
-                        st->displaced += g != label[i];
-                        label[i] = g;
-                    }
-                    placed[i] = 1;
-                }
-                free(sorted);
-            } else {
-                r = spr__fail(err, SPR_E_NOMEM, "hash update: out of memory");
+        for (size_t i = 0; i < c->n; i++) {
+            if (!state[i]) continue;
+            cell_key probe = {0, 0, axis[i], 0};
+            spr_hash_cell(c, i, axis[i], &probe.x, &probe.y);
+            size_t lo = 0, hi = nk;
+            while (lo < hi) {
+                size_t mid = (lo + hi) / 2;
+                if (by_cell(&keys[mid], &probe) < 0) lo = mid + 1; else hi = mid;
             }
-            spr_overlap_graph_free(&og);
+            if (lo < nk && same_cell(&keys[lo], &probe) && handles_collision(&d, c, i)) state[i] = PENDING_COLLIDES;
         }
-        free(keys);
-        free(placed);
+        r = place_pending(c, &d, label, state, st, err);
     }
+done:
+    free(keys);
     free(axis);
-    free(moved);
+    free(state);
     return r;
 }
