@@ -57,8 +57,7 @@ typedef struct cli_scene {
     char model[1024];
     int threads;
     int all_algos;          /* parity/reference: --algo all (the default there) */
-    double load_ms, group_ms;     /* group_ms: grouping and extension, as seen by render */
-    double ms_grouping, ms_extend, dup_ratio;
+    double load_ms, ms_grouping, ms_extend, dup_ratio;
 } cli_scene;
 /* Grouping options shared by render, parity, reference and group. */
 typedef struct cli_group_opts {

@@ -153,7 +153,7 @@ int cmd_render(int argc, char **argv)
         goto done;
     }
     if (cli_get(&a, "stats")) {
-        stats_ref st = {&s, &rd, &res, render_ms, s.load_ms, s.group_ms, covered};
+        stats_ref st = {&s, &rd, &res, render_ms, s.load_ms, s.ms_grouping + s.ms_extend, covered};
         if (spr__write_atomic(cli_get(&a, "stats"), stats_body, &st, &err)) { fprintf(stderr, "splatref render: %s\n", err.msg); goto done; }
     }
     printf("render: %s, %zu splats, %s%s, K=%d, %dx%d, %s backend, %zu covered pixels, %.1f ms -> %s\n", s.model, s.cloud.n,

@@ -178,10 +178,10 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
     spr_camera_frame(&s->cam, &bd);
     if (spr_view_make(&s->cam, &s->view, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
 
-    t0 = spr_now_ms();
     if (rd->algo == SPR_ALGO_DEFERRED || s->all_algos) {
         const char *gf = cli_get(a, "groups-file");
         if (gf) {
+            t0 = spr_now_ms();
             s->labels = malloc(s->cloud.n * sizeof(int32_t));
             if (!s->labels) { cli_error(a, "out of memory"); return -1; }
             s->group_method = "file";
@@ -189,12 +189,12 @@ int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int al
                 fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg);
                 return -1;
             }
+            s->ms_grouping = spr_now_ms() - t0;
         } else if (cli_make_groups(a, s, &go, cli_progress(quiet))) {
             return -1;
         }
         rd->groups = &s->groups;
     }
-    s->group_ms = spr_now_ms() - t0;
     return 0;
 }
 
