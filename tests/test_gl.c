@@ -116,12 +116,7 @@ START_TEST(blend_modes_and_depth_funcs_match)
 {
     /* Raw draws, every blend mode × depth function × output, on float targets:
      * PARITY.md rule 7 checked directly, not only through the algorithms. */
-    spr_cloud c;
-    spr_load_desc ld;
-    spr_load_defaults(&ld);
-    ld.points = 3000;
-    spr_error err;
-    ck_assert_int_eq(spr_load("builtin:sphere", &ld, &c, &err), SPR_OK);
+    spr_cloud c = tu_builtin("builtin:sphere", 3000);
     for (size_t i = 0; i < c.n; i++) c.alpha[i] = (float)(i % 17) / 16.0f;
     spr_camera_desc cam;
     spr_camera_defaults(&cam);
@@ -208,12 +203,7 @@ START_TEST(builtin_models)
 {
     static const char *names[] = {"builtin:sphere", "builtin:torus", "builtin:octahedron", "builtin:cube"};
     for (int m = 0; m < 4; m++) {
-        spr_cloud c;
-        spr_load_desc ld;
-        spr_load_defaults(&ld);
-        ld.points = 8000;
-        spr_error err;
-        ck_assert_int_eq(spr_load(names[m], &ld, &c, &err), SPR_OK);
+        spr_cloud c = tu_builtin(names[m], 8000);
         model_groups mg;
         make_groups(&c, 1.0, &mg);
         spr_camera_desc cam;

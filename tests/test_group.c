@@ -6,17 +6,6 @@
 #include <unistd.h>
 #include "test_util.h"
 
-static spr_cloud builtin(const char *name, size_t n)
-{
-    spr_cloud c;
-    spr_load_desc d;
-    spr_load_defaults(&d);
-    d.points = n;
-    spr_error err;
-    ck_assert_int_eq(spr_load(name, &d, &c, &err), SPR_OK);
-    return c;
-}
-
 /* Eq. 5 with the relaxations, written out again here independently. */
 static int conflict_by_hand(const spr_cloud *c, size_t i, size_t j, double cf, int cop, int opp)
 {
@@ -67,7 +56,7 @@ static void check_mgc_cloud(const char *model, spr_cloud c, double cf, int cop, 
 
 static void check_mgc(const char *model, size_t n, double cf, int cop, int opp)
 {
-    check_mgc_cloud(model, builtin(model, n), cf, cop, opp);
+    check_mgc_cloud(model, tu_builtin(model, n), cf, cop, opp);
 }
 
 START_TEST(mgc_bunny_has_no_conflicts)
@@ -91,7 +80,7 @@ END_TEST
 
 START_TEST(mgc_k_falls_with_c)
 {
-    spr_cloud c = builtin("builtin:sphere", 20000);
+    spr_cloud c = tu_builtin("builtin:sphere", 20000);
     int32_t *lab = malloc(c.n * sizeof *lab);
     int prev = 1 << 30;
     for (double cf = 1.0; cf > 0.3; cf -= 0.2) {
@@ -112,7 +101,7 @@ END_TEST
 START_TEST(hash_step_and_table)
 {
     ck_assert_int_eq(spr_hash_step(8), 3);
-    spr_cloud c = builtin("builtin:torus", 5000);
+    spr_cloud c = tu_builtin("builtin:torus", 5000);
     for (size_t i = 0; i < c.n; i++) c.pos[3 * i] -= 3.0f; /* negative coordinates too */
     int32_t *lab = malloc(c.n * sizeof *lab);
     spr_group_stats st;

@@ -8,23 +8,11 @@
 #include "spr_overlap.h"
 #include "test_util.h"
 
-static spr_cloud model(const char *name, size_t n)
-{
-    spr_cloud c;
-    spr_load_desc d;
-    spr_load_defaults(&d);
-    d.points = n;
-    spr_error err;
-    if (strncmp(name, "builtin:", 8) == 0) ck_assert_int_eq(spr_load(name, &d, &c, &err), SPR_OK);
-    else tu_load(name, &c);
-    return c;
-}
-
 START_TEST(wgc_cost_never_rises)
 {
     static const char *models[] = {"builtin:sphere", "builtin:torus", "builtin:cube", "meshes/bunny00.off"};
     for (int m = 0; m < 4; m++) {
-        spr_cloud c = model(models[m], 6000);
+        spr_cloud c = tu_model(models[m], 6000);
         int32_t *lab = malloc(c.n * sizeof *lab);
         spr_wgc_desc d;
         spr_wgc_defaults(&d);
@@ -51,7 +39,7 @@ END_TEST
 
 START_TEST(wgc_and_mgc_reproducible)
 {
-    spr_cloud c = model("meshes/bunny00.off", 0);
+    spr_cloud c = tu_model("meshes/bunny00.off", 0);
     int32_t *a = malloc(c.n * sizeof *a), *b = malloc(c.n * sizeof *b);
     spr_group_stats st;
     spr_error err;
@@ -83,7 +71,7 @@ END_TEST
  * the neighbours placed before it, by brute force. */
 START_TEST(hash_collisions_take_least_overlap)
 {
-    spr_cloud c = model("builtin:torus", 3000);
+    spr_cloud c = tu_model("builtin:torus", 3000);
     int32_t *lab = malloc(c.n * sizeof *lab);
     spr_hash_desc d;
     spr_hash_defaults(&d);
@@ -136,7 +124,7 @@ END_TEST
 
 START_TEST(hash_update_touches_only_what_moved)
 {
-    spr_cloud c = model("builtin:sphere", 4000);
+    spr_cloud c = tu_model("builtin:sphere", 4000);
     int32_t *lab = malloc(c.n * sizeof *lab), *ref = malloc(c.n * sizeof *ref);
     for (int mode = 1; mode <= 2; mode++) {
         spr_hash_desc d;
@@ -193,7 +181,7 @@ static void count_holes(void *user, spr_backend *b, const spr_pass_info *info)
 START_TEST(hash_enlarged_radius_closes_holes)
 {
     ck_assert_double_eq_tol(spr_hash_enlarge_factor(8), sqrt(50.0) / 4.0, 1e-12);
-    spr_cloud c = model("builtin:planes", 20000);
+    spr_cloud c = tu_model("builtin:planes", 20000);
     int32_t *lab = malloc(c.n * sizeof *lab);
     spr_hash_desc d;
     spr_hash_defaults(&d);
@@ -202,17 +190,9 @@ START_TEST(hash_enlarged_radius_closes_holes)
     ck_assert_int_eq(spr_group_hash(&c, &d, lab, &st, &err), SPR_OK);
     spr_groups g;
     ck_assert_int_eq(spr_groups_from_labels(lab, c.n, 8, &g, &err), SPR_OK);
-    /* orthographic, exactly the front plane's square, head-on */
-    spr_camera_desc cam;
-    spr_camera_defaults(&cam);
-    cam.eye[2] = 2.0;
-    cam.fov_deg = 0;
-    cam.ortho_height = 2.0;
-    cam.near_plane = 1.0;
-    cam.far_plane = 3.0;
-    cam.width = cam.height = 200;
+    /* the hand camera: orthographic, exactly the front plane's square, head-on */
     spr_view v;
-    ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+    tu_hand_view(200, 200, &v);
     size_t holes[2];
     for (int enlarged = 0; enlarged < 2; enlarged++) {
         if (enlarged) {
@@ -286,7 +266,7 @@ END_TEST
 
 START_TEST(duplication_raises_coverage)
 {
-    spr_cloud c = model("meshes/bunny00.off", 0);
+    spr_cloud c = tu_model("meshes/bunny00.off", 0);
     int32_t *lab = malloc(c.n * sizeof *lab);
     spr_hash_desc hd;
     spr_hash_defaults(&hd);
@@ -316,6 +296,18 @@ START_TEST(duplication_raises_coverage)
     printf("grouping: bunny, hash K=4: per-group coverage %.4f with Eq. 13 radius scales %.3f %.3f %.3f %.3f\n", cov2,
            before.radius_scale[0], before.radius_scale[1], before.radius_scale[2], before.radius_scale[3]);
     ck_assert_double_gt(cov2, cov0);
+    /* extension is deterministic: 1 thread gives the same bits as 2 */
+    spr_groups one;
+    ck_assert_int_eq(spr_groups_from_labels(lab, c.n, 4, &one, &err), SPR_OK);
+    ed.threads = 1;
+    ck_assert_int_eq(spr_group_enlarge(&c, &one, &ed, &err), SPR_OK);
+    ck_assert_mem_eq(one.radius_scale, before.radius_scale, 4 * sizeof(float));
+    spr_groups_free(&one);
+    double ratio1;
+    ck_assert_int_eq(spr_group_duplicate(&c, lab, 4, &ed, &one, &ratio1, &err), SPR_OK);
+    ck_assert_uint_eq(one.start[4], after.start[4]);
+    ck_assert_mem_eq(one.members, after.members, after.start[4] * sizeof(uint32_t));
+    spr_groups_free(&one);
     spr_groups_free(&before);
     spr_groups_free(&after);
     free(lab);

@@ -64,12 +64,10 @@ static void radial_agreement(const spr_cloud *c, size_t *outward, double *mean_c
 START_TEST(pca_normals_on_a_sphere_point_out)
 {
     /* clean samples: every PCA normal is radial and points out */
-    spr_cloud c;
+    spr_cloud c = tu_builtin("builtin:sphere", 20000);
     spr_load_desc d;
     spr_load_defaults(&d);
-    d.points = 20000;
     spr_error err;
-    ck_assert_int_eq(spr_load("builtin:sphere", &d, &c, &err), SPR_OK);
     ck_assert_int_eq(spr__pca_normals(&c, 10, 1, 0, NULL, &err), SPR_OK);
     size_t outward;
     double mean, mn;
@@ -237,12 +235,7 @@ START_TEST(builtins_load)
     for (const char *const *n = spr_builtin_names; *n; n++) {
         char name[64];
         snprintf(name, sizeof name, "builtin:%s", *n);
-        spr_cloud c;
-        spr_load_desc d;
-        spr_load_defaults(&d);
-        d.points = 4000;
-        spr_error err;
-        ck_assert_msg(spr_load(name, &d, &c, &err) == SPR_OK, "%s", err.msg);
+        spr_cloud c = tu_builtin(name, 4000);
         ck_assert_uint_ge(c.n, 3000);
         ck_assert_uint_le(c.n, 4000);
         spr_cloud_free(&c);

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <string.h>
 
 void tu_hand_view(int W, int H, spr_view *v)
 {
@@ -80,6 +81,26 @@ void tu_bunny_free(tu_bunny *s)
 {
     spr_groups_free(&s->groups);
     spr_cloud_free(&s->cloud);
+}
+
+spr_cloud tu_builtin(const char *name, size_t n)
+{
+    spr_cloud c;
+    spr_load_desc d;
+    spr_load_defaults(&d);
+    d.points = n;
+    spr_error err = {0};
+    spr_result r = spr_load(name, &d, &c, &err);
+    ck_assert_msg(r == SPR_OK, "%s", err.msg);
+    return c;
+}
+
+spr_cloud tu_model(const char *name, size_t n)
+{
+    if (strncmp(name, "builtin:", 8) == 0) return tu_builtin(name, n);
+    spr_cloud c;
+    tu_load(name, &c);
+    return c;
 }
 
 void tu_load(const char *rel, spr_cloud *c)

@@ -20,6 +20,10 @@ void tu_cloud(spr_cloud *c, size_t n, const double *xyz, float r);
 void tu_set_color(spr_cloud *c, size_t i, float r, float g, float b);
 /* Render on a fresh CPU backend with `threads`; ck_assert on failure. */
 void tu_render(const spr_view *v, const spr_cloud *c, const spr_render_desc *d, int threads, spr_render_result *out);
+/* A built-in model of about n points ("builtin:NAME"), or fail the test. */
+spr_cloud tu_builtin(const char *name, size_t n);
+/* A built-in model ("builtin:…", n points) or a CGAL data file (n ignored). */
+spr_cloud tu_model(const char *name, size_t n);
 /* Load a CGAL data file (SPR_DATA_DIR/rel) or fail the test. */
 void tu_load(const char *rel, spr_cloud *c);
 const char *tu_data(const char *rel);
