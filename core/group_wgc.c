@@ -241,7 +241,8 @@ done:
     free(edges);
     free(ver);
     free(w);
-    spr_overlap_graph_free(&og);
+    if (!r && d.graph_out) *d.graph_out = og; /* handed over for the caller's metrics */
+    else spr_overlap_graph_free(&og);
     return r;
 }
 

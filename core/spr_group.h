@@ -131,6 +131,7 @@ typedef struct spr_wgc_desc {
     size_t max_pops;    /* 0 = 10·n */
     int threads;
     spr_progress progress;
+    spr_overlap_graph *graph_out; /* if set, receives the overlap graph (caller frees) */
 } spr_wgc_desc;
 void spr_wgc_defaults(spr_wgc_desc *d);
 spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *d, int32_t *label, spr_group_stats *st, spr_error *err);

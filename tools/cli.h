@@ -58,6 +58,7 @@ typedef struct cli_scene {
     int threads;
     int all_algos;          /* parity/reference: --algo all (the default there) */
     double load_ms, ms_grouping, ms_extend, dup_ratio;
+    spr_overlap_graph og;   /* kept from WGC for the metrics of `group` (n = 0 when none) */
 } cli_scene;
 /* Grouping options shared by render, parity, reference and group. */
 typedef struct cli_group_opts {

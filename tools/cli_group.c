@@ -57,10 +57,11 @@ int cmd_group(int argc, char **argv)
     /* metrics on the overlap graph (|p_i − p_j| < r_i + r_j, areas A_ij) */
     group_report rep = {&s, 0, 0, 0, 0, 0};
     double t0 = spr_now_ms();
-    spr_overlap_graph og;
+    spr_overlap_graph og = s.og; /* WGC's own graph when it built one (same ε) */
+    memset(&s.og, 0, sizeof s.og);
     spr_error err = {0};
     spr_progress prog = cli_progress(cli_flag(&a, "quiet"));
-    if (spr_overlap_graph_build(&s.cloud, spr_group_default_eps(&s.cloud), s.threads, &prog, &og, &err)) {
+    if (!og.g.start && spr_overlap_graph_build(&s.cloud, spr_group_default_eps(&s.cloud), s.threads, &prog, &og, &err)) {
         fprintf(stderr, "splatref group: %s\n", err.msg);
         goto done;
     }

@@ -15,6 +15,7 @@ void cli_scene_free(cli_scene *s)
 {
     spr_cloud_free(&s->cloud);
     spr_groups_free(&s->groups);
+    spr_overlap_graph_free(&s->og);
     free(s->labels);
     s->labels = NULL;
 }
@@ -83,6 +84,7 @@ int cli_make_groups(const cli_args *a, cli_scene *s, const cli_group_opts *o, sp
         d.K = o->K;
         d.threads = s->threads;
         d.progress = prog;
+        d.graph_out = &s->og;
         r = spr_group_wgc(&s->cloud, &d, s->labels, &s->gstats, &err);
     } else {
         spr_hash_desc d;
