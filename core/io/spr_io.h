@@ -15,6 +15,7 @@
 #include "spr_cloud.h"
 #include "spr_knn.h"
 #include "spr_result.h"
+#include "spr_util.h"
 
 typedef struct spr_load_desc {
     size_t points;       /* size of built-in models (0 = 20000) */
@@ -59,8 +60,5 @@ size_t spr__mesh_normals(const spr__mesh *m, spr_cloud *c);
 spr_result spr__pca_normals(spr_cloud *c, int k, int all, int threads, const spr_progress *prog, spr_error *err);
 /* r_i = ρ·d_k(i). */
 spr_result spr__knn_radii(spr_cloud *c, int k, double rho, int threads, const spr_progress *prog, spr_error *err);
-/* Write through a temporary name: open, let `fn` write, rename. */
-typedef int (*spr__writer_fn)(FILE *f, const void *user);
-spr_result spr__write_atomic(const char *path, spr__writer_fn fn, const void *user, spr_error *err);
 
 #endif

@@ -1,4 +1,4 @@
-/* io_text.c — OFF meshes and XYZ/PWN point files, plus file helpers. */
+/* io_text.c — OFF meshes and XYZ/PWN point files, and reading a whole file. */
 #include "spr_io.h"
 
 #include <errno.h>
@@ -24,31 +24,6 @@ spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *
     b[sz] = 0;
     *buf = b;
     *len = (size_t)sz;
-    return SPR_OK;
-}
-
-spr_result spr__write_atomic(const char *path, spr__writer_fn fn, const void *user, spr_error *err)
-{
-    size_t l = strlen(path);
-    char *tmp = malloc(l + 16);
-    if (!tmp) return spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path);
-    snprintf(tmp, l + 16, "%s.tmp%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        spr_result r = spr__fail(err, SPR_E_IO, "%s: cannot create: %s", path, strerror(errno));
-        free(tmp);
-        return r;
-    }
-    int bad = fn(f, user) != 0;
-    bad |= fflush(f) != 0;
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        free(tmp);
-        return spr__fail(err, SPR_E_IO, "%s: write failed: %s", path, strerror(e));
-    }
-    free(tmp);
     return SPR_OK;
 }
 

@@ -1,7 +1,10 @@
-/* util.c — monotonic clock and the binary heap of spr_util.h. */
+/* util.c — monotonic clock, atomic file writes and the binary heap of spr_util.h. */
 #include "spr_util.h"
 
+#include <errno.h>
 #include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 #include <time.h>
 
 double spr_now_ms(void)
@@ -9,6 +12,31 @@ double spr_now_ms(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+spr_result spr__write_atomic(const char *path, spr__writer_fn fn, const void *user, spr_error *err)
+{
+    size_t l = strlen(path);
+    char *tmp = malloc(l + 16);
+    if (!tmp) return spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path);
+    snprintf(tmp, l + 16, "%s.tmp%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    if (!f) {
+        spr_result r = spr__fail(err, SPR_E_IO, "%s: cannot create: %s", path, strerror(errno));
+        free(tmp);
+        return r;
+    }
+    int bad = fn(f, user) != 0;
+    bad |= fflush(f) != 0;
+    bad |= fclose(f) != 0;
+    if (bad || rename(tmp, path) != 0) {
+        int e = errno;
+        remove(tmp);
+        free(tmp);
+        return spr__fail(err, SPR_E_IO, "%s: write failed: %s", path, strerror(e));
+    }
+    free(tmp);
+    return SPR_OK;
 }
 
 static int first(const spr__heap *h, const spr__heap_item *x, const spr__heap_item *y)

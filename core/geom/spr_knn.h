@@ -10,15 +10,9 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include "spr_graph.h"
 #include "spr_result.h"
-
-/* Progress callback used by long operations: done/total, a phase name. */
-typedef void (*spr_progress_fn)(void *user, const char *phase, size_t done, size_t total);
-typedef struct spr_progress { spr_progress_fn fn; void *user; } spr_progress;
-static inline void spr_progress_report(const spr_progress *p, const char *phase, size_t done, size_t total)
-{
-    if (p && p->fn) p->fn(p->user, phase, done, total);
-}
+#include "spr_util.h"
 
 typedef struct spr_knn spr_knn;
 
@@ -36,13 +30,7 @@ spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, dou
  * |p_i − p_j| < f·(r_i + r_max) (r NULL: r_i = r_max), ascending j.  With
  * r_max the largest radius this finds every pair closer than f·(r_i + r_j)
  * from both ends while searching far less than f·2·r_max around small splats. */
-typedef struct spr_graph {
-    size_t n;
-    uint64_t *start;  /* n + 1 */
-    uint32_t *adj;
-} spr_graph;
 spr_result spr_knn_radius_graph(spr_knn *kn, const float *r, double f, double r_max, int threads, spr_graph *g,
                                 const spr_progress *prog, spr_error *err);
-void spr_graph_free(spr_graph *g);
 
 #endif
