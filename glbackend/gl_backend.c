@@ -1,17 +1,16 @@
-/* gl_backend.c — the GL backend: targets as framebuffers, splat draws as
- * instanced quads, compositing as a full-screen pass.
+/* gl_backend.c — the GL backend: targets as layers of per-plane array
+ * textures, splat draws as instanced quads, composite ops as full-screen
+ * passes.
  *
- * Target attachments (SPEC §3.2):
- *   COLOR_ATTACHMENT0  RGBA32F  Σ w·c, Σ w     blended as the pass says
- *   COLOR_ATTACHMENT1  R32F     stored depth   never blended (replace)
- *   COLOR_ATTACHMENT2  R32UI    splat id       integer: never blended
- *   COLOR_ATTACHMENT3  R32F     count          blended (ONE, ONE), exact below 2^24
- *   DEPTH_ATTACHMENT   DEPTH_COMPONENT32F      the test depth z (gl_FragDepth)
- * Fragments generated are counted by an atomic counter, fragments passed by a
- * GL_SAMPLES_PASSED query.
+ * Planes (the plane table of spr_backend.h): the depth-test plane is the
+ * DEPTH_ATTACHMENT (DEPTH_COMPONENT32F, written through gl_FragDepth); every
+ * other plane is a colour attachment in table order, whose index is also the
+ * fragment output location (SPR_LOC_*): RGBA32F colour blended as the pass
+ * says, R32F stored depth replaced, R32UI id never blended, R32F count
+ * blended (ONE, ONE), exact below 2^24.  Fragments generated are counted by
+ * an atomic counter, fragments passed by a GL_SAMPLES_PASSED query.
  */
 #include "gl_internal.h"
-#include "spr_fragment.h"
 
 #include <stddef.h>
 #include <stdlib.h>
@@ -40,99 +39,179 @@ typedef struct gl_instance {
 
 static void free_target(gl_target *t)
 {
-    GLuint tex[5] = {t->color, t->depth_value, t->id, t->count, t->ztest};
     if (t->fbo) glDeleteFramebuffers(1, &t->fbo);
-    glDeleteTextures(5, tex);
     memset(t, 0, sizeof *t);
 }
 
-static GLuint make_tex(GLenum fmt, int w, int h)
+int gl__plane_attachment(spr_plane p)
 {
-    GLuint t;
-    glCreateTextures(GL_TEXTURE_2D, 1, &t);
-    glTextureStorage2D(t, 1, fmt, w, h);
-    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    return t;
+    const spr_plane_info *pi = spr_plane_info_of(p);
+    if (!pi || pi->type == SPR_PLANE_ZTEST) return -1;
+    int a = 0;
+    for (int q = 0; q < (int)p; q++)
+        if (spr_plane_info_of((spr_plane)q)->type != SPR_PLANE_ZTEST) a++;
+    return a;
+}
+
+/* Internal format of a plane: from its row of the plane table.  Counters
+ * are floats blended (ONE, ONE): exact below 2^24, converted on read. */
+static GLenum plane_format(spr_plane p)
+{
+    const spr_plane_info *pi = spr_plane_info_of(p);
+    switch (pi->type) {
+    case SPR_PLANE_ZTEST: return GL_DEPTH_COMPONENT32F;
+    case SPR_PLANE_U32: return GL_R32UI;
+    case SPR_PLANE_COUNTER: return GL_R32F;
+    case SPR_PLANE_F32:
+    default: return pi->channels == 4 ? GL_RGBA32F : GL_R32F;
+    }
+}
+
+/* Attach layer t of every plane the target has; unused outputs go nowhere. */
+static spr_result attach(gl_context *c, int t)
+{
+    gl_target *tg = &c->targets[t];
+    unsigned planes = c->base.target_planes[t];
+    GLenum bufs[SPR_PLANE__COUNT];
+    int nb = 0;
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        int a = gl__plane_attachment((spr_plane)p), on = (planes & SPR_PLANE_BIT(p)) != 0;
+        GLenum at = a < 0 ? GL_DEPTH_ATTACHMENT : GL_COLOR_ATTACHMENT0 + (GLenum)a;
+        if (on) glNamedFramebufferTextureLayer(tg->fbo, at, c->pool[p], 0, t);
+        else glNamedFramebufferTexture(tg->fbo, at, 0, 0);
+        if (a >= 0) bufs[nb++] = on ? at : GL_NONE;
+    }
+    glNamedFramebufferDrawBuffers(tg->fbo, nb, bufs);
+    if (glCheckNamedFramebufferStatus(tg->fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return spr__fail(&c->base.err, SPR_E_BACKEND, "gl: incomplete framebuffer for target %d", t);
+    return gl__check(&c->base, "attach");
+}
+
+/* Make the pool hold `layers` layers: new arrays, live layers copied, every
+ * live framebuffer re-attached.  Handles are reused, so this happens only
+ * while an algorithm meets a larger target count than before. */
+static spr_result grow_pool(gl_context *c, int layers)
+{
+    if (layers <= c->pool_layers) return SPR_OK;
+    int cap = c->pool_layers ? c->pool_layers : 4;
+    while (cap < layers) cap *= 2;
+    int W = c->base.view.width, H = c->base.view.height;
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        GLuint t;
+        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t);
+        glTextureStorage3D(t, 1, plane_format((spr_plane)p), W, H, cap);
+        glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        for (int l = 0; c->pool[p] && l < c->pool_layers && l < c->base.n_targets; l++)
+            if (c->base.target_live[l] && (c->base.target_planes[l] & SPR_PLANE_BIT(p)))
+                glCopyImageSubData(c->pool[p], GL_TEXTURE_2D_ARRAY, 0, 0, 0, l, t, GL_TEXTURE_2D_ARRAY, 0, 0, 0, l, W, H, 1);
+        if (c->pool[p]) glDeleteTextures(1, &c->pool[p]);
+        c->pool[p] = t;
+    }
+    c->pool_layers = cap;
+    spr_result r = gl__check(&c->base, "target pool");
+    for (int l = 0; !r && l < c->base.n_targets; l++)
+        if (c->base.target_live[l] && c->targets[l].fbo) r = attach(c, l);
+    return r;
+}
+
+static void drop_pool(gl_context *c)
+{
+    for (int p = 0; p < SPR_PLANE__COUNT; p++)
+        if (c->pool[p]) glDeleteTextures(1, &c->pool[p]);
+    memset(c->pool, 0, sizeof c->pool);
+    c->pool_layers = 0;
 }
 
 static spr_result gl_set_view(spr_backend *b, const spr_view *v)
 {
+    gl_context *c = gl_ctx(b);
+    gl__make_current(c);
+    drop_pool(c); /* no target lives across a view change (core checks) */
     glViewport(0, 0, v->width, v->height);
     return gl__check(b, "viewport");
 }
 
+/* Every plane the target has: colour to `color`, the others to the clear
+ * value of the plane table. */
 static spr_result gl_clear(spr_backend *b, int t, const float color[4])
 {
-    gl_target *tg = &gl_ctx(b)->targets[t];
-    static const float one = 1.0f, zero[4] = {0, 0, 0, 0};
-    static const GLuint none[4] = {0xFFFFFFFFu, 0, 0, 0};
+    gl_context *c = gl_ctx(b);
+    gl__make_current(c);
+    gl_target *tg = &c->targets[t];
+    unsigned planes = b->target_planes[t];
     glBindFramebuffer(GL_FRAMEBUFFER, tg->fbo);
-    for (int i = 0; i < 4; i++) glColorMaski((GLuint)i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    for (int i = 0; i < SPR_PLANE__COUNT; i++) glColorMaski((GLuint)i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
-    glClearBufferfv(GL_COLOR, 0, color);
-    glClearBufferfv(GL_COLOR, 1, &one);
-    glClearBufferuiv(GL_COLOR, 2, none);
-    glClearBufferfv(GL_COLOR, 3, zero);
-    glClearBufferfv(GL_DEPTH, 0, &one);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        if (!(planes & SPR_PLANE_BIT(p))) continue;
+        const spr_plane_info *pi = spr_plane_info_of((spr_plane)p);
+        int a = gl__plane_attachment((spr_plane)p);
+        float f = (float)pi->clear, fv[4] = {f, f, f, f};
+        GLuint u[4] = {(GLuint)pi->clear, 0, 0, 0};
+        if (a < 0) glClearBufferfv(GL_DEPTH, 0, &f);
+        else if (p == SPR_PLANE_COLOR) glClearBufferfv(GL_COLOR, a, color);
+        else if (pi->type == SPR_PLANE_U32) glClearBufferuiv(GL_COLOR, a, u);
+        else glClearBufferfv(GL_COLOR, a, fv);
+    }
     return gl__check(b, "clear");
 }
 
-static spr_result gl_target_create(spr_backend *b, int *out)
+static spr_result gl_target_create(spr_backend *b, unsigned planes, int *out)
 {
     gl_context *c = gl_ctx(b);
+    gl__make_current(c);
     int t;
-    spr_result r = spr__backend_add_target(b, &t, (void **)&c->targets, &c->cap, sizeof *c->targets);
+    spr_result r = spr__backend_add_target(b, planes, &t, (void **)&c->targets, &c->cap, sizeof *c->targets);
     if (r) return r;
-    int W = b->view.width, H = b->view.height;
     gl_target *tg = &c->targets[t];
     free_target(tg);
-    tg->color = make_tex(GL_RGBA32F, W, H);
-    tg->depth_value = make_tex(GL_R32F, W, H);
-    tg->id = make_tex(GL_R32UI, W, H);
-    tg->count = make_tex(GL_R32F, W, H);
-    tg->ztest = make_tex(GL_DEPTH_COMPONENT32F, W, H);
     glCreateFramebuffers(1, &tg->fbo);
-    glNamedFramebufferTexture(tg->fbo, GL_COLOR_ATTACHMENT0, tg->color, 0);
-    glNamedFramebufferTexture(tg->fbo, GL_COLOR_ATTACHMENT1, tg->depth_value, 0);
-    glNamedFramebufferTexture(tg->fbo, GL_COLOR_ATTACHMENT2, tg->id, 0);
-    glNamedFramebufferTexture(tg->fbo, GL_COLOR_ATTACHMENT3, tg->count, 0);
-    glNamedFramebufferTexture(tg->fbo, GL_DEPTH_ATTACHMENT, tg->ztest, 0);
-    static const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
-    glNamedFramebufferDrawBuffers(tg->fbo, 4, bufs);
-    if (glCheckNamedFramebufferStatus(tg->fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        free_target(tg);
-        b->target_live[t] = 0;
-        return spr__fail(&b->err, SPR_E_BACKEND, "gl: incomplete framebuffer for a %dx%d target", W, H);
-    }
-    if ((r = gl__check(b, "target"))) return r;
-    *out = t;
     static const float zero[4] = {0, 0, 0, 0};
-    return gl_clear(b, t, zero);
+    if ((r = grow_pool(c, t + 1)) || (r = attach(c, t)) || (r = gl_clear(b, t, zero))) {
+        free_target(tg); /* no framebuffer left behind on any failure */
+        b->target_live[t] = 0;
+        return r;
+    }
+    *out = t;
+    return SPR_OK;
 }
 
-static void gl_target_destroy(spr_backend *b, int t) { free_target(&gl_ctx(b)->targets[t]); }
+static void gl_target_destroy(spr_backend *b, int t)
+{
+    gl__make_current(gl_ctx(b));
+    free_target(&gl_ctx(b)->targets[t]);
+}
 
-static void set_blend(GLuint buf, spr_blend mode)
+static void blend_factors(spr_blend mode, GLenum *sf, GLenum *df)
 {
     switch (mode) {
-    case SPR_BLEND_ADD:
-        glEnablei(GL_BLEND, buf);
-        glBlendEquationi(buf, GL_FUNC_ADD);
-        glBlendFunci(buf, GL_ONE, GL_ONE);
-        break;
-    case SPR_BLEND_OVER:
-        glEnablei(GL_BLEND, buf);
-        glBlendEquationi(buf, GL_FUNC_ADD);
-        glBlendFunci(buf, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        break;
-    default: glDisablei(GL_BLEND, buf); break;
+    case SPR_BLEND_ADD: *sf = GL_ONE; *df = GL_ONE; break;
+    case SPR_BLEND_OVER: *sf = GL_SRC_ALPHA; *df = GL_ONE_MINUS_SRC_ALPHA; break;
+    case SPR_BLEND_REPLACE:
+    default: *sf = GL_ONE; *df = GL_ZERO; break;
     }
+}
+
+/* rgb and alpha blends of one draw buffer; no blending when both replace. */
+static void set_blend(GLuint buf, spr_blend rgb, spr_blend alpha)
+{
+    if (rgb == SPR_BLEND_REPLACE && alpha == SPR_BLEND_REPLACE) {
+        glDisablei(GL_BLEND, buf);
+        return;
+    }
+    GLenum s0, d0, s1, d1;
+    blend_factors(rgb, &s0, &d0);
+    blend_factors(alpha, &s1, &d1);
+    glEnablei(GL_BLEND, buf);
+    glBlendEquationSeparatei(buf, GL_FUNC_ADD, GL_FUNC_ADD);
+    glBlendFuncSeparatei(buf, s0, d0, s1, d1);
 }
 
 static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
 {
     gl_context *c = gl_ctx(b);
+    gl__make_current(c);
     const spr_pass_state *s = &d->state;
     const spr_view *v = &b->view;
     const size_t n = d->indices ? d->count : d->cloud->n;
@@ -170,36 +249,41 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
     gl_target *tg = &c->targets[target];
     glBindFramebuffer(GL_FRAMEBUFFER, tg->fbo);
     glUseProgram(c->prog_splat);
-    GLuint p = c->prog_splat;
-    glUniform1fv(glGetUniformLocation(p, "u_M"), 16, v->M);
-    glUniform2f(glGetUniformLocation(p, "u_size"), (float)v->width, (float)v->height);
-    glUniform1f(glGetUniformLocation(p, "u_sx"), v->ndc_sx);
-    glUniform1f(glGetUniformLocation(p, "u_sy"), v->ndc_sy);
-    glUniform1f(glGetUniformLocation(p, "u_eps"), s->eps_t);
-    glUniform1f(glGetUniformLocation(p, "u_dmin"), s->lowres.d_min);
-    glUniform1f(glGetUniformLocation(p, "u_dmax"), s->lowres.d_max);
-    glUniform1f(glGetUniformLocation(p, "u_n"), s->lowres.n);
-    glUniform1f(glGetUniformLocation(p, "u_invn"), s->lowres.inv_n);
-    glUniform1i(glGetUniformLocation(p, "u_kernel"), (int)s->kernel);
-    glUniform1i(glGetUniformLocation(p, "u_depth"), (int)s->depth_value);
-    glUniform1i(glGetUniformLocation(p, "u_output"), (int)s->output);
-    glUniform1i(glGetUniformLocation(p, "u_cull"), s->cull_backfaces);
+    const GLint *u = c->su;
+    glUniform1fv(u[GL_SU_M], 16, v->M);
+    glUniform2f(u[GL_SU_SIZE], (float)v->width, (float)v->height);
+    glUniform1f(u[GL_SU_SX], v->ndc_sx);
+    glUniform1f(u[GL_SU_SY], v->ndc_sy);
+    glUniform1f(u[GL_SU_EPS], s->eps_t);
+    glUniform1f(u[GL_SU_DMIN], s->lowres.d_min);
+    glUniform1f(u[GL_SU_DMAX], s->lowres.d_max);
+    glUniform1f(u[GL_SU_N], s->lowres.n);
+    glUniform1f(u[GL_SU_INVN], s->lowres.inv_n);
+    glUniform1i(u[GL_SU_KERNEL], (int)s->kernel);
+    glUniform1i(u[GL_SU_DEPTH], (int)s->depth_value);
+    glUniform1i(u[GL_SU_OUTPUT], (int)s->output);
+    glUniform1i(u[GL_SU_CULL], s->cull_backfaces);
+    glUniform1i(u[GL_SU_MASK], d->depth_mask != 0);
+    glUniform1i(u[GL_SU_LAYER], d->depth_mask ? d->mask_target : 0);
+    if (d->depth_mask) { /* the mask target's stored depth, read-only (gl_prelude.glsl) */
+        glBindTextureUnit(1, c->pool[SPR_PLANE_DEPTH]);
+        glTextureBarrier();
+    }
 
     static const GLenum funcs[SPR_FUNC__COUNT] = {GL_LESS, GL_LEQUAL, GL_ALWAYS};
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(funcs[s->depth_func]);
     glDepthMask(s->depth_write ? GL_TRUE : GL_FALSE);
-    unsigned wm = s->write_mask;
-    GLboolean col = (wm & SPR_WRITE_COLOR) != 0, dep = (wm & SPR_WRITE_DEPTH) != 0, idw = (wm & SPR_WRITE_ID) != 0,
-              cnt = (wm & SPR_WRITE_COUNT) != 0;
-    glColorMaski(0, col, col, col, col);
-    glColorMaski(1, dep, dep, dep, dep);
-    glColorMaski(2, idw, idw, idw, idw);
-    glColorMaski(3, cnt, cnt, cnt, cnt);
-    set_blend(0, s->blend);
-    set_blend(1, SPR_BLEND_REPLACE);
-    glDisablei(GL_BLEND, 2);
-    set_blend(3, SPR_BLEND_ADD);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        int a = gl__plane_attachment((spr_plane)p);
+        if (a < 0) continue;
+        GLboolean on = (s->write_mask & SPR_PLANE_BIT(p)) != 0;
+        glColorMaski((GLuint)a, on, on, on, on);
+        const spr_plane_type type = spr_plane_info_of((spr_plane)p)->type;
+        if (p == SPR_PLANE_COLOR) set_blend((GLuint)a, s->blend, s->blend_alpha);
+        else if (type == SPR_PLANE_COUNTER) set_blend((GLuint)a, SPR_BLEND_ADD, SPR_BLEND_ADD);
+        else set_blend((GLuint)a, SPR_BLEND_REPLACE, SPR_BLEND_REPLACE);
+    }
 
     static const GLuint zero = 0;
     glNamedBufferSubData(c->counters, 0, sizeof zero, &zero);
@@ -219,54 +303,34 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
     return gl__check(b, "draw");
 }
 
-static spr_result ensure_layers(gl_context *c, int K, int W, int H)
-{
-    if (c->arr_color && c->arr_layers >= K && c->arr_w == W && c->arr_h == H) return SPR_OK;
-    if (c->arr_color) {
-        glDeleteTextures(1, &c->arr_color);
-        glDeleteTextures(1, &c->arr_depth);
-    }
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &c->arr_color);
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &c->arr_depth);
-    glTextureStorage3D(c->arr_color, 1, GL_RGBA32F, W, H, K);
-    glTextureStorage3D(c->arr_depth, 1, GL_R32F, W, H, K);
-    c->arr_layers = K;
-    c->arr_w = W;
-    c->arr_h = H;
-    return gl__check(&c->base, "composite inputs");
-}
-
+/* The composite table's per-pixel function as a full-screen pass over the
+ * inputs' layers of the pool (gl_composite.frag). */
 static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
 {
     gl_context *c = gl_ctx(b);
-    int W = b->view.width, H = b->view.height, K = cd->n_inputs;
-    spr_result r = ensure_layers(c, K, W, H);
-    if (r) return r;
-    for (int k = 0; k < K; k++) { /* bit copies: the inputs as array layers */
-        gl_target *in = &c->targets[cd->inputs[k]];
-        glCopyImageSubData(in->color, GL_TEXTURE_2D, 0, 0, 0, 0, c->arr_color, GL_TEXTURE_2D_ARRAY, 0, 0, 0, k, W, H, 1);
-        glCopyImageSubData(in->depth_value, GL_TEXTURE_2D, 0, 0, 0, 0, c->arr_depth, GL_TEXTURE_2D_ARRAY, 0, 0, 0, k, W, H, 1);
-    }
+    gl__make_current(c);
     gl_target *out = &c->targets[cd->output];
     glBindFramebuffer(GL_FRAMEBUFFER, out->fbo);
     glUseProgram(c->prog_comp);
-    GLuint p = c->prog_comp;
-    glBindTextureUnit(0, c->arr_color);
-    glBindTextureUnit(1, c->arr_depth);
-    glUniform1i(glGetUniformLocation(p, "u_col"), 0);
-    glUniform1i(glGetUniformLocation(p, "u_dep"), 1);
-    glUniform1i(glGetUniformLocation(p, "u_K"), K);
-    glUniform1i(glGetUniformLocation(p, "u_op"), (int)cd->op);
-    glUniform1f(glGetUniformLocation(p, "u_eps"), cd->eps_t);
-    glUniform3f(glGetUniformLocation(p, "u_bg"), cd->background[0], cd->background[1], cd->background[2]);
+    const GLint *u = c->cu;
+    glBindTextureUnit(0, c->pool[SPR_PLANE_COLOR]);
+    glBindTextureUnit(1, c->pool[SPR_PLANE_DEPTH]);
+    glUniform1iv(u[GL_CU_LAYER], cd->n_inputs, cd->inputs);
+    glUniform1i(u[GL_CU_K], cd->n_inputs);
+    glUniform1i(u[GL_CU_OP], (int)cd->op);
+    glUniform1f(u[GL_CU_EPS], cd->eps_t);
+    glUniform1fv(u[GL_CU_BG], 3, cd->background);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
-    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glColorMaski(2, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glColorMaski(3, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    for (GLuint i = 0; i < 4; i++) glDisablei(GL_BLEND, i);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        int a = gl__plane_attachment((spr_plane)p);
+        if (a < 0) continue;
+        GLboolean on = p == SPR_PLANE_COLOR || p == SPR_PLANE_DEPTH;
+        glColorMaski((GLuint)a, on, on, on, on);
+        glDisablei(GL_BLEND, (GLuint)a);
+    }
+    glTextureBarrier(); /* the inputs were drawn by earlier passes */
     glBindVertexArray(c->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     return gl__check(b, "composite");
@@ -274,33 +338,30 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
 
 static spr_result gl_read_plane(spr_backend *b, int t, spr_plane p, void *out)
 {
-    gl_target *tg = &gl_ctx(b)->targets[t];
+    gl_context *c = gl_ctx(b);
+    gl__make_current(c);
     int W = b->view.width, H = b->view.height;
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, tg->fbo);
+    const spr_plane_info *pi = spr_plane_info_of(p);
+    size_t bytes = (size_t)W * H * (size_t)pi->channels * 4;
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    switch (p) {
-    case SPR_PLANE_COLOR:
-        glReadBuffer(GL_COLOR_ATTACHMENT0);
-        glReadPixels(0, 0, W, H, GL_RGBA, GL_FLOAT, out);
+    switch (pi->type) {
+    case SPR_PLANE_ZTEST:
+        glGetTextureSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)bytes, out);
         break;
-    case SPR_PLANE_DEPTH:
-        glReadBuffer(GL_COLOR_ATTACHMENT1);
-        glReadPixels(0, 0, W, H, GL_RED, GL_FLOAT, out);
+    case SPR_PLANE_U32:
+        glGetTextureSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, (GLsizei)bytes, out);
         break;
-    case SPR_PLANE_TEST: glReadPixels(0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, out); break;
-    case SPR_PLANE_ID:
-        glReadBuffer(GL_COLOR_ATTACHMENT2);
-        glReadPixels(0, 0, W, H, GL_RED_INTEGER, GL_UNSIGNED_INT, out);
-        break;
-    case SPR_PLANE_COUNT: {
-        glReadBuffer(GL_COLOR_ATTACHMENT3);
-        glReadPixels(0, 0, W, H, GL_RED, GL_FLOAT, out);
+    case SPR_PLANE_COUNTER: {
+        glGetTextureSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, GL_RED, GL_FLOAT, (GLsizei)bytes, out);
         float *f = out;
         uint32_t *u = out;
         for (size_t i = 0; i < (size_t)W * H; i++) u[i] = (uint32_t)f[i]; /* exact: counts < 2^24 */
         break;
     }
-    default: return spr__fail(&b->err, SPR_E_ARG, "gl: unknown plane");
+    case SPR_PLANE_F32:
+    default:
+        glGetTextureSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, pi->channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT, (GLsizei)bytes, out);
+        break;
     }
     return gl__check(b, "read");
 }
@@ -309,8 +370,9 @@ static void gl_destroy(spr_backend *b)
 {
     gl_context *c = gl_ctx(b);
     if (c->ctx != EGL_NO_CONTEXT) {
+        gl__make_current(c);
         for (int t = 0; t < c->cap; t++) free_target(&c->targets[t]);
-        if (c->arr_color) { glDeleteTextures(1, &c->arr_color); glDeleteTextures(1, &c->arr_depth); }
+        drop_pool(c);
         glDeleteBuffers(1, &c->instances);
         glDeleteBuffers(1, &c->counters);
         glDeleteVertexArrays(1, &c->vao);

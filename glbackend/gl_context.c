@@ -16,20 +16,12 @@ static PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display(void)
     return (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
 }
 
-int spr_gl_device_count(void)
-{
-    PFNEGLQUERYDEVICESEXTPROC query = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
-    EGLint n = 0;
-    if (!query || !query(0, NULL, &n)) return 0;
-    return n;
-}
-
 spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
 {
     /* Mesa's loader warnings would add lines to our one-line errors. */
     setenv("EGL_LOG_LEVEL", "fatal", 0);
     PFNEGLGETPLATFORMDISPLAYEXTPROC gpd = get_platform_display();
-    if (!gpd) return spr__fail(err, SPR_E_BACKEND, "gl: EGL has no eglGetPlatformDisplayEXT (is libegl-mesa0 installed?)");
+    if (!gpd) return spr__fail(err, SPR_E_NO_DEVICE, "gl: EGL has no eglGetPlatformDisplayEXT (is libegl-mesa0 installed?)");
     const char *platform = getenv("EGL_PLATFORM");
     if (device < 0 && platform && *platform && strcmp(platform, "surfaceless") != 0) {
         /* The user named another platform: let EGL's default display resolve it. */
@@ -46,15 +38,15 @@ spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
         c->dpy = gpd(EGL_PLATFORM_DEVICE_EXT, devs[device], NULL);
     }
     if (c->dpy == EGL_NO_DISPLAY)
-        return spr__fail(err, SPR_E_BACKEND, "gl: no EGL display for the %s platform (EGL error 0x%x; is libegl-mesa0 installed?)",
+        return spr__fail(err, SPR_E_NO_DEVICE, "gl: no EGL display for the %s platform (EGL error 0x%x; is libegl-mesa0 installed?)",
                          device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
     EGLint maj, min;
     if (!eglInitialize(c->dpy, &maj, &min)) {
         c->dpy = EGL_NO_DISPLAY;
-        return spr__fail(err, SPR_E_BACKEND, "gl: eglInitialize failed on the %s platform (EGL error 0x%x): no usable GL driver there",
+        return spr__fail(err, SPR_E_NO_DEVICE, "gl: eglInitialize failed on the %s platform (EGL error 0x%x): no usable GL driver there",
                          device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
     }
-    if (!eglBindAPI(EGL_OPENGL_API)) return spr__fail(err, SPR_E_BACKEND, "gl: EGL cannot bind the OpenGL API");
+    if (!eglBindAPI(EGL_OPENGL_API)) return spr__fail(err, SPR_E_NO_DEVICE, "gl: EGL cannot bind the OpenGL API");
     const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     EGLConfig cfg = EGL_NO_CONFIG_KHR;
@@ -63,17 +55,22 @@ spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
         const EGLint want[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
         EGLint got = 0;
         if (!eglChooseConfig(c->dpy, want, &cfg, 1, &got) || got < 1)
-            return spr__fail(err, SPR_E_BACKEND, "gl: no EGL config renders OpenGL");
+            return spr__fail(err, SPR_E_NO_DEVICE, "gl: no EGL config renders OpenGL");
     }
     c->ctx = eglCreateContext(c->dpy, cfg, EGL_NO_CONTEXT, attrs);
     if (c->ctx == EGL_NO_CONTEXT)
-        return spr__fail(err, SPR_E_BACKEND, "gl: no OpenGL 4.5 core context (EGL error 0x%x)", (unsigned)eglGetError());
+        return spr__fail(err, SPR_E_NO_DEVICE, "gl: no OpenGL 4.5 core context (EGL error 0x%x)", (unsigned)eglGetError());
     if (!eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx))
-        return spr__fail(err, SPR_E_BACKEND, "gl: cannot make the context current without a surface (EGL error 0x%x)",
+        return spr__fail(err, SPR_E_NO_DEVICE, "gl: cannot make the context current without a surface (EGL error 0x%x)",
                          (unsigned)eglGetError());
     snprintf(c->renderer, sizeof c->renderer, "%s | %s", (const char *)glGetString(GL_RENDERER),
              (const char *)glGetString(GL_VERSION));
     return SPR_OK;
+}
+
+void gl__make_current(gl_context *c)
+{
+    if (c->ctx != EGL_NO_CONTEXT && eglGetCurrentContext() != c->ctx) eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx);
 }
 
 void gl__egl_close(gl_context *c)

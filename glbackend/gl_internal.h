@@ -1,4 +1,10 @@
-/* gl_internal.h — private state of the GL backend, shared by its stages. */
+/* gl_internal.h — private state of the GL backend, shared by its stages.
+ *
+ * Targets: each plane of the plane table is one GL_TEXTURE_2D_ARRAY (the
+ * pool), and target handle t is layer t of every plane array; a target's
+ * framebuffer attaches layer t of the planes it has.  Composites and depth
+ * masks read other targets' layers straight from the pool (no copies).
+ */
 #ifndef GL_INTERNAL_H
 #define GL_INTERNAL_H
 
@@ -11,8 +17,26 @@
 
 typedef struct gl_target {
     GLuint fbo;
-    GLuint color, depth_value, id, count, ztest; /* textures: RGBA32F, R32F, R32UI, R32F, DEPTH32F */
 } gl_target;
+
+/* Uniforms each program must have, resolved once at link time. */
+#define GL_SPLAT_UNIFORMS(X)                                                                                   \
+    X(M, "u_M") X(SIZE, "u_size") X(SX, "u_sx") X(SY, "u_sy") X(EPS, "u_eps") X(DMIN, "u_dmin") X(DMAX, "u_dmax") \
+    X(N, "u_n") X(INVN, "u_invn") X(KERNEL, "u_kernel") X(DEPTH, "u_depth") X(OUTPUT, "u_output") X(CULL, "u_cull") \
+    X(MASK, "u_mask") X(LAYER, "u_in_layer")
+#define GL_COMP_UNIFORMS(X) X(K, "u_K") X(OP, "u_op") X(EPS, "u_eps") X(BG, "u_bg") X(LAYER, "u_in_layer")
+enum {
+#define GL__E(e, name) GL_SU_##e,
+    GL_SPLAT_UNIFORMS(GL__E)
+#undef GL__E
+    GL_SU__COUNT
+};
+enum {
+#define GL__E(e, name) GL_CU_##e,
+    GL_COMP_UNIFORMS(GL__E)
+#undef GL__E
+    GL_CU__COUNT
+};
 
 typedef struct gl_context {
     spr_backend base; /* first: a gl_context is an spr_backend */
@@ -20,10 +44,11 @@ typedef struct gl_context {
     EGLContext ctx;
     char renderer[512];
     GLuint prog_splat, prog_comp;
+    GLint su[GL_SU__COUNT], cu[GL_CU__COUNT];
     GLuint vao, instances, counters;
     size_t instances_cap;
-    GLuint arr_color, arr_depth; /* compositing inputs as array layers */
-    int arr_layers, arr_w, arr_h;
+    GLuint pool[SPR_PLANE__COUNT]; /* one 2D array texture per plane, a layer per target handle */
+    int pool_layers;
     gl_target *targets;
     int cap;
 } gl_context;
@@ -33,9 +58,15 @@ static inline gl_context *gl_ctx(spr_backend *b) { return (gl_context *)b; }
 /* gl_context.c */
 spr_result gl__egl_open(gl_context *c, int device, spr_error *err);
 void gl__egl_close(gl_context *c);
+/* Make c's context current on this thread if it is not (several GL
+ * backends may live in one process). */
+void gl__make_current(gl_context *c);
 /* gl_shaders.c */
 spr_result gl__build_programs(gl_context *c, spr_error *err);
 /* gl_backend.c */
 spr_result gl__check(spr_backend *b, const char *what);
+/* Colour attachment (= fragment output location) of plane p; −1 for the
+ * depth-test plane, which is the depth attachment. */
+int gl__plane_attachment(spr_plane p);
 
 #endif

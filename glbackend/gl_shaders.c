@@ -1,185 +1,91 @@
-/* gl_shaders.c — GLSL sources of the GL backend, built from C at run time.
+/* gl_shaders.c — the GLSL programs of the GL backend, assembled from files.
  *
- * The splat fragment shader is core/spr_fragment.h written again in GLSL,
- * operation for operation: explicit parenthesised sums, `precise` on every
- * arithmetic variable, no dot/length/normalize/mix/fma, no transcendental,
- * per-splat data as flat varyings and the pixel from gl_FragCoord (exactly
- * x + 0.5).  Shared numbers (gauss coefficients, enum values) are emitted
- * from their C definitions as exact bit patterns (uintBitsToFloat), so no
- * decimal round trip is involved.
+ * Every program is "#version 450 core", then the shared constants emitted
+ * here from their C definitions (enum values, plane output locations, the
+ * gauss coefficients as exact bit patterns, the composite dispatch from
+ * SPR_COMPOSITE_LIST), then glbackend/gl_prelude.glsl, the shared arithmetic
+ * core/render/spr_arith.h verbatim, and the stage's main file.  The build
+ * embeds those files as byte arrays (cmake/embed.cmake): no GLSL lives in a
+ * C string literal here, only #define lines generated from C values.
+ *
+ * Uniform locations are resolved once when a program is linked; a uniform
+ * the program does not have is a build failure, never a silent read of 0.
  */
 #include "gl_internal.h"
+#include "spr_algo.h"
 #include "spr_kernel.h"
 
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char *vs_splat =
-    "#version 450 core\n"
-    "layout(location = 0) in ivec4 i_rect;   /* x0 y0 x1 y1, inclusive pixels */\n"
-    "layout(location = 1) in vec4 i_pr;      /* centre, radius */\n"
-    "layout(location = 2) in vec4 i_na;      /* normal, opacity */\n"
-    "layout(location = 3) in vec4 i_c;       /* colour */\n"
-    "layout(location = 4) in uint i_id;\n"
-    "uniform vec2 u_size;\n"
-    "flat out vec4 v_pr; flat out vec4 v_na; flat out vec4 v_c; flat out uint v_id;\n"
-    "void main() {\n"
-    "    /* a quad on pixel boundaries: its edges lie half a pixel from any\n"
-    "       sampled centre, so rounding here cannot change coverage */\n"
-    "    float x = float((gl_VertexID & 1) != 0 ? i_rect.z + 1 : i_rect.x);\n"
-    "    float y = float((gl_VertexID & 2) != 0 ? i_rect.w + 1 : i_rect.y);\n"
-    "    gl_Position = vec4(x / u_size.x * 2.0 - 1.0, y / u_size.y * 2.0 - 1.0, 0.0, 1.0);\n"
-    "    v_pr = i_pr; v_na = i_na; v_c = i_c; v_id = i_id;\n"
-    "}\n";
+/* The embedded files (generated gl_sources.c). */
+extern const char spr__src_arith[], spr__src_prelude[], spr__src_splat_vert[], spr__src_splat_frag[],
+    spr__src_full_vert[], spr__src_composite_frag[];
 
-/* %s: defines; the body mirrors spr_pixel_ray, spr_ray_disk, spr_kernel_weight,
- * spr_test_value of core/spr_fragment.h and core/spr_kernel.h. */
-static const char *fs_splat_body =
-    "flat in vec4 v_pr; flat in vec4 v_na; flat in vec4 v_c; flat in uint v_id;\n"
-    "uniform float u_M[16];\n"
-    "uniform float u_sx, u_sy, u_eps, u_dmin, u_dmax, u_n, u_invn;\n"
-    "uniform int u_kernel, u_depth, u_output, u_cull;\n"
-    "layout(binding = 0, offset = 0) uniform atomic_uint u_generated;\n"
-    "layout(location = 0) out vec4 o_color;\n"
-    "layout(location = 1) out float o_depth;\n"
-    "layout(location = 2) out uint o_id;\n"
-    "layout(location = 3) out float o_count;\n"
-    "void main() {\n"
-    "    precise float nx = gl_FragCoord.x * u_sx - 1.0;\n"
-    "    precise float ny = gl_FragCoord.y * u_sy - 1.0;\n"
-    "    /* unproject(ndc, -1) and unproject(ndc, +1) */\n"
-    "    precise float ax = ((u_M[0] * nx + u_M[1] * ny) + u_M[2] * -1.0) + u_M[3];\n"
-    "    precise float ay = ((u_M[4] * nx + u_M[5] * ny) + u_M[6] * -1.0) + u_M[7];\n"
-    "    precise float az = ((u_M[8] * nx + u_M[9] * ny) + u_M[10] * -1.0) + u_M[11];\n"
-    "    precise float aw = ((u_M[12] * nx + u_M[13] * ny) + u_M[14] * -1.0) + u_M[15];\n"
-    "    precise float bx = ((u_M[0] * nx + u_M[1] * ny) + u_M[2] * 1.0) + u_M[3];\n"
-    "    precise float by = ((u_M[4] * nx + u_M[5] * ny) + u_M[6] * 1.0) + u_M[7];\n"
-    "    precise float bz = ((u_M[8] * nx + u_M[9] * ny) + u_M[10] * 1.0) + u_M[11];\n"
-    "    precise float bw = ((u_M[12] * nx + u_M[13] * ny) + u_M[14] * 1.0) + u_M[15];\n"
-    "    precise float o0x = ax / aw, o0y = ay / aw, o0z = az / aw;\n"
-    "    precise float dx = bx / bw - o0x, dy = by / bw - o0y, dz = bz / bw - o0z;\n"
-    "    /* ray-disk intersection */\n"
-    "    precise float den = (dx * v_na.x + dy * v_na.y) + dz * v_na.z;\n"
-    "    if (den == 0.0) discard;\n"
-    "    precise float a0 = v_pr.x - o0x, a1 = v_pr.y - o0y, a2 = v_pr.z - o0z;\n"
-    "    precise float num = (a0 * v_na.x + a1 * v_na.y) + a2 * v_na.z;\n"
-    "    precise float t = num / den;\n"
-    "    if (!(t >= 0.0 && t <= 1.0)) discard;\n"
-    "    precise float q0 = (o0x + t * dx) - v_pr.x;\n"
-    "    precise float q1 = (o0y + t * dy) - v_pr.y;\n"
-    "    precise float q2 = (o0z + t * dz) - v_pr.z;\n"
-    "    precise float qq = (q0 * q0 + q1 * q1) + q2 * q2;\n"
-    "    precise float rho2 = qq / (v_pr.w * v_pr.w);\n"
-    "    if (!(rho2 <= 1.0)) discard;\n"
-    "    if (u_cull != 0 && den > 0.0) discard;\n"
-    "    atomicCounterIncrement(u_generated);\n"
-    "    precise float rho = sqrt(rho2);\n"
-    "    /* test value (SPEC 3.3), clamped to the depth range */\n"
-    "    precise float z;\n"
-    "    if (u_depth == SPR_DEPTH_EPS_OFFSET) {\n"
-    "        z = t + u_eps;\n"
-    "    } else if (u_depth == SPR_DEPTH_LOWRES || u_depth == SPR_DEPTH_VORONOI) {\n"
-    "        precise float zl = floor(((t - u_dmin) / (u_dmax - u_dmin)) * u_n) * u_invn;\n"
-    "        z = u_depth == SPR_DEPTH_VORONOI ? zl + rho * u_invn : zl;\n"
-    "    } else {\n"
-    "        z = t;\n"
-    "    }\n"
-    "    if (z < 0.0) z = 0.0;\n"
-    "    if (z > 1.0) z = 1.0;\n"
-    "    gl_FragDepth = z;\n"
-    "    if (u_output == SPR_OUT_ALPHA) {\n"
-    "        o_color = vec4(v_c.x, v_c.y, v_c.z, v_na.w);\n"
-    "    } else {\n"
-    "        precise float w;\n"
-    "        if (u_kernel == SPR_KERNEL_CONSTANT) {\n"
-    "            w = 1.0;\n"
-    "        } else if (u_kernel == SPR_KERNEL_LINEAR) {\n"
-    "            w = 1.0 - rho;\n"
-    "        } else if (u_kernel == SPR_KERNEL_EPANECHNIKOV) {\n"
-    "            w = 1.0 - rho2;\n"
-    "        } else {\n"
-    "            precise float v = rho2 * 2.0 - 1.0;\n"
-    "            precise float acc = SPR_GAUSS[0];\n"
-    "            for (int i = 1; i <= SPR_GAUSS_DEGREE; i++) acc = acc * v + SPR_GAUSS[i];\n"
-    "            w = acc;\n"
-    "        }\n"
-    "        precise float wr = w * v_c.x, wg = w * v_c.y, wb = w * v_c.z;\n"
-    "        o_color = vec4(wr, wg, wb, w);\n"
-    "    }\n"
-    "    o_depth = t;\n"
-    "    o_id = v_id;\n"
-    "    o_count = 1.0;\n"
-    "}\n";
+typedef struct strbuf { char *s; size_t n, cap; int oom; } strbuf;
 
-static const char *vs_full =
-    "#version 450 core\n"
-    "void main() {\n"
-    "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));\n"
-    "    gl_Position = vec4(p, 0.0, 1.0);\n"
-    "}\n";
-
-/* Mirrors swrast/sw_composite.c. */
-static const char *fs_comp_body =
-    "uniform sampler2DArray u_col;\n"
-    "uniform sampler2DArray u_dep;\n"
-    "uniform int u_K, u_op;\n"
-    "uniform float u_eps;\n"
-    "uniform vec3 u_bg;\n"
-    "layout(location = 0) out vec4 o_color;\n"
-    "layout(location = 1) out float o_depth;\n"
-    "void main() {\n"
-    "    ivec2 p = ivec2(gl_FragCoord.xy);\n"
-    "    precise vec4 acc = vec4(0.0);\n"
-    "    precise float d = texelFetch(u_dep, ivec3(p, 0), 0).r;\n"
-    "    if (u_op == SPR_COMP_NORMALIZE) {\n"
-    "        acc = texelFetch(u_col, ivec3(p, 0), 0);\n"
-    "    } else {\n"
-    "        for (int k = 1; k < u_K; k++) {\n"
-    "            float dk = texelFetch(u_dep, ivec3(p, k), 0).r;\n"
-    "            if (dk < d) d = dk;\n"
-    "        }\n"
-    "        precise float limit = d + u_eps;\n"
-    "        for (int k = 0; k < u_K; k++) {\n"
-    "            float dk = texelFetch(u_dep, ivec3(p, k), 0).r;\n"
-    "            if (!(dk <= limit)) continue;\n"
-    "            vec4 c = texelFetch(u_col, ivec3(p, k), 0);\n"
-    "            acc.x = acc.x + c.x; acc.y = acc.y + c.y; acc.z = acc.z + c.z; acc.w = acc.w + c.w;\n"
-    "        }\n"
-    "    }\n"
-    "    if (acc.w > 0.0) {\n"
-    "        precise float r = acc.x / acc.w, g = acc.y / acc.w, b = acc.z / acc.w;\n"
-    "        o_color = vec4(r, g, b, 1.0);\n"
-    "    } else {\n"
-    "        o_color = vec4(u_bg, 0.0);\n"
-    "    }\n"
-    "    o_depth = d;\n"
-    "    gl_FragDepth = d;\n"
-    "}\n";
-
-/* "#version", then every shared constant from its C definition. */
-static char *with_prelude(const char *body)
+static void sb_add(strbuf *b, const char *fmt, ...)
 {
-    size_t cap = strlen(body) + 4096;
-    char *s = malloc(cap);
-    if (!s) return NULL;
-    int o = snprintf(s, cap,
-                     "#version 450 core\n"
-                     "#define SPR_KERNEL_GAUSS %d\n#define SPR_KERNEL_CONSTANT %d\n#define SPR_KERNEL_LINEAR %d\n"
-                     "#define SPR_KERNEL_EPANECHNIKOV %d\n#define SPR_DEPTH_PLAIN %d\n#define SPR_DEPTH_EPS_OFFSET %d\n"
-                     "#define SPR_DEPTH_LOWRES %d\n#define SPR_DEPTH_VORONOI %d\n#define SPR_OUT_WEIGHTED %d\n"
-                     "#define SPR_OUT_ALPHA %d\n#define SPR_COMP_NORMALIZE %d\n#define SPR_COMP_DEFERRED %d\n"
-                     "#define SPR_GAUSS_DEGREE %d\nconst float SPR_GAUSS[%d] = float[](",
-                     SPR_KERNEL_GAUSS, SPR_KERNEL_CONSTANT, SPR_KERNEL_LINEAR, SPR_KERNEL_EPANECHNIKOV, SPR_DEPTH_PLAIN,
-                     SPR_DEPTH_EPS_OFFSET, SPR_DEPTH_LOWRES, SPR_DEPTH_VORONOI, SPR_OUT_WEIGHTED, SPR_OUT_ALPHA,
-                     SPR_COMP_NORMALIZE, SPR_COMP_DEFERRED, SPR_GAUSS_DEGREE, SPR_GAUSS_DEGREE + 1);
+    va_list ap;
+    for (;;) {
+        size_t room = b->cap - b->n;
+        va_start(ap, fmt);
+        int w = b->s ? vsnprintf(b->s + b->n, room, fmt, ap) : -1;
+        va_end(ap);
+        if (w >= 0 && (size_t)w < room) { b->n += (size_t)w; return; }
+        size_t cap = b->cap ? 2 * b->cap : 16384;
+        while (w >= 0 && cap < b->n + (size_t)w + 1) cap *= 2;
+        char *ns = realloc(b->s, cap);
+        if (!ns) { b->oom = 1; return; }
+        b->s = ns;
+        b->cap = cap;
+    }
+}
+
+/* The constants every fragment program shares, from their C definitions. */
+static void add_constants(strbuf *b)
+{
+    static const struct { const char *name; int value; } k[] = {
+        {"SPR_KERNEL_GAUSS", SPR_KERNEL_GAUSS}, {"SPR_KERNEL_CONSTANT", SPR_KERNEL_CONSTANT},
+        {"SPR_KERNEL_LINEAR", SPR_KERNEL_LINEAR}, {"SPR_KERNEL_EPANECHNIKOV", SPR_KERNEL_EPANECHNIKOV},
+        {"SPR_DEPTH_PLAIN", SPR_DEPTH_PLAIN}, {"SPR_DEPTH_EPS_OFFSET", SPR_DEPTH_EPS_OFFSET},
+        {"SPR_DEPTH_LOWRES", SPR_DEPTH_LOWRES}, {"SPR_DEPTH_VORONOI", SPR_DEPTH_VORONOI},
+        {"SPR_OUT_WEIGHTED", SPR_OUT_WEIGHTED}, {"SPR_OUT_ALPHA", SPR_OUT_ALPHA},
+        {"SPR_GAUSS_DEGREE", SPR_GAUSS_DEGREE}, {"SPR_MAX_INPUTS", SPR_MAX_COMPOSITE_INPUTS},
+    };
+    for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) sb_add(b, "#define %s %d\n", k[i].name, k[i].value);
+    /* fragment output location of each plane = its colour attachment */
+#define GL__LOC(e, name, ch, type, clear) \
+    if (gl__plane_attachment(SPR_PLANE_##e) >= 0) sb_add(b, "#define SPR_LOC_%s %d\n", #e, gl__plane_attachment(SPR_PLANE_##e));
+    SPR_PLANE_LIST(GL__LOC)
+#undef GL__LOC
+    sb_add(b, "const float spr_gauss_coef[%d] = float[](", SPR_GAUSS_DEGREE + 1);
     for (int i = 0; i <= SPR_GAUSS_DEGREE; i++) {
         uint32_t u;
         memcpy(&u, &spr_gauss_coef[i], 4);
-        o += snprintf(s + o, cap - (size_t)o, "%suintBitsToFloat(0x%08xu)", i ? ", " : "", u);
+        sb_add(b, "%suintBitsToFloat(0x%08xu)", i ? ", " : "", u);
     }
-    snprintf(s + o, cap - (size_t)o, ");\n%s", body);
-    return s;
+    sb_add(b, ");\n#define SPR_COMP_CALL(op, px, K, eps, bg, o, d)");
+#define GL__COMP(e, fn, max_in, summary) sb_add(b, " if (op == %d) spr_comp_" #fn "(px, K, eps, bg, o, d); else", SPR_COMP_##e);
+    SPR_COMPOSITE_LIST(GL__COMP)
+#undef GL__COMP
+    sb_add(b, " {}\n");
+}
+
+static char *assemble(const char *main_src, int fragment)
+{
+    strbuf b = {0};
+    sb_add(&b, "#version 450 core\n");
+    if (fragment) {
+        add_constants(&b);
+        sb_add(&b, "%s", spr__src_prelude);
+        sb_add(&b, "%s", spr__src_arith);
+    }
+    sb_add(&b, "%s", main_src);
+    if (b.oom) { free(b.s); return NULL; }
+    return b.s;
 }
 
 static GLuint compile(GLenum type, const char *src, const char *name, spr_error *err)
@@ -201,11 +107,17 @@ static GLuint compile(GLenum type, const char *src, const char *name, spr_error 
     return sh;
 }
 
-static GLuint link(const char *vs, const char *fs, const char *name, spr_error *err)
+/* Link; the shaders stay attached (flagged for deletion with the program),
+ * so spr_gl_program_source() can ask GL for the text it compiled. */
+static GLuint link(const char *vs_main, const char *fs_main, const char *name, spr_error *err)
 {
-    GLuint v = compile(GL_VERTEX_SHADER, vs, name, err), f = v ? compile(GL_FRAGMENT_SHADER, fs, name, err) : 0;
+    char *vs = assemble(vs_main, 0), *fs = assemble(fs_main, 1);
+    GLuint v = vs && fs ? compile(GL_VERTEX_SHADER, vs, name, err) : 0, f = v ? compile(GL_FRAGMENT_SHADER, fs, name, err) : 0;
+    if (!vs || !fs) spr__fail(err, SPR_E_NOMEM, "gl: out of memory assembling %s", name);
+    free(vs);
+    free(fs);
     if (!v || !f) {
-        glDeleteShader(v);
+        if (v) glDeleteShader(v);
         return 0;
     }
     GLuint p = glCreateProgram();
@@ -219,6 +131,8 @@ static GLuint link(const char *vs, const char *fs, const char *name, spr_error *
     if (!ok) {
         char log[1024] = "";
         glGetProgramInfoLog(p, sizeof log, NULL, log);
+        for (char *q = log; *q; q++)
+            if (*q == '\n') *q = ' ';
         spr__fail(err, SPR_E_BACKEND, "gl: program %s does not link: %s", name, log);
         glDeleteProgram(p);
         return 0;
@@ -226,17 +140,54 @@ static GLuint link(const char *vs, const char *fs, const char *name, spr_error *
     return p;
 }
 
+/* Resolve `names` (NULL-terminated) into locs; a missing one fails. */
+static spr_result resolve(GLuint p, const char *prog, const char *const *names, GLint *locs, spr_error *err)
+{
+    for (int i = 0; names[i]; i++) {
+        locs[i] = glGetUniformLocation(p, names[i]);
+        if (locs[i] < 0) return spr__fail(err, SPR_E_BACKEND, "gl: program %s has no active uniform %s", prog, names[i]);
+    }
+    return SPR_OK;
+}
+
+static const char *const splat_uniforms[GL_SU__COUNT + 1] = {
+#define GL__NAME(e, name) name,
+    GL_SPLAT_UNIFORMS(GL__NAME)
+#undef GL__NAME
+    NULL};
+static const char *const comp_uniforms[GL_CU__COUNT + 1] = {
+#define GL__NAME(e, name) name,
+    GL_COMP_UNIFORMS(GL__NAME)
+#undef GL__NAME
+    NULL};
+
 spr_result gl__build_programs(gl_context *c, spr_error *err)
 {
-    char *fs = with_prelude(fs_splat_body), *fc = with_prelude(fs_comp_body);
-    if (!fs || !fc) {
-        free(fs);
-        free(fc);
-        return spr__fail(err, SPR_E_NOMEM, "gl: out of memory");
+    c->prog_splat = link(spr__src_splat_vert, spr__src_splat_frag, "splat", err);
+    if (!c->prog_splat || resolve(c->prog_splat, "splat", splat_uniforms, c->su, err)) return err->code;
+    c->prog_comp = link(spr__src_full_vert, spr__src_composite_frag, "composite", err);
+    if (!c->prog_comp || resolve(c->prog_comp, "composite", comp_uniforms, c->cu, err)) return err->code;
+    return SPR_OK;
+}
+
+char *spr_gl_program_source(spr_backend *b, const char *program)
+{
+    gl_context *c = gl_ctx(b);
+    gl__make_current(c);
+    GLuint p = !strcmp(program, "splat") ? c->prog_splat : !strcmp(program, "composite") ? c->prog_comp : 0;
+    if (!p) return NULL;
+    GLuint sh[4];
+    GLsizei n = 0;
+    glGetAttachedShaders(p, 4, &n, sh);
+    for (GLsizei i = 0; i < n; i++) {
+        GLint type = 0, len = 0;
+        glGetShaderiv(sh[i], GL_SHADER_TYPE, &type);
+        if (type != GL_FRAGMENT_SHADER) continue;
+        glGetShaderiv(sh[i], GL_SHADER_SOURCE_LENGTH, &len);
+        char *s = malloc((size_t)len + 1);
+        if (!s) return NULL;
+        glGetShaderSource(sh[i], len + 1, NULL, s);
+        return s;
     }
-    c->prog_splat = link(vs_splat, fs, "splat", err);
-    c->prog_comp = c->prog_splat ? link(vs_full, fc, "composite", err) : 0;
-    free(fs);
-    free(fc);
-    return c->prog_splat && c->prog_comp ? SPR_OK : err->code;
+    return NULL;
 }

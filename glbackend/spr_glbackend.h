@@ -1,12 +1,12 @@
 /* spr_glbackend.h — the OpenGL 4.5 core backend (EGL, any driver).
  *
  * Implements spr_backend with the real GL pipeline: one instanced screen
- * quad per splat bounding its projected disk, a fragment shader doing the
- * SPEC §2 ray–disk test with the operations of core/spr_fragment.h in the
- * same order (`precise` everywhere, PARITY.md rules 1–5), fixed-function
- * depth test (gl_FragDepth into DEPTH_COMPONENT32F) and blending on RGBA32F.
- * Compositing is a full-screen pass reading the group targets with
- * texelFetch in the fixed k order.
+ * quad per splat bounding its projected disk, a fragment shader that runs
+ * the shared arithmetic of core/render/spr_arith.h (embedded verbatim, with
+ * `precise` on every arithmetic variable: PARITY.md rules 1–5),
+ * fixed-function depth test (gl_FragDepth into DEPTH_COMPONENT32F) and
+ * blending on RGBA32F.  Composite ops are full-screen passes running the
+ * composite table's per-pixel functions over the input targets' layers.
  */
 #ifndef SPR_GLBACKEND_H
 #define SPR_GLBACKEND_H
@@ -18,12 +18,15 @@ typedef struct spr_gl_desc {
 } spr_gl_desc;
 void spr_gl_defaults(spr_gl_desc *d);
 
-/* New GL backend, or NULL with a one-line reason in err (no EGL display,
- * no GL 4.5 core context, shader compile failure). */
+/* New GL backend, or NULL with a one-line reason in err: SPR_E_NO_DEVICE
+ * when no EGL display or GL 4.5 core context can be had at all, another
+ * code (SPR_E_BACKEND) when one exists but the backend cannot be built on
+ * it, e.g. a shader that does not compile. */
 spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err);
 /* "renderer | version" of a GL backend (for reports; PARITY.md rule 9). */
 const char *spr_gl_renderer(const spr_backend *b);
-/* Number of EGL devices (EGL_EXT_device_enumeration), 0 when unsupported. */
-int spr_gl_device_count(void);
+/* The fragment shader text GL compiled for "splat" or "composite", as GL
+ * reports it (glGetShaderSource); malloc'd, NULL for another name. */
+char *spr_gl_program_source(spr_backend *b, const char *program);
 
 #endif

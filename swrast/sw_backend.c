@@ -9,11 +9,7 @@
 
 static void free_target(sw_target *t)
 {
-    free(t->color);
-    free(t->depth);
-    free(t->test);
-    free(t->id);
-    free(t->count);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) free(t->plane[p]);
     memset(t, 0, sizeof *t);
 }
 
@@ -37,30 +33,23 @@ static spr_result sw_set_view(spr_backend *b, const spr_view *v)
     return SPR_OK;
 }
 
-static spr_result sw_target_create(spr_backend *b, int *out)
+static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)
 {
     sw_context *c = sw_ctx(b);
     int t;
-    spr_result r = spr__backend_add_target(b, &t, (void **)&c->targets, &c->cap, sizeof *c->targets);
+    spr_result r = spr__backend_add_target(b, planes, &t, (void **)&c->targets, &c->cap, sizeof *c->targets);
     if (r) return r;
     size_t np = (size_t)b->view.width * (size_t)b->view.height;
     sw_target *tg = &c->targets[t];
-    if (tg->color && tg->pixels == np) { /* memory kept from a destroyed target of this size */
-        static const float zero[4] = {0, 0, 0, 0};
-        *out = t;
-        return b->clear(b, t, zero);
-    }
-    free_target(tg);
+    if (tg->pixels != np) free_target(tg); /* else: memory kept from a destroyed target of this size */
     tg->pixels = np;
-    tg->color = malloc(np * 4 * sizeof(float));
-    tg->depth = malloc(np * sizeof(float));
-    tg->test = malloc(np * sizeof(float));
-    tg->id = malloc(np * sizeof(uint32_t));
-    tg->count = malloc(np * sizeof(uint32_t));
-    if (!tg->color || !tg->depth || !tg->test || !tg->id || !tg->count) {
-        free_target(tg);
-        b->target_live[t] = 0;
-        return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a target");
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        if (!(planes & SPR_PLANE_BIT(p)) || tg->plane[p]) continue;
+        if (!(tg->plane[p] = malloc(np * (size_t)spr_plane_channels((spr_plane)p) * 4))) {
+            free_target(tg);
+            b->target_live[t] = 0;
+            return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a target");
+        }
     }
     *out = t;
     static const float zero[4] = {0, 0, 0, 0};
@@ -72,18 +61,27 @@ static spr_result sw_target_create(spr_backend *b, int *out)
  * faulted in serially on every render. */
 static void sw_target_destroy(spr_backend *b, int t) { (void)b; (void)t; }
 
+/* Every plane the target has: colour to `color`, the others to the clear
+ * value of the plane table. */
 static spr_result sw_clear(spr_backend *b, int t, const float color[4])
 {
     sw_context *c = sw_ctx(b);
     sw_target *tg = &c->targets[t];
+    const unsigned planes = b->target_planes[t];
     const long np = (long)b->view.width * b->view.height;
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        if (!(planes & SPR_PLANE_BIT(p))) continue;
+        const spr_plane_info *pi = spr_plane_info_of((spr_plane)p);
+        const int ch = pi->channels;
+        uint32_t v[4];
+        for (int k = 0; k < ch; k++) {
+            if (p == SPR_PLANE_COLOR) memcpy(&v[k], &color[k], 4);
+            else if (pi->type == SPR_PLANE_U32 || pi->type == SPR_PLANE_COUNTER) v[k] = (uint32_t)pi->clear;
+            else { float f = (float)pi->clear; memcpy(&v[k], &f, 4); }
+        }
+        uint32_t *dst = tg->plane[p];
 #pragma omp parallel for num_threads(c->threads) schedule(static)
-    for (long i = 0; i < np; i++) {
-        memcpy(tg->color + 4 * i, color, 4 * sizeof(float));
-        tg->depth[i] = 1.0f;
-        tg->test[i] = 1.0f;
-        tg->id[i] = UINT32_MAX;
-        tg->count[i] = 0;
+        for (long i = 0; i < np; i++) memcpy(dst + (size_t)ch * i, v, (size_t)ch * 4);
     }
     return SPR_OK;
 }
@@ -92,14 +90,7 @@ static spr_result sw_read_plane(spr_backend *b, int t, spr_plane p, void *out)
 {
     sw_target *tg = &sw_ctx(b)->targets[t];
     size_t np = (size_t)b->view.width * (size_t)b->view.height;
-    switch (p) {
-    case SPR_PLANE_COLOR: memcpy(out, tg->color, np * 4 * sizeof(float)); break;
-    case SPR_PLANE_DEPTH: memcpy(out, tg->depth, np * sizeof(float)); break;
-    case SPR_PLANE_TEST: memcpy(out, tg->test, np * sizeof(float)); break;
-    case SPR_PLANE_ID: memcpy(out, tg->id, np * sizeof(uint32_t)); break;
-    case SPR_PLANE_COUNT: memcpy(out, tg->count, np * sizeof(uint32_t)); break;
-    default: return spr__fail(&b->err, SPR_E_ARG, "cpu: unknown plane");
-    }
+    memcpy(out, tg->plane[p], np * (size_t)spr_plane_channels(p) * 4);
     return SPR_OK;
 }
 

@@ -10,14 +10,14 @@
 
 #define SW_TILE 32
 
+/* A target: one array per plane of the plane table (4-byte values,
+ * channels per pixel as the table says); NULL for planes it lacks. */
 typedef struct sw_target {
-    float *color;     /* 4 per pixel */
-    float *depth;     /* stored d_f */
-    float *test;      /* test depth z */
-    uint32_t *id;
-    uint32_t *count;
+    void *plane[SPR_PLANE__COUNT];
     size_t pixels;    /* size the buffers were allocated for */
 } sw_target;
+#define SW_F(t, p) ((float *)(t)->plane[SPR_PLANE_##p])
+#define SW_U(t, p) ((uint32_t *)(t)->plane[SPR_PLANE_##p])
 
 typedef struct sw_context {
     spr_backend base; /* first: a sw_context is an spr_backend */

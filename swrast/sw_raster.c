@@ -5,12 +5,14 @@
  *                 ascending (chunks of the submission are binned in parallel
  *                 and concatenated in chunk order)
  *   3. per tile = for i in bin order, for each pixel of rect ∩ tile:
- *                 ray–disk test → kernel → test value → depth test → write
+ *                 ray–disk test → depth mask → test value → depth test →
+ *                 kernel → blend/write  (spr_arith.h, then sw_fixed.h)
  * Tiles are disjoint, so the result does not depend on which thread runs
  * which tile; statistics are integer sums.
  */
 #include "sw_internal.h"
 #include "spr_fragment.h"
+#include "sw_fixed.h"
 
 #include <omp.h>
 #include <stdlib.h>
@@ -37,6 +39,9 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     const int W = c->base.view.width;
     const int tx0 = (tile % job->tiles_x) * SW_TILE, ty0 = (tile / job->tiles_x) * SW_TILE;
     const unsigned mask = s->write_mask;
+    float *color = SW_F(tg, COLOR), *depth = SW_F(tg, DEPTH), *test = SW_F(tg, TEST);
+    uint32_t *id = SW_U(tg, ID), *count = SW_U(tg, COUNT);
+    const float *z_near = d->depth_mask ? SW_F(&c->targets[d->mask_target], DEPTH) : NULL;
     uint64_t gen = 0, passed = 0;
     for (uint32_t e = job->bin_start[tile]; e < job->bin_start[tile + 1]; e++) {
         size_t i = job->bin[e];
@@ -52,28 +57,23 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
             for (int x = x0; x <= x1; x++) {
                 size_t pix = (size_t)y * W + x;
                 const float *ray = c->ray + 6 * pix;
-                float t, rho2, den;
-                if (!spr_ray_disk(ray, ray + 3, p, n, r, &t, &rho2, &den)) continue;
-                if (s->cull_backfaces && den > 0.0f) continue;
+                float t, rho2, rho;
+                if (!spr_splat_covers(ray, ray + 3, p, n, r, s->cull_backfaces, z_near != NULL, z_near ? z_near[pix] : 0.0f,
+                                      s->eps_t, &t, &rho2, &rho))
+                    continue;
                 gen++;
-                float rho = sqrtf(rho2);
                 float z = spr_test_value(s, t, rho);
-                if (!spr_depth_passes(s->depth_func, z, tg->test[pix])) continue;
+                if (!sw_depth_passes(s->depth_func, z, test[pix])) continue;
                 passed++;
-                if (s->depth_write) tg->test[pix] = z;
-                if (mask & SPR_WRITE_DEPTH) tg->depth[pix] = t;
+                if (s->depth_write) test[pix] = z;
+                if (mask & SPR_WRITE_DEPTH) depth[pix] = t;
                 if (mask & SPR_WRITE_COLOR) {
                     float src[4];
-                    if (s->output == SPR_OUT_ALPHA) {
-                        src[0] = col[0]; src[1] = col[1]; src[2] = col[2]; src[3] = cl->alpha[sid];
-                    } else {
-                        float w = spr_kernel_weight(s->kernel, rho2, rho);
-                        src[0] = w * col[0]; src[1] = w * col[1]; src[2] = w * col[2]; src[3] = w;
-                    }
-                    spr_blend4(s->blend, src, tg->color + 4 * pix);
+                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, cl->alpha[sid], src);
+                    sw_blend4(s, src, color + 4 * pix);
                 }
-                if (mask & SPR_WRITE_ID) tg->id[pix] = sid;
-                if (mask & SPR_WRITE_COUNT) tg->count[pix]++;
+                if (mask & SPR_WRITE_ID) id[pix] = sid;
+                if (mask & SPR_WRITE_COUNT) count[pix]++;
             }
         }
     }

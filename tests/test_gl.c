@@ -133,12 +133,12 @@ START_TEST(blend_modes_and_depth_funcs_match)
                 int t[2];
                 for (int k = 0; k < 2; k++) {
                     ck_assert_int_eq(spr_backend_set_view(be[k], &v), SPR_OK);
-                    ck_assert_int_eq(spr_backend_target_create(be[k], &t[k]), SPR_OK);
+                    ck_assert_int_eq(spr_backend_target_create(be[k], SPR_PLANES_ALL, &t[k]), SPR_OK);
                     static const float bg[4] = {0.1f, 0.2f, 0.3f, 0.4f};
                     ck_assert_int_eq(spr_backend_clear(be[k], t[k], bg), SPR_OK);
                     spr_draw_desc d = {.cloud = &c};
                     spr_pass_state_defaults(&d.state);
-                    d.state.blend = (spr_blend)blend;
+                    spr_pass_state_blend(&d.state, (spr_blend)blend);
                     d.state.depth_func = (spr_depth_func)func;
                     d.state.output = (spr_frag_output)out;
                     d.state.depth_write = func != SPR_FUNC_ALWAYS;

@@ -26,7 +26,7 @@ START_TEST(wgc_cost_never_rises)
             if (lab[i] < 0 || lab[i] >= 8) ck_abort_msg("label out of range");
         /* the reported cost is L of the returned labels */
         spr_overlap_graph og;
-        ck_assert_int_eq(spr_overlap_graph_build(&c, spr_group_default_eps(&c), 1, NULL, &og, &err), SPR_OK);
+        ck_assert_int_eq(spr_overlap_graph_build(&c, spr_cloud_default_eps(&c), 1, NULL, &og, &err), SPR_OK);
         float *w = spr_wgc_weights(&c, &og);
         ck_assert_double_eq_tol(spr_wgc_cost(&og, w, lab), st.cost_after, 1e-9 * (1.0 + st.cost_after));
         free(w);
@@ -80,7 +80,7 @@ START_TEST(hash_collisions_take_least_overlap)
     spr_group_stats st;
     spr_error err;
     ck_assert_int_eq(spr_group_hash(&c, &d, lab, &st, &err), SPR_OK);
-    double eps = spr_group_default_eps(&c);
+    double eps = spr_cloud_default_eps(&c);
     size_t n = c.n, displaced = 0, moved = 0;
     int64_t *cx = malloc(n * sizeof *cx), *cy = malloc(n * sizeof *cy);
     int *ax = malloc(n * sizeof *ax), *first = malloc(n * sizeof *first);
@@ -279,7 +279,7 @@ START_TEST(duplication_raises_coverage)
     spr_extend_desc ed;
     spr_extend_defaults(&ed);
     ed.threads = 2;
-    double ratio = 0.0, eps = spr_group_default_eps(&c);
+    double ratio = 0.0, eps = spr_cloud_default_eps(&c);
     ck_assert_int_eq(spr_group_duplicate(&c, lab, 4, &ed, &after, &ratio, &err), SPR_OK);
     double cov0 = spr_group_coverage(&c, &before, eps, 2), cov1 = spr_group_coverage(&c, &after, eps, 2);
     printf("grouping: bunny, hash K=4: per-group coverage %.4f -> %.4f with duplication (+%.1f%% memberships)\n", cov0, cov1,

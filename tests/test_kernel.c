@@ -1,5 +1,6 @@
 /* test_kernel.c — SPEC §3.1: kernel values and the gauss polynomial's error. */
 #include <math.h>
+#include "spr_fragment.h"
 #include "test_util.h"
 
 START_TEST(gauss_polynomial_error_below_1e6)

@@ -20,7 +20,7 @@ static void setup(fixture *f, int threads)
     f->b = spr_swrast_create(threads, &err);
     ck_assert_ptr_nonnull(f->b);
     ck_assert_int_eq(spr_backend_set_view(f->b, &v), SPR_OK);
-    ck_assert_int_eq(spr_backend_target_create(f->b, &f->t), SPR_OK);
+    ck_assert_int_eq(spr_backend_target_create(f->b, SPR_PLANES_ALL, &f->t), SPR_OK);
 }
 
 static void draw(fixture *f, const spr_cloud *c, const spr_pass_state *s, spr_draw_stats *st)
@@ -141,7 +141,7 @@ START_TEST(lequal_and_add_blend)
     spr_pass_state s;
     state(&s);
     s.depth_func = SPR_FUNC_LEQUAL;
-    s.blend = SPR_BLEND_ADD;
+    spr_pass_state_blend(&s, SPR_BLEND_ADD);
     s.kernel = SPR_KERNEL_CONSTANT;
     spr_draw_stats st;
     draw(&f, &c, &s, &st);
@@ -185,7 +185,7 @@ START_TEST(thousands_of_fragments_in_submission_order)
     spr_pass_state s;
     spr_pass_state_defaults(&s);
     s.depth_func = SPR_FUNC_ALWAYS;
-    s.blend = SPR_BLEND_ADD;
+    spr_pass_state_blend(&s, SPR_BLEND_ADD);
     for (int threads = 1; threads <= 7; threads += 3) {
         fixture f;
         setup(&f, threads);

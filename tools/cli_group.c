@@ -61,7 +61,7 @@ int cmd_group(int argc, char **argv)
     memset(&s.og, 0, sizeof s.og);
     spr_error err = {0};
     spr_progress prog = cli_progress(cli_flag(&a, "quiet"));
-    if (!og.g.start && spr_overlap_graph_build(&s.cloud, spr_group_default_eps(&s.cloud), s.threads, &prog, &og, &err)) {
+    if (!og.g.start && spr_overlap_graph_build(&s.cloud, spr_cloud_default_eps(&s.cloud), s.threads, &prog, &og, &err)) {
         fprintf(stderr, "splatref group: %s\n", err.msg);
         goto done;
     }

@@ -101,3 +101,10 @@ void spr_cloud_color_by_normal(spr_cloud *c)
 {
     for (size_t i = 0; i < 3 * c->n; i++) c->color[i] = 0.5f * c->nrm[i] + 0.5f;
 }
+
+double spr_cloud_default_eps(const spr_cloud *c)
+{
+    spr_bounds b;
+    spr_cloud_bounds(c, &b);
+    return 2.0 * b.mean_radius;
+}

@@ -46,6 +46,9 @@ typedef struct spr_bounds {
     double max_radius, mean_radius, min_radius;
 } spr_bounds;
 void spr_cloud_bounds(const spr_cloud *c, spr_bounds *b);
+/* The default world tolerance ε of rendering and grouping: 2 × mean radius
+ * [decision], the single definition every caller uses. */
+double spr_cloud_default_eps(const spr_cloud *c);
 
 /* Colour every splat by its normal, c = 0.5·n + 0.5 (used when a file has no
  * colours: flat colours would show only a silhouette without shading). */

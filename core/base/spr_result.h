@@ -18,7 +18,7 @@
     X(SPR_E_NOMEM,      -6, "out of memory")                            \
     X(SPR_E_ARG,        -7, "invalid argument")                         \
     X(SPR_E_BACKEND,    -8, "backend failure")                          \
-    X(SPR_E_UNSUPPORTED,-9, "unsupported")
+    X(SPR_E_NO_DEVICE,  -9, "no device: no EGL display or GL context can be created")
 
 typedef enum spr_result {
 #define SPR__X(name, value, msg) name = value,

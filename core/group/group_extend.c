@@ -51,7 +51,7 @@ spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, 
                                double *dup_ratio, spr_error *err)
 {
     spr_extend_desc d = *din;
-    if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
+    if (!(d.eps > 0.0)) d.eps = spr_cloud_default_eps(c);
     if (!(d.max_share > 0.0)) d.max_share = 0.5;
     memset(out, 0, sizeof *out);
     spr_graph g;
@@ -146,7 +146,7 @@ static double union_area(const spr_cloud *c, const spr_graph *g, double eps, uin
 spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_extend_desc *din, spr_error *err)
 {
     spr_extend_desc d = *din;
-    if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
+    if (!(d.eps > 0.0)) d.eps = spr_cloud_default_eps(c);
     const double F = 3.0; /* neighbours for scales up to 3 */
     spr_graph gw;
     spr_result r = spr__pair_graph(c, F, d.threads, &d.progress, &gw, err);

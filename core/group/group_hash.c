@@ -169,7 +169,7 @@ static spr_result place_pending(const spr_cloud *c, spr_hash_desc *d, int32_t *l
     for (size_t i = 0; i < c->n; i++) placed[i] = state[i] == PLACED;
     spr_overlap_graph og;
     double t1 = spr_now_ms();
-    if (!(d->eps > 0.0)) d->eps = spr_group_default_eps(c); /* a full pass: only when collisions need areas */
+    if (!(d->eps > 0.0)) d->eps = spr_cloud_default_eps(c); /* a full pass: only when collisions need areas */
     spr_result r = spr_overlap_graph_build(c, d->eps, d->threads, &d->progress, &og, err);
     st->ms_graph = spr_now_ms() - t1;
     for (size_t i = 0; !r && i < c->n; i++) {

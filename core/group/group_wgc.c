@@ -100,7 +100,7 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
 {
     spr_wgc_desc d = *din;
     if (d.K < 1 || d.K > SPR_MAX_GROUPS) return spr__fail(err, SPR_E_ARG, "wgc: --k %d outside 1..%d", d.K, SPR_MAX_GROUPS);
-    if (!(d.eps > 0.0)) d.eps = spr_group_default_eps(c);
+    if (!(d.eps > 0.0)) d.eps = spr_cloud_default_eps(c);
     if (!d.max_pops) d.max_pops = 10 * c->n;
     memset(st, 0, sizeof *st);
     double t0 = spr_now_ms();

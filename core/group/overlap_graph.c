@@ -9,13 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-double spr_group_default_eps(const spr_cloud *c)
-{
-    spr_bounds b;
-    spr_cloud_bounds(c, &b);
-    return 2.0 * b.mean_radius;
-}
-
 void spr_overlap_graph_free(spr_overlap_graph *og)
 {
     spr_graph_free(&og->g);

@@ -76,7 +76,7 @@ typedef struct spr_hash_desc {
     spr_hash_axis axis;
     double eye[3];        /* mode 3: collisions handled for splats with |p − eye| < near_dist */
     double near_dist;
-    double eps;           /* overlap areas of collision handling (0 = spr_group_default_eps) */
+    double eps;           /* overlap areas of collision handling (0 = spr_cloud_default_eps) */
     const int32_t *axes;  /* optional: the axis of every splat, e.g. from a BSP kept across frames */
     int threads;
     spr_progress progress;
@@ -120,13 +120,11 @@ spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, 
 void spr_overlap_graph_free(spr_overlap_graph *og);
 /* All pairs with |p_i − p_j| < f·(r_i + r_j) (no areas). */
 spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err);
-/* Default ε of the grouping areas: 2 × mean radius, as rendering. */
-double spr_group_default_eps(const spr_cloud *c);
 
 /* ---- WGC: weighted graph colouring with K colours (SPEC §5.2) ---- */
 typedef struct spr_wgc_desc {
     int K;              /* default 8 */
-    double eps;         /* 0 = spr_group_default_eps */
+    double eps;         /* 0 = spr_cloud_default_eps */
     double tau_w;       /* optimisation threshold τ_w (default 0) */
     size_t max_pops;    /* 0 = 10·n */
     int threads;
@@ -145,7 +143,7 @@ int spr_minimize_overlap(const spr_overlap_graph *og, size_t v, const int32_t *l
 
 /* ---- extended grouping for surface coverage ([ZP] §4.4.2, SPEC §5.5) ---- */
 typedef struct spr_extend_desc {
-    double eps;          /* 0 = spr_group_default_eps */
+    double eps;          /* 0 = spr_cloud_default_eps */
     double max_share;    /* duplication: drop a candidate covered beyond this share (default 0.5) */
     int threads;
     spr_progress progress;

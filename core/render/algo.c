@@ -7,16 +7,6 @@
 #include <string.h>
 #include <time.h>
 
-static const char *const algo_names[SPR_ALGO__COUNT] = {[SPR_ALGO_DEFERRED] = "deferred", [SPR_ALGO_PBR2P1] = "pbr2p1"};
-
-int spr_algo_from_name(const char *name)
-{
-    for (int a = 0; a < SPR_ALGO__COUNT; a++)
-        if (!strcmp(name, algo_names[a])) return a;
-    return -1;
-}
-const char *spr_algo_name(spr_algo a) { return (unsigned)a < SPR_ALGO__COUNT ? algo_names[a] : "?"; }
-
 static spr_result record(spr__run *run, const char *name, int group, const spr_pass_state *state, int target,
                          const spr_draw_stats *st, double ms)
 {
@@ -64,18 +54,26 @@ spr_result spr__run_composite(spr__run *run, const char *name, const spr_composi
     return record(run, name, -1, NULL, c->output, &st, spr_now_ms() - t0);
 }
 
+spr_result spr__run_target(spr__run *run, unsigned planes, int *target)
+{
+    spr_result r = spr_backend_target_create(run->b, planes, target);
+    if (r) return spr__fail(run->err, r, "%s: %s", spr_algo_name(run->desc->algo), run->b->err.msg);
+    return SPR_OK;
+}
+
 spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
                       spr_render_result *out, spr_error *err)
 {
     memset(out, 0, sizeof *out);
-    if ((unsigned)desc->algo >= SPR_ALGO__COUNT) return spr__fail(err, SPR_E_ARG, "render: unknown algorithm %d", (int)desc->algo);
+    const spr_algo_info *ai = spr_algo_info_of(desc->algo);
+    if (!ai) return spr__fail(err, SPR_E_ARG, "render: unknown algorithm %d", (int)desc->algo);
     if (desc->groups && desc->groups->n_splats != cloud->n)
         return spr__fail(err, SPR_E_ARG, "render: groups are for %zu splats, the model has %zu", desc->groups->n_splats, cloud->n);
     spr_result r = spr_backend_set_view(b, view);
     if (r) return backend_failed(&(spr__run){.b = b, .err = err}, r);
     spr_bounds bd;
     spr_cloud_bounds(cloud, &bd);
-    double eps = desc->eps > 0.0 ? desc->eps : 2.0 * bd.mean_radius;
+    double eps = desc->eps > 0.0 ? desc->eps : spr_cloud_default_eps(cloud);
     spr__run run = {b, cloud, desc, out, err, spr_view_eps_t(view, eps), {0, 0, 0, 0}, 0};
     spr_lowres_make(view, &bd, run.eps_t, desc->lowres_n, &run.lowres);
     out->width = view->width;
@@ -83,7 +81,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     out->eps_t = run.eps_t;
     out->lowres = run.lowres;
     int final_target = -1;
-    r = desc->algo == SPR_ALGO_PBR2P1 ? spr__algo_pbr2p1(&run, &final_target) : spr__algo_deferred(&run, &final_target);
+    r = ai->run(&run, &final_target);
     if (!r) {
         out->rgba = malloc((size_t)view->width * view->height * 4 * sizeof(float));
         if (!out->rgba) r = spr__fail(err, SPR_E_NOMEM, "render: out of memory for the image");

@@ -14,17 +14,14 @@
 
 spr_result spr__algo_deferred(spr__run *run, int *final_target)
 {
-    spr_backend *b = run->b;
     const spr_groups *g = run->desc->groups;
     int K = g ? g->K : 1;
     int *I = malloc((size_t)(K + 1) * sizeof(int));
     if (!I) return spr__fail(run->err, SPR_E_NOMEM, "deferred: out of memory");
     spr_result r = SPR_OK;
-    for (int k = 0; k <= K && !r; k++) r = spr_backend_target_create(b, &I[k]);
-    if (r) {
-        r = spr__fail(run->err, r, "deferred: %s", b->err.msg);
-        goto done;
-    }
+    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_ALL, &I[k]);
+    if (!r) r = spr__run_target(run, SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_TEST), &I[K]);
+    if (r) goto done;
     spr_draw_desc d = {.cloud = run->cloud};
     spr_pass_state_defaults(&d.state);
     d.state.kernel = run->desc->kernel;
@@ -33,7 +30,7 @@ spr_result spr__algo_deferred(spr__run *run, int *final_target)
     d.state.eps_t = run->eps_t;
     d.state.depth_func = SPR_FUNC_LESS;
     d.state.depth_write = 1;
-    d.state.blend = SPR_BLEND_REPLACE;
+    spr_pass_state_blend(&d.state, SPR_BLEND_REPLACE);
     d.state.write_mask = SPR_WRITE_ALL;
     float *radius = NULL;
     if (g && g->radius_scale && !(radius = malloc(run->cloud->n * sizeof *radius))) {

@@ -10,11 +10,11 @@
 
 spr_result spr__algo_pbr2p1(spr__run *run, int *final_target)
 {
-    spr_backend *b = run->b;
-    int acc, out;
+        int acc, out;
     spr_result r;
-    if ((r = spr_backend_target_create(b, &acc)) || (r = spr_backend_target_create(b, &out)))
-        return spr__fail(run->err, r, "pbr2p1: %s", b->err.msg);
+    if ((r = spr__run_target(run, SPR_PLANES_ALL, &acc)) ||
+        (r = spr__run_target(run, SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_TEST), &out)))
+        return r;
     spr_draw_desc d = {.cloud = run->cloud};
 
     spr_pass_state_defaults(&d.state);
@@ -29,7 +29,7 @@ spr_result spr__algo_pbr2p1(spr__run *run, int *final_target)
     d.state.depth_value = SPR_DEPTH_PLAIN;
     d.state.depth_func = SPR_FUNC_LEQUAL;
     d.state.depth_write = 0;
-    d.state.blend = SPR_BLEND_ADD;
+    spr_pass_state_blend(&d.state, SPR_BLEND_ADD);
     d.state.write_mask = SPR_WRITE_COLOR | SPR_WRITE_COUNT;
     if ((r = spr__run_draw(run, "blend", -1, acc, &d))) return r;
 

@@ -4,19 +4,37 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const plane_names[SPR_PLANE__COUNT] = {"color", "depth", "test", "id", "count"};
+static const spr_plane_info plane_table[SPR_PLANE__COUNT] = {
+#define SPR__PLANE_ROW(e, name, ch, type, clear) {name, ch, type, clear},
+    SPR_PLANE_LIST(SPR__PLANE_ROW)
+#undef SPR__PLANE_ROW
+};
 
-int spr_plane_channels(spr_plane p) { return p == SPR_PLANE_COLOR ? 4 : 1; }
-const char *spr_plane_name(spr_plane p) { return (unsigned)p < SPR_PLANE__COUNT ? plane_names[p] : "?"; }
+static const spr_composite_info composite_table[SPR_COMP__COUNT] = {
+#define SPR__COMP_ROW(e, fn, max_in, summary) {#fn, max_in, summary},
+    SPR_COMPOSITE_LIST(SPR__COMP_ROW)
+#undef SPR__COMP_ROW
+};
+
+const spr_plane_info *spr_plane_info_of(spr_plane p) { return (unsigned)p < SPR_PLANE__COUNT ? &plane_table[p] : NULL; }
+int spr_plane_channels(spr_plane p) { return (unsigned)p < SPR_PLANE__COUNT ? plane_table[p].channels : 0; }
+const char *spr_plane_name(spr_plane p) { return (unsigned)p < SPR_PLANE__COUNT ? plane_table[p].name : "?"; }
+const spr_composite_info *spr_composite_info_of(spr_composite_op op)
+{
+    return (unsigned)op < SPR_COMP__COUNT ? &composite_table[op] : NULL;
+}
 
 void spr_pass_state_defaults(spr_pass_state *s)
 {
     memset(s, 0, sizeof *s);
+    s->blend = s->blend_alpha = SPR_BLEND_REPLACE;
     s->write_mask = SPR_WRITE_ALL;
     s->lowres.n = 1.0f;
     s->lowres.inv_n = 1.0f;
     s->lowres.d_max = 1.0f;
 }
+
+void spr_pass_state_blend(spr_pass_state *s, spr_blend b) { s->blend = s->blend_alpha = b; }
 
 static int live(const spr_backend *b, int t)
 {
@@ -28,15 +46,23 @@ static spr_result bad(spr_backend *b, const char *fmt, int v)
     return spr__fail(&b->err, SPR_E_ARG, fmt, v);
 }
 
-spr_result spr__backend_add_target(spr_backend *b, int *out_target, void **slots, int *cap, size_t slot_size)
+unsigned spr_backend_target_planes(const spr_backend *b, int t) { return live(b, t) ? b->target_planes[t] : 0u; }
+
+static int has(const spr_backend *b, int t, spr_plane p) { return (b->target_planes[t] & SPR_PLANE_BIT(p)) != 0; }
+
+spr_result spr__backend_add_target(spr_backend *b, unsigned planes, int *out_target, void **slots, int *cap,
+                                   size_t slot_size)
 {
     int t = 0;
     while (t < b->n_targets && b->target_live[t]) t++;
     if (t == b->n_targets) {
         unsigned char *nl = realloc(b->target_live, (size_t)b->n_targets + 1);
-        if (!nl) return spr__fail(&b->err, SPR_E_NOMEM, "%s: out of memory for a target", b->name);
-        b->target_live = nl;
-        b->target_live[b->n_targets++] = 0;
+        if (nl) b->target_live = nl;
+        unsigned *np = nl ? realloc(b->target_planes, ((size_t)b->n_targets + 1) * sizeof *np) : NULL;
+        if (!np) return spr__fail(&b->err, SPR_E_NOMEM, "%s: out of memory for a target", b->name);
+        b->target_planes = np;
+        b->target_live[b->n_targets] = 0;
+        b->target_planes[b->n_targets++] = 0;
     }
     if (t >= *cap) {
         int ncap = *cap ? 2 * *cap : 8;
@@ -47,6 +73,7 @@ spr_result spr__backend_add_target(spr_backend *b, int *out_target, void **slots
         *cap = ncap;
     }
     b->target_live[t] = 1;
+    b->target_planes[t] = planes;
     *out_target = t;
     return SPR_OK;
 }
@@ -61,10 +88,11 @@ spr_result spr_backend_set_view(spr_backend *b, const spr_view *v)
     return b->set_view(b, v);
 }
 
-spr_result spr_backend_target_create(spr_backend *b, int *out_target)
+spr_result spr_backend_target_create(spr_backend *b, unsigned planes, int *out_target)
 {
     if (b->view.width < 1) return bad(b, "target: no view set (%d)", 0);
-    return b->target_create(b, out_target);
+    if (!planes || (planes & ~SPR_PLANES_ALL)) return bad(b, "target: plane mask 0x%x names no plane or an unknown one", (int)planes);
+    return b->target_create(b, planes, out_target);
 }
 
 void spr_backend_target_destroy(spr_backend *b, int target)
@@ -90,6 +118,16 @@ spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, 
     if ((unsigned)s->depth_value >= SPR_DEPTH__COUNT) return bad(b, "draw: depth value %d unknown", (int)s->depth_value);
     if ((unsigned)s->depth_func >= SPR_FUNC__COUNT) return bad(b, "draw: depth func %d unknown", (int)s->depth_func);
     if ((unsigned)s->blend >= SPR_BLEND__COUNT) return bad(b, "draw: blend %d unknown", (int)s->blend);
+    if ((unsigned)s->blend_alpha >= SPR_BLEND__COUNT) return bad(b, "draw: alpha blend %d unknown", (int)s->blend_alpha);
+    if (!has(b, target, SPR_PLANE_TEST)) return bad(b, "draw: target %d has no test plane", target);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++)
+        if ((s->write_mask & SPR_PLANE_BIT(p)) && p != SPR_PLANE_TEST && !has(b, target, (spr_plane)p))
+            return spr__fail(&b->err, SPR_E_ARG, "draw: writes plane %s, which target %d does not have", spr_plane_name((spr_plane)p), target);
+    if (d->depth_mask) {
+        if (!live(b, d->mask_target)) return bad(b, "draw: no mask target %d", d->mask_target);
+        if (d->mask_target == target) return bad(b, "draw: target %d cannot mask itself", target);
+        if (!has(b, d->mask_target, SPR_PLANE_DEPTH)) return bad(b, "draw: mask target %d has no depth plane", d->mask_target);
+    }
     if ((unsigned)s->output >= SPR_OUT__COUNT) return bad(b, "draw: output %d unknown", (int)s->output);
     if ((s->depth_value == SPR_DEPTH_LOWRES || s->depth_value == SPR_DEPTH_VORONOI) &&
         !(s->lowres.d_max > s->lowres.d_min && s->lowres.n >= 1.0f))
@@ -108,12 +146,18 @@ spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c)
     if ((unsigned)c->op >= SPR_COMP__COUNT) return bad(b, "composite: op %d unknown", (int)c->op);
     if (c->n_inputs < 1 || c->n_inputs > SPR_MAX_COMPOSITE_INPUTS)
         return bad(b, "composite: %d inputs", c->n_inputs);
-    if (c->op == SPR_COMP_NORMALIZE && c->n_inputs != 1) return bad(b, "composite: normalize takes 1 input, got %d", c->n_inputs);
+    const spr_composite_info *ci = spr_composite_info_of(c->op);
+    if (c->n_inputs > ci->max_inputs)
+        return spr__fail(&b->err, SPR_E_ARG, "composite: %s takes at most %d input(s), got %d", ci->name, ci->max_inputs, c->n_inputs);
     for (int i = 0; i < c->n_inputs; i++) {
         if (!live(b, c->inputs[i])) return bad(b, "composite: no input target %d", c->inputs[i]);
         if (c->inputs[i] == c->output) return bad(b, "composite: target %d is both input and output", c->output);
+        if (!has(b, c->inputs[i], SPR_PLANE_COLOR) || !has(b, c->inputs[i], SPR_PLANE_DEPTH))
+            return bad(b, "composite: input target %d lacks a colour or depth plane", c->inputs[i]);
     }
     if (!live(b, c->output)) return bad(b, "composite: no output target %d", c->output);
+    if (!has(b, c->output, SPR_PLANE_COLOR) || !has(b, c->output, SPR_PLANE_DEPTH))
+        return bad(b, "composite: output target %d lacks a colour or depth plane", c->output);
     return b->composite(b, c);
 }
 
@@ -121,6 +165,7 @@ spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void 
 {
     if (!live(b, target)) return bad(b, "read: no target %d", target);
     if ((unsigned)p >= SPR_PLANE__COUNT) return bad(b, "read: plane %d unknown", (int)p);
+    if (!has(b, target, p)) return spr__fail(&b->err, SPR_E_ARG, "read: target %d has no %s plane", target, spr_plane_name(p));
     return b->read_plane(b, target, p, out);
 }
 
@@ -130,7 +175,9 @@ void spr_backend_destroy(spr_backend *b)
     for (int t = 0; t < b->n_targets; t++)
         if (b->target_live[t]) b->target_destroy(b, t);
     free(b->target_live);
+    free(b->target_planes);
     b->target_live = NULL;
+    b->target_planes = NULL;
     b->n_targets = 0;
     b->destroy(b);
 }

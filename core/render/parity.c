@@ -23,6 +23,7 @@ typedef struct captured_pass {
     char name[32];
     int group;
     spr_draw_stats stats;
+    unsigned planes;                /* the planes the pass's target has */
     void *plane[SPR_PLANE__COUNT];
 } captured_pass;
 
@@ -49,7 +50,9 @@ static void capture_hook(void *user, spr_backend *b, const spr_pass_info *info)
     p->group = info->group;
     p->stats = info->stats;
     size_t np = (size_t)b->view.width * b->view.height;
+    p->planes = spr_backend_target_planes(b, info->target);
     for (int k = 0; k < SPR_PLANE__COUNT; k++) {
+        if (!(p->planes & SPR_PLANE_BIT(k))) continue;
         p->plane[k] = malloc(np * (size_t)spr_plane_channels((spr_plane)k) * 4);
         if (!p->plane[k] || spr_backend_read_plane(b, info->target, (spr_plane)k, p->plane[k])) cp->failed = 1;
     }
@@ -86,7 +89,8 @@ static void compare_plane(compare_ctx *cc, int pass, const char *pname, int grou
                           const void *ref, const void *test)
 {
     int ch = plane == SPR_PLANE_FINAL ? 4 : spr_plane_channels((spr_plane)plane);
-    int is_uint = plane == SPR_PLANE_ID || plane == SPR_PLANE_COUNT;
+    const spr_plane_info *pi = plane == SPR_PLANE_FINAL ? NULL : spr_plane_info_of((spr_plane)plane);
+    int is_uint = pi && (pi->type == SPR_PLANE_U32 || pi->type == SPR_PLANE_COUNTER);
     spr_plane_diff d;
     memset(&d, 0, sizeof d);
     d.pass = pass;
@@ -173,7 +177,13 @@ static void compare_hook(void *user, spr_backend *b, const spr_pass_info *info)
     int W = b->view.width, H = b->view.height;
     void *buf = malloc((size_t)W * H * 4 * sizeof(float));
     if (!buf) { cc->failed = 1; return; }
+    if (spr_backend_target_planes(b, info->target) != rp->planes) {
+        cc->failed = 1;
+        snprintf(cc->err.msg, sizeof cc->err.msg, "pass %d %s: the targets have different planes (0x%x vs 0x%x)", i, info->name,
+                 rp->planes, spr_backend_target_planes(b, info->target));
+    }
     for (int k = 0; k < SPR_PLANE__COUNT && !cc->failed; k++) {
+        if (!(rp->planes & SPR_PLANE_BIT(k))) continue;
         if (spr_backend_read_plane(b, info->target, (spr_plane)k, buf)) { cc->failed = 1; cc->err = b->err; break; }
         compare_plane(cc, i, info->name, info->group, k, W, H, rp->plane[k], buf);
     }

@@ -2,8 +2,11 @@
  *
  * spr_render() runs one algorithm as a sequence of named passes, calls the
  * pass hook after each (dumps, traces: SPEC §8) and returns the final image.
- * Algorithms: pbr2p1 (SPEC §4.1, algo_pbr2p1.c) and deferred (SPEC §4.2,
- * algo_deferred.c).
+ * The algorithms form one registry (SPR_ALGO_LIST, algo_registry.c): its
+ * name, a one-line summary, the SPEC section, the options it uses and the
+ * function that issues its passes (algo_<name>.c).  Help text, `info`,
+ * `bench`, `parity` and `reference` iterate the registry; a new algorithm is
+ * one row and one file (docs/architecture.md, "add an algorithm").
  */
 #ifndef SPR_ALGO_H
 #define SPR_ALGO_H
@@ -11,13 +14,44 @@
 #include "spr_backend.h"
 #include "spr_group.h"
 
+/* Options of spr_render_desc an algorithm reads (the CLI rejects the others). */
+enum {
+    SPR_USES_KERNEL  = 1u << 0,  /* kernel */
+    SPR_USES_EPS     = 1u << 1,  /* eps */
+    SPR_USES_GROUPS  = 1u << 2,  /* groups */
+    SPR_USES_VORONOI = 1u << 3,  /* voronoi, and lowres_n with it */
+    SPR_USES_LOWRES  = 1u << 4   /* lowres_n without Voronoi (low-precision depth culling) */
+};
+
+/* The registry: X(ENUM, name, uses, SPEC section, summary).  Row order is
+ * the order parity, bench and reference run them; row 0 is the default. */
+#define SPR_ALGO_LIST(X)                                                                                      \
+    X(DEFERRED, deferred, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI, "4.2",         \
+      "1+1-pass deferred blending: one target per group, then the eps-composite ([ZP] 3.2)")                  \
+    X(PBR2P1, pbr2p1, SPR_USES_KERNEL | SPR_USES_EPS, "4.1",                                                    \
+      "standard 2+1-pass splatting: visibility, additive blend, normalise ([ZP] 3.1)")
+
 typedef enum spr_algo {
-    SPR_ALGO_DEFERRED = 0,
-    SPR_ALGO_PBR2P1,
+#define SPR__ALGO_ENUM(e, name, uses, spec, summary) SPR_ALGO_##e,
+    SPR_ALGO_LIST(SPR__ALGO_ENUM)
+#undef SPR__ALGO_ENUM
     SPR_ALGO__COUNT
 } spr_algo;
+
+struct spr__run;
+typedef struct spr_algo_info {
+    const char *name;
+    unsigned uses;           /* SPR_USES_* */
+    const char *spec;        /* SPEC section */
+    const char *summary;     /* one line */
+    spr_result (*run)(struct spr__run *run, int *final_target); /* issues the passes */
+} spr_algo_info;
+/* Row a of the registry (NULL when a is not an algorithm). */
+const spr_algo_info *spr_algo_info_of(spr_algo a);
 int spr_algo_from_name(const char *name);  /* −1 if unknown */
 const char *spr_algo_name(spr_algo a);
+/* "deferred | pbr2p1" — the names joined by sep, for help and errors. */
+const char *spr_algo_names(const char *sep);
 
 /* What the hook sees after a pass. */
 typedef struct spr_pass_info {
@@ -78,7 +112,11 @@ typedef struct spr__run {
 } spr__run;
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d);
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c);
-spr_result spr__algo_pbr2p1(spr__run *run, int *final_target);
-spr_result spr__algo_deferred(spr__run *run, int *final_target);
+/* Target of `planes` for the run, failures named after the algorithm. */
+spr_result spr__run_target(spr__run *run, unsigned planes, int *target);
+/* The algorithms of the registry, one file each. */
+#define SPR__ALGO_DECL(e, name, uses, spec, summary) spr_result spr__algo_##name(spr__run *run, int *final_target);
+SPR_ALGO_LIST(SPR__ALGO_DECL)
+#undef SPR__ALGO_DECL
 
 #endif

@@ -2,16 +2,14 @@
  *
  * A backend owns render targets of the view's size and executes three kinds
  * of work, always in call order: clears, splat draws under a pass state, and
- * full-screen compositing operations.  Algorithms (algo_*.c) are written once
- * as sequences of these calls; the CPU backend (swrast/) and the GL backend
- * (glbackend/) implement them with identical float arithmetic.
+ * full-screen composite operations.  Algorithms (the registry of spr_algo.h)
+ * are written once as sequences of these calls; the CPU backend (swrast/)
+ * and the GL backend (glbackend/) implement them with the one float
+ * sequence of spr_arith.h.
  *
- * A target has these planes (SPEC §3.2):
- *   SPR_PLANE_COLOR  4 floats: weighted colour sum (rgb) and weight sum (a)
- *   SPR_PLANE_DEPTH  1 float : stored depth d_f, cleared to 1 (far)
- *   SPR_PLANE_TEST   1 float : test depth z used by the depth test, cleared to 1
- *   SPR_PLANE_ID     1 uint32: id of the last splat written, cleared to ~0
- *   SPR_PLANE_COUNT  1 uint32: fragments that passed the depth test
+ * Targets are built from the plane table below: each target holds the set
+ * of planes it was created with (a mask of SPR_PLANE_BIT), and a draw or
+ * composite writes only the planes its target has.
  *
  * Call the spr_backend_* wrappers, not the function pointers: they validate
  * the arguments in core/ so both backends reject the same inputs the same way.
@@ -26,14 +24,41 @@
 #include "spr_kernel.h"
 #include "spr_result.h"
 
+/* How a plane stores its values and how fragments reach it. */
+typedef enum spr_plane_type {
+    SPR_PLANE_F32 = 0,  /* float per channel, blended as the pass says (colour) or replaced */
+    SPR_PLANE_ZTEST,    /* float: the value the depth test compares and writes */
+    SPR_PLANE_U32,      /* uint32, replaced, never blended */
+    SPR_PLANE_COUNTER   /* uint32, +1 per fragment that passes the depth test */
+} spr_plane_type;
+
+/* The plane table (SPEC §3.2): X(ENUM, name, channels, type, clear value).
+ * A new plane is one row here; draws and composites that produce it say so
+ * in their write masks (docs/architecture.md, "add a plane"). */
+#define SPR_PLANE_LIST(X)                                                                      \
+    X(COLOR, "color", 4, SPR_PLANE_F32, 0.0)      /* Σ w·c and Σ w, or c and α; clear: caller */ \
+    X(DEPTH, "depth", 1, SPR_PLANE_F32, 1.0)      /* stored depth d_f of the last write */       \
+    X(TEST, "test", 1, SPR_PLANE_ZTEST, 1.0)      /* test depth z */                             \
+    X(ID, "id", 1, SPR_PLANE_U32, 4294967295.0)   /* splat id of the last write, ~0 = none */    \
+    X(COUNT, "count", 1, SPR_PLANE_COUNTER, 0.0)  /* fragments that passed the depth test */
+
 typedef enum spr_plane {
-    SPR_PLANE_COLOR = 0,
-    SPR_PLANE_DEPTH,
-    SPR_PLANE_TEST,
-    SPR_PLANE_ID,
-    SPR_PLANE_COUNT,
+#define SPR__PLANE_ENUM(e, name, ch, type, clear) SPR_PLANE_##e,
+    SPR_PLANE_LIST(SPR__PLANE_ENUM)
+#undef SPR__PLANE_ENUM
     SPR_PLANE__COUNT
 } spr_plane;
+#define SPR_PLANE_BIT(p) (1u << (p))
+#define SPR_PLANES_ALL ((1u << SPR_PLANE__COUNT) - 1u)
+
+typedef struct spr_plane_info {
+    const char *name;
+    int channels;
+    spr_plane_type type;
+    double clear;        /* every plane but COLOR is cleared to this */
+} spr_plane_info;
+/* The row of plane p (NULL when p is not a plane). */
+const spr_plane_info *spr_plane_info_of(spr_plane p);
 /* Channels of a plane (4 for colour, 1 otherwise) and its name for dumps. */
 int spr_plane_channels(spr_plane p);
 const char *spr_plane_name(spr_plane p);
@@ -68,40 +93,49 @@ typedef enum spr_frag_output {
     SPR_OUT__COUNT
 } spr_frag_output;
 
-/* Which planes a draw writes when its fragment passes (test depth is governed
- * by depth_write alone). */
+/* Which planes a draw writes when its fragment passes: plane bits (the
+ * test depth is governed by depth_write alone). */
 enum {
-    SPR_WRITE_COLOR = 1u << 0,
-    SPR_WRITE_DEPTH = 1u << 1,  /* stored depth d_f, always replaced */
-    SPR_WRITE_ID    = 1u << 2,
-    SPR_WRITE_COUNT = 1u << 3,
-    SPR_WRITE_ALL   = 0xFu
+    SPR_WRITE_COLOR = SPR_PLANE_BIT(SPR_PLANE_COLOR),
+    SPR_WRITE_DEPTH = SPR_PLANE_BIT(SPR_PLANE_DEPTH),  /* stored depth d_f, always replaced */
+    SPR_WRITE_ID    = SPR_PLANE_BIT(SPR_PLANE_ID),
+    SPR_WRITE_COUNT = SPR_PLANE_BIT(SPR_PLANE_COUNT),
+    SPR_WRITE_ALL   = SPR_PLANES_ALL & ~SPR_PLANE_BIT(SPR_PLANE_TEST)
 };
 
 /* Per-draw state; zero = defaults (gauss, plain, LESS, no depth write,
- * replace, weighted output, write mask from spr_pass_state_defaults()). */
+ * replace on every channel, weighted output, write mask from
+ * spr_pass_state_defaults()). */
 typedef struct spr_pass_state {
     spr_kernel kernel;
     spr_depth_value depth_value;
     spr_depth_func depth_func;
     int depth_write;
-    spr_blend blend;
+    spr_blend blend;        /* colour channels rgb */
+    spr_blend blend_alpha;  /* the fourth channel (SPEC §6.3: rgb `over`, alpha `add`) */
     spr_frag_output output;
     unsigned write_mask;
     int cull_backfaces;     /* drop fragments with den > 0 */
-    float eps_t;            /* for SPR_DEPTH_EPS_OFFSET */
+    float eps_t;            /* for SPR_DEPTH_EPS_OFFSET and the depth mask */
     spr_lowres lowres;      /* for SPR_DEPTH_LOWRES / VORONOI */
 } spr_pass_state;
 void spr_pass_state_defaults(spr_pass_state *s);
+/* Set one blend for all four channels. */
+void spr_pass_state_blend(spr_pass_state *s, spr_blend b);
 
 /* One draw: splats of `cloud` in the order of `indices` (all splats in input
  * order when NULL), optionally with per-splat radii replacing cloud->radius
- * (indexed by splat id: enlarged radii of [ZP] §4.4.2). */
+ * (indexed by splat id: enlarged radii of [ZP] §4.4.2).  With a depth mask,
+ * the draw reads the stored depth z_near of target mask_target (read-only,
+ * not the target drawn into) and drops every fragment with
+ * d_f ≤ z_near + ε_t (spr_depth_masked, SPEC §6.2 step 2). */
 typedef struct spr_draw_desc {
     const spr_cloud *cloud;
     const uint32_t *indices;
     size_t count;
     const float *radius_override;
+    int depth_mask;         /* 0 = none */
+    int mask_target;
     spr_pass_state state;
 } spr_draw_desc;
 
@@ -111,14 +145,30 @@ typedef struct spr_draw_stats {
     uint64_t passed;      /* fragments that passed the depth test */
 } spr_draw_stats;
 
-/* Full-screen operations (SPEC §4.1 step 3, §4.2 compositing). */
+/* The composite table: X(ENUM, function, most inputs, summary).  Each op is
+ * one per-pixel function spr_comp_<function> of spr_arith.h that reads the
+ * colour and depth planes of its inputs and writes the colour, depth and
+ * test planes of its output; the CPU backend loops it over pixels, the GL
+ * backend runs it as a full-screen pass.  A new op is one function and one
+ * row (docs/architecture.md, "add a composite op"). */
+#define SPR_MAX_COMPOSITE_INPUTS SPR_MAX_GROUPS
+#define SPR_COMPOSITE_LIST(X)                                                                        \
+    X(NORMALIZE, normalize, 1, "c = rgb/a where a > 0, else background; depth copied (SPEC 4.1 step 3)") \
+    X(DEFERRED, deferred, SPR_MAX_COMPOSITE_INPUTS, "eps-composite of the inputs in order, then normalise (SPEC 4.2)")
+
 typedef enum spr_composite_op {
-    SPR_COMP_NORMALIZE = 0, /* out = a > 0 ? (rgb/a, 1) : (background, 0); depth copied */
-    SPR_COMP_DEFERRED,      /* §4.2: ε-composite of inputs in order, then normalise */
+#define SPR__COMP_ENUM(e, fn, max_in, summary) SPR_COMP_##e,
+    SPR_COMPOSITE_LIST(SPR__COMP_ENUM)
+#undef SPR__COMP_ENUM
     SPR_COMP__COUNT
 } spr_composite_op;
+typedef struct spr_composite_info {
+    const char *name;
+    int max_inputs;
+    const char *summary;
+} spr_composite_info;
+const spr_composite_info *spr_composite_info_of(spr_composite_op op);
 
-#define SPR_MAX_COMPOSITE_INPUTS SPR_MAX_GROUPS
 typedef struct spr_composite_desc {
     spr_composite_op op;
     const int *inputs;
@@ -132,7 +182,7 @@ typedef struct spr_backend spr_backend;
 struct spr_backend {
     const char *name;
     spr_result (*set_view)(spr_backend *b, const spr_view *v);
-    spr_result (*target_create)(spr_backend *b, int *out_target);
+    spr_result (*target_create)(spr_backend *b, unsigned planes, int *out_target);
     void (*target_destroy)(spr_backend *b, int target);
     spr_result (*clear)(spr_backend *b, int target, const float color[4]);
     spr_result (*draw_splats)(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st);
@@ -144,11 +194,15 @@ struct spr_backend {
     spr_view view;     /* set by spr_backend_set_view */
     int n_targets;     /* handles are 0 … n_targets−1 (maintained by the backend) */
     unsigned char *target_live;
+    unsigned *target_planes; /* plane mask of each handle */
     spr_error err;     /* last failure, one line */
 };
 
 spr_result spr_backend_set_view(spr_backend *b, const spr_view *v);
-spr_result spr_backend_target_create(spr_backend *b, int *out_target);
+/* A target with the planes of `planes` (SPR_PLANE_BIT mask, or SPR_PLANES_ALL). */
+spr_result spr_backend_target_create(spr_backend *b, unsigned planes, int *out_target);
+/* Plane mask of a live target (0 when there is no such target). */
+unsigned spr_backend_target_planes(const spr_backend *b, int target);
 void spr_backend_target_destroy(spr_backend *b, int target);
 spr_result spr_backend_clear(spr_backend *b, int target, const float color[4]);
 spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st);
@@ -159,6 +213,7 @@ void spr_backend_destroy(spr_backend *b);
 /* Bookkeeping for implementations: take the lowest free handle and make the
  * backend's own per-target array (*slots, *cap entries of slot_size bytes,
  * new entries zeroed) long enough to hold it. */
-spr_result spr__backend_add_target(spr_backend *b, int *out_target, void **slots, int *cap, size_t slot_size);
+spr_result spr__backend_add_target(spr_backend *b, unsigned planes, int *out_target, void **slots, int *cap,
+                                   size_t slot_size);
 
 #endif

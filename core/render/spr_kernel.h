@@ -4,7 +4,7 @@
  * transcendental reaches an output).  `gauss` = exp(−ρ²/(2σ²)), σ = 1/3, is
  * one polynomial in v = 2ρ² − 1 evaluated in Horner form; its coefficients
  * are defined once (kernel.c) and emitted into shader source by the GL
- * backend.  Absolute error ≤ 1e-6 on ρ ∈ [0,1] (tests/test_kernel.c).
+ * backend as exact bit patterns.  Absolute error ≤ 1e-6 on ρ ∈ [0,1] (tests/test_kernel.c).
  */
 #ifndef SPR_KERNEL_H
 #define SPR_KERNEL_H
@@ -26,21 +26,6 @@ extern const float spr_gauss_coef[SPR_GAUSS_DEGREE + 1];
 int spr_kernel_from_name(const char *name);
 const char *spr_kernel_name(spr_kernel k);
 
-/* w(ρ) given ρ² and ρ = sqrt(ρ²), each kernel its documented float sequence. */
-static inline float spr_kernel_weight(spr_kernel k, float rho2, float rho)
-{
-    switch (k) {
-    case SPR_KERNEL_CONSTANT: return 1.0f;
-    case SPR_KERNEL_LINEAR: return 1.0f - rho;
-    case SPR_KERNEL_EPANECHNIKOV: return 1.0f - rho2;
-    case SPR_KERNEL_GAUSS:
-    default: {
-        float v = rho2 * 2.0f - 1.0f;
-        float acc = spr_gauss_coef[0];
-        for (int i = 1; i <= SPR_GAUSS_DEGREE; i++) acc = acc * v + spr_gauss_coef[i];
-        return acc;
-    }
-    }
-}
+/* w(ρ) itself is spr_kernel_weight() of the shared arithmetic (spr_arith.h). */
 
 #endif

@@ -1,0 +1,38 @@
+/* spr_arith_c.h — core/render/spr_arith.h compiled as C.
+ *
+ * Gives the macros of the shared arithmetic their C meaning (see the table
+ * at the top of spr_arith.h), defines how the CPU side fetches a pixel's
+ * input targets, and includes the shared text.  Build with
+ * -ffp-contract=off: C then evaluates exactly the written operations.
+ */
+#ifndef SPR_ARITH_C_H
+#define SPR_ARITH_C_H
+
+#include <math.h>
+#include <stddef.h>
+#include "spr_backend.h"
+#include "spr_kernel.h"
+
+#define SPR_FN static inline
+#define SPR_PRECISE
+#define SPR_CARR const float
+#define SPR_OARR float
+#define SPR_OUT float *
+#define SPR_SET(x) (*(x))
+#define SPR_REF(x) (&(x))
+#define SPR_PIXEL const spr_pixel_in *
+#define spr_floor floorf
+#define spr_sqrt sqrtf
+
+/* A pixel's inputs on the CPU: plane arrays of the input targets, pixel i. */
+typedef struct spr_pixel_in {
+    const float *const *color; /* color[k]: input k's colour plane, 4 per pixel */
+    const float *const *depth; /* depth[k]: input k's stored depth plane */
+    size_t i;
+} spr_pixel_in;
+static inline float spr_in_depth(const spr_pixel_in *px, int k) { return px->depth[k][px->i]; }
+static inline float spr_in_color(const spr_pixel_in *px, int k, int ch) { return px->color[k][4 * px->i + (size_t)ch]; }
+
+#include "spr_arith.h"
+
+#endif

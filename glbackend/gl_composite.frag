@@ -1,0 +1,18 @@
+/* gl_composite.frag — a composite op as a full-screen pass: the per-pixel
+ * function of the composite table (SPR_COMP_CALL, emitted by gl_shaders.c
+ * from SPR_COMPOSITE_LIST) over the input layers u_in_layer[0 … u_K−1]. */
+uniform int u_K, u_op;
+uniform float u_eps;
+uniform float u_bg[3];
+layout(location = SPR_LOC_COLOR) out vec4 o_color;
+layout(location = SPR_LOC_DEPTH) out float o_depth;
+void main()
+{
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    float o[4];
+    float d;
+    SPR_COMP_CALL(u_op, px, u_K, u_eps, u_bg, o, d)
+    o_color = vec4(o[0], o[1], o[2], o[3]);
+    o_depth = d;
+    gl_FragDepth = d;
+}

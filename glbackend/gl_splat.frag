@@ -1,0 +1,39 @@
+/* gl_splat.frag — a splat draw's fragments: inputs from flat varyings,
+ * uniforms and gl_FragCoord (exactly x + 0.5), every value from the shared
+ * arithmetic, outputs to the target's planes.  Depth test, depth write and
+ * blending are GL's fixed-function stages under the pass state. */
+flat in vec4 v_pr;
+flat in vec4 v_na;
+flat in vec4 v_c;
+flat in uint v_id;
+uniform float u_M[16];
+uniform float u_sx, u_sy, u_eps, u_dmin, u_dmax, u_n, u_invn;
+uniform int u_kernel, u_depth, u_output, u_cull, u_mask;
+layout(binding = 0, offset = 0) uniform atomic_uint u_generated;
+layout(location = SPR_LOC_COLOR) out vec4 o_color;
+layout(location = SPR_LOC_DEPTH) out float o_depth;
+layout(location = SPR_LOC_ID) out uint o_id;
+layout(location = SPR_LOC_COUNT) out float o_count;
+void main()
+{
+    float o0[3];
+    float d[3];
+    spr_ray_of_pixel(u_M, u_sx, u_sy, gl_FragCoord.x, gl_FragCoord.y, o0, d);
+    float p[3] = float[3](v_pr.x, v_pr.y, v_pr.z);
+    float n[3] = float[3](v_na.x, v_na.y, v_na.z);
+    float z_near = 0.0;
+    if (u_mask != 0) z_near = spr_in_depth(ivec2(gl_FragCoord.xy), 0);
+    float t;
+    float rho2;
+    float rho;
+    if (spr_splat_covers(o0, d, p, n, v_pr.w, u_cull, u_mask, z_near, u_eps, t, rho2, rho) == 0) discard;
+    atomicCounterIncrement(u_generated);
+    gl_FragDepth = spr_test_depth(u_depth, u_eps, u_dmin, u_dmax, u_n, u_invn, t, rho);
+    float c[3] = float[3](v_c.x, v_c.y, v_c.z);
+    float src[4];
+    spr_fragment_color(u_output, u_kernel, rho2, rho, c, v_na.w, src);
+    o_color = vec4(src[0], src[1], src[2], src[3]);
+    o_depth = t;
+    o_id = v_id;
+    o_count = 1.0;
+}
