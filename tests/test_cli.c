@@ -220,6 +220,76 @@ START_TEST(group_command)
 }
 END_TEST
 
+/* --target 0,0,0 is used even though the model's centre is elsewhere.  Two
+ * splats (radius 0.3, normals +z): red at the origin, green at (4,0,0), so
+ * the model centre is (2,0,0).  Eye (0,0,10) looking at the origin with a
+ * 60° field of view on 64×64: the image centre (pixels 31..32) sees the
+ * origin, and the red splat covers ±0.3/(10·tan 30°)·32 ≈ ±1.7 px around
+ * it; looking at (2,0,0) instead, the centre would see empty space 2 units
+ * from either splat (background). */
+START_TEST(explicit_origin_target_is_used)
+{
+    setup_dir();
+    const char *ply = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+                      "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
+                      "property uchar blue\nproperty float radius\nend_header\n0 0 0 0 0 1 255 0 0 0.3\n4 0 0 0 0 1 0 255 0 0.3\n";
+    write_text("two.ply", ply, strlen(ply));
+    char err[4096];
+    char *argv[] = {"splatref", "render", "--model", (char *)path_in("two.ply"), "--algo", "pbr2p1", "--eye", "0,0,10",
+                    "--target", "0,0,0", "--fov", "60", "--size", "64x64", "--out", (char *)path_in("o.png"), "--float",
+                    (char *)path_in("o.pfm"), "--quiet", NULL};
+    ck_assert_int_eq(run(argv, err, sizeof err), 0);
+    float *im;
+    int w, h, ch;
+    spr_error e = {0};
+    ck_assert_int_eq(spr_read_pfm(path_in("o.pfm"), &im, &w, &h, &ch, &e), SPR_OK);
+    for (int y = 31; y <= 32; y++)
+        for (int x = 31; x <= 32; x++) {
+            const float *px = im + ((size_t)y * w + x) * ch;
+            ck_assert_msg(px[0] == 1.0f && px[1] == 0.0f && px[2] == 0.0f, "pixel (%d,%d) = %g %g %g, expected red", x, y, px[0],
+                          px[1], px[2]);
+        }
+    free(im);
+}
+END_TEST
+
+/* An option the command, algorithm or grouping does not read is refused
+ * with one line naming it, for every subcommand. */
+START_TEST(unused_options_are_refused)
+{
+    setup_dir();
+    static const struct { const char *argv[8]; const char *names; } cases[] = {
+        {{"group", "--model", "builtin:sphere", "--eps", "1"}, "--eps"},
+        {{"group", "--model", "builtin:sphere", "--kernel", "linear"}, "--kernel"},
+        {{"group", "--model", "builtin:sphere", "--voronoi"}, "--voronoi"},
+        {{"group", "--model", "builtin:sphere", "--method", "hash", "--c", "0.5"}, "--c"},
+        {{"group", "--model", "builtin:sphere", "--eye", "1,2,3"}, "--eye"},
+        {{"render", "--algo", "pbr2p1", "--voronoi"}, "--voronoi"},
+        {{"render", "--algo", "pbr2p1", "--groups", "hash"}, "--groups"},
+        {{"render", "--groups", "hash", "--c", "0.5"}, "--c"},
+        {{"render", "--groups", "mgc", "--mode", "2"}, "--mode"},
+        {{"render", "--lowres-n", "16"}, "--lowres-n"},
+        {{"render", "--model", "x.ply", "--points", "100"}, "--points"},
+        {{"parity", "--algo", "pbr2p1", "--k", "4"}, "--k"},
+        {{"info", "--model", "x.ply", "--points", "100"}, "--points"},
+        {{"bench", "--scene", "bunny", "--points", "1000"}, "--points"},
+        {{"bench", "--scene", "grouping", "--size", "64x64"}, "--size"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *argv[12] = {"splatref"};
+        int n = 1;
+        for (int k = 0; cases[i].argv[k]; k++) argv[n++] = (char *)cases[i].argv[k];
+        argv[n++] = "--quiet";
+        argv[n] = NULL;
+        char err[4096];
+        int rc = run(argv, err, sizeof err);
+        printf("cli: %s ... %s: exit %d: %s", cases[i].argv[0], cases[i].names, rc, err);
+        ck_assert_msg(rc == 2, "%s %s: exit %d", cases[i].argv[0], cases[i].names, rc);
+        ck_assert_msg(strstr(err, cases[i].names) && strchr(err, '\n') == err + strlen(err) - 1, "%s: %s", cases[i].names, err);
+    }
+}
+END_TEST
+
 START_TEST(no_gl_context)
 {
     /* No EGL vendor at all: render --backend gl fails with one line and no
@@ -251,6 +321,8 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, sample_then_info);
     tcase_add_test(tc, no_gl_context);
     tcase_add_test(tc, group_command);
+    tcase_add_test(tc, explicit_origin_target_is_used);
+    tcase_add_test(tc, unused_options_are_refused);
     suite_add_tcase(s, tc);
     return s;
 }

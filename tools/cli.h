@@ -22,21 +22,26 @@ typedef struct cli_args {
     const char *cmd;
     const cli_opt *opts;
     const char *value[CLI_MAX_OPTS]; /* NULL = not given; flags get "1" */
+    unsigned char used[CLI_MAX_OPTS]; /* read by the command (cli_get) */
     const char *positional[4];
     int n_positional;
 } cli_args;
 
 /* 0 on success, 1 when --help was printed, 2 after printing an error. */
 int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usage, int max_positional, int argc, char **argv);
-const char *cli_get(const cli_args *a, const char *name);
-int cli_flag(const cli_args *a, const char *name);
+/* The value of --NAME (NULL when not given), marking the option as used. */
+const char *cli_get(cli_args *a, const char *name);
+/* −1 after one line naming the first option given but never read: an option
+ * the command, algorithm or grouping chosen does not use. */
+int cli_reject_unused(cli_args *a);
+int cli_flag(cli_args *a, const char *name);
 /* The helpers print "splatref CMD: --NAME: …" and return −1 on bad values. */
-int cli_get_double(const cli_args *a, const char *name, double *out, double lo, double hi);
-int cli_get_int(const cli_args *a, const char *name, int *out, int lo, int hi);
-int cli_get_size(const cli_args *a, const char *name, size_t *out, size_t lo, size_t hi);
-int cli_get_vec3(const cli_args *a, const char *name, double out[3]);
-int cli_get_wh(const cli_args *a, const char *name, int *w, int *h);
-void cli_error(const cli_args *a, const char *fmt, ...)
+int cli_get_double(cli_args *a, const char *name, double *out, double lo, double hi);
+int cli_get_int(cli_args *a, const char *name, int *out, int lo, int hi);
+int cli_get_size(cli_args *a, const char *name, size_t *out, size_t lo, size_t hi);
+int cli_get_vec3(cli_args *a, const char *name, double out[3]);
+int cli_get_wh(cli_args *a, const char *name, int *w, int *h);
+void cli_error(cli_args *a, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
 #endif
@@ -45,40 +50,30 @@ void cli_error(const cli_args *a, const char *fmt, ...)
 /* Progress on stderr, only when it is a terminal and --quiet is absent. */
 spr_progress cli_progress(int quiet);
 
-/* Scene options shared by render and bench: model loading, camera, groups. */
+/* A loaded scene: model, camera, view and grouping. */
 typedef struct cli_scene {
     spr_cloud cloud;
     spr_camera_desc cam;
     spr_view view;
-    spr_groups groups;
-    int32_t *labels;
-    spr_group_stats gstats;
+    spr_grouping g;
     const char *group_method;
     char model[1024];
     int threads;
     int all_algos;          /* parity/reference: --algo all (the default there) */
-    double load_ms, ms_grouping, ms_extend, dup_ratio;
-    spr_overlap_graph og;   /* kept from WGC for the metrics of `group` (n = 0 when none) */
+    double load_ms;
 } cli_scene;
-/* Grouping options shared by render, parity, reference and group. */
-typedef struct cli_group_opts {
-    const char *method;   /* none | mgc | wgc | hash */
-    double c;
-    const char *relax;
-    int K, mode, axis;
-    double hash_near;
-    const char *extend;   /* NULL | dup | radius | hash-radius */
-} cli_group_opts;
-int cli_parse_group_opts(const cli_args *a, cli_group_opts *o);
-/* Read the scene options of CLI_SCENE_OPTS, load and frame the model, build
- * the groups; fills rd (no hook).  allow_all: accept --algo all.  0 or −1
- * after printing one line. */
-int cli_scene_setup(const cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_all);
+/* Read the grouping options (method from `method_opt`: "groups" or
+ * "method"), only those the method uses.  0, or −1 after one line. */
+int cli_parse_group_opts(cli_args *a, const char *method_opt, spr_grouping_desc *gd, const char **hash_near);
+/* Group s->cloud as gd says (hash mode 3's eye from s->cam). */
+int cli_make_groups(cli_args *a, cli_scene *s, spr_grouping_desc *gd, const char *hash_near);
+/* Read the scene options, load and frame the model, build the groups when
+ * the algorithm uses them; fills rd (no hook).  allow_all: accept --algo all.
+ * Options not used are refused (cli_reject_unused).  0 or −1 after one line. */
+int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_all);
 /* "cpu" or "gl" backend, or NULL after printing the reason. */
-spr_backend *cli_backend(const cli_args *a, const char *name, int threads, int gl_device);
+spr_backend *cli_backend(cli_args *a, const char *name, int threads, int gl_device);
 void cli_scene_free(cli_scene *s);
-/* Build labels/groups for `method` ("none", "mgc", "hash") on s->cloud. */
-int cli_make_groups(const cli_args *a, cli_scene *s, const cli_group_opts *o, spr_progress prog);
 
 struct spr_parity_report;
 /* One summary line per algorithm, then its first differing planes. */

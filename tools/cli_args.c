@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-void cli_error(const cli_args *a, const char *fmt, ...)
+void cli_error(cli_args *a, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -28,6 +28,13 @@ static void print_help(const char *cmd, const cli_opt *opts, const char *usage)
         printf("  %-24s %s\n", left, o->help);
     }
     printf("  %-24s %s\n", "--help", "show this text");
+    for (const cli_opt *o = opts; o->name; o++)
+        if (!strcmp(o->name, "algo")) { /* the registry, so help never lists a stale set */
+            printf("\nalgorithms (--algo):\n");
+            for (int al = 0; al < SPR_ALGO__COUNT; al++)
+                printf("  %-24s %s (SPEC %s)\n", spr_algo_name((spr_algo)al), spr_algo_info_of((spr_algo)al)->summary,
+                       spr_algo_info_of((spr_algo)al)->spec);
+        }
 }
 
 int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usage, int max_positional, int argc, char **argv)
@@ -71,16 +78,30 @@ int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usa
     return 0;
 }
 
-const char *cli_get(const cli_args *a, const char *name)
+const char *cli_get(cli_args *a, const char *name)
 {
     for (int k = 0; a->opts[k].name; k++)
-        if (!strcmp(a->opts[k].name, name)) return a->value[k];
+        if (!strcmp(a->opts[k].name, name)) {
+            a->used[k] = 1;
+            return a->value[k];
+        }
     return NULL;
 }
 
-int cli_flag(const cli_args *a, const char *name) { return cli_get(a, name) != NULL; }
+int cli_reject_unused(cli_args *a)
+{
+    for (int k = 0; a->opts[k].name; k++)
+        if (a->value[k] && !a->used[k]) {
+            cli_error(a, "--%s is not used here: the command, algorithm or grouping chosen does not read it (see splatref %s --help)",
+                      a->opts[k].name, a->cmd);
+            return -1;
+        }
+    return 0;
+}
 
-int cli_get_double(const cli_args *a, const char *name, double *out, double lo, double hi)
+int cli_flag(cli_args *a, const char *name) { return cli_get(a, name) != NULL; }
+
+int cli_get_double(cli_args *a, const char *name, double *out, double lo, double hi)
 {
     const char *v = cli_get(a, name);
     if (!v) return 0;
@@ -94,7 +115,7 @@ int cli_get_double(const cli_args *a, const char *name, double *out, double lo, 
     return 1;
 }
 
-int cli_get_int(const cli_args *a, const char *name, int *out, int lo, int hi)
+int cli_get_int(cli_args *a, const char *name, int *out, int lo, int hi)
 {
     const char *v = cli_get(a, name);
     if (!v) return 0;
@@ -109,7 +130,7 @@ int cli_get_int(const cli_args *a, const char *name, int *out, int lo, int hi)
     return 1;
 }
 
-int cli_get_size(const cli_args *a, const char *name, size_t *out, size_t lo, size_t hi)
+int cli_get_size(cli_args *a, const char *name, size_t *out, size_t lo, size_t hi)
 {
     const char *v = cli_get(a, name);
     if (!v) return 0;
@@ -124,7 +145,7 @@ int cli_get_size(const cli_args *a, const char *name, size_t *out, size_t lo, si
     return 1;
 }
 
-int cli_get_vec3(const cli_args *a, const char *name, double out[3])
+int cli_get_vec3(cli_args *a, const char *name, double out[3])
 {
     const char *v = cli_get(a, name);
     if (!v) return 0;
@@ -138,7 +159,7 @@ int cli_get_vec3(const cli_args *a, const char *name, double out[3])
     return 1;
 }
 
-int cli_get_wh(const cli_args *a, const char *name, int *w, int *h)
+int cli_get_wh(cli_args *a, const char *name, int *w, int *h)
 {
     const char *v = cli_get(a, name);
     if (!v) return 0;

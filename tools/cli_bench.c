@@ -22,7 +22,7 @@ static const cli_opt bench_opts[] = {
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
 
-int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet);
+int cli_bench_grouping(cli_args *a, size_t npts, int reps, int quiet);
 
 typedef struct bench_run {
     double ms;
@@ -72,24 +72,28 @@ static int run_set(spr_backend *b[3], const cli_scene *s, const spr_render_desc 
 static spr_backend *bench_gl;     /* NULL when no GL context could be made */
 static const char *bench_gl_reason;
 
-static int bench_scene(const cli_args *a, const char *label, cli_scene *s, int reps, int quiet)
+static int bench_scene(cli_args *a, const char *label, cli_scene *s, int reps, int quiet)
 {
     spr_bounds bd;
     spr_cloud_bounds(&s->cloud, &bd);
     spr_camera_frame(&s->cam, &bd);
     spr_error err = {0};
     if (spr_view_make(&s->cam, &s->view, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
-    cli_group_opts go = {.method = "hash", .c = 1.0, .K = 8, .mode = 1, .axis = SPR_HASH_AXIS_BSP};
-    if (cli_make_groups(a, s, &go, cli_progress(quiet))) return -1;
+    spr_grouping_desc gd; /* hash K = 8, mode 1, BSP axes: the dynamic-scene grouping */
+    spr_grouping_defaults(&gd);
+    gd.method = SPR_GROUP_HASH;
+    gd.progress = cli_progress(quiet);
+    if (cli_make_groups(a, s, &gd, NULL)) return -1;
     printf("\nscene %s: %zu splats, %dx%d\n", label, s->cloud.n, s->view.width, s->view.height);
     printf("  %-22s %7s %10s %12s %14s  %s\n", "algorithm", "backend", "ms", "splats/s", "fragments/s", "ms per pass");
-    static const struct { const char *name; spr_algo algo; int voronoi; } algos[] = {
-        {"pbr2p1", SPR_ALGO_PBR2P1, 0}, {"deferred hash K=8 +vor", SPR_ALGO_DEFERRED, 1}};
-    for (size_t i = 0; i < sizeof algos / sizeof algos[0]; i++) {
+    for (int al = 0; al < SPR_ALGO__COUNT; al++) { /* every algorithm of the registry */
+        const spr_algo_info *ai = spr_algo_info_of((spr_algo)al);
         spr_render_desc rd = {0};
-        rd.algo = algos[i].algo;
-        rd.voronoi = algos[i].voronoi;
-        rd.groups = &s->groups;
+        rd.algo = (spr_algo)al;
+        rd.voronoi = (ai->uses & SPR_USES_VORONOI) != 0;
+        rd.groups = ai->uses & SPR_USES_GROUPS ? &s->g.groups : NULL;
+        char label[64];
+        snprintf(label, sizeof label, "%s%s%s", ai->name, rd.groups ? " hash K=8" : "", rd.voronoi ? " +vor" : "");
         bench_run run[3];
         spr_backend *b[3] = {spr_swrast_create(1, &err), spr_swrast_create(2, &err), bench_gl};
         int bad = !b[0] || !b[1];
@@ -102,10 +106,10 @@ static int bench_scene(const cli_args *a, const char *label, cli_scene *s, int r
             if (!b[t]) continue;
             char who[16];
             snprintf(who, sizeof who, t < 2 ? "cpu %d" : "gl", t + 1);
-            printf("  %-22s %7s %10.1f %12.3g %14.3g  %s\n", algos[i].name, who, run[t].ms, s->cloud.n / (run[t].ms * 1e-3),
+            printf("  %-22s %7s %10.1f %12.3g %14.3g  %s\n", label, who, run[t].ms, s->cloud.n / (run[t].ms * 1e-3),
                    run[t].fragments / (run[t].ms * 1e-3), run[t].passes);
         }
-        printf("  %-22s speed-up 2 threads / 1 thread: %.2fx", algos[i].name, run[0].ms / run[1].ms);
+        printf("  %-22s speed-up 2 threads / 1 thread: %.2fx", label, run[0].ms / run[1].ms);
         if (b[2]) printf("; time CPU (2 threads) / GL: %.2f", run[1].ms / run[2].ms);
         printf("\n");
     }
@@ -120,8 +124,8 @@ int cmd_bench(int argc, char **argv)
     int W = 1024, H = 1024, reps = 5, quiet = cli_flag(&a, "quiet");
     size_t npts = 1000000;
     const char *scene = cli_get(&a, "scene") ? cli_get(&a, "scene") : "all";
-    if (cli_get_wh(&a, "size", &W, &H) < 0 || cli_get_int(&a, "reps", &reps, 1, 100) < 0 ||
-        cli_get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0)
+    if ((strcmp(scene, "grouping") && cli_get_wh(&a, "size", &W, &H) < 0) || cli_get_int(&a, "reps", &reps, 1, 100) < 0 ||
+        (strcmp(scene, "bunny") && cli_get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0) || cli_reject_unused(&a))
         return 2;
     if (!strcmp(scene, "grouping")) {
         if (!cli_get(&a, "points")) npts = 1100000;
@@ -186,7 +190,7 @@ static double streaming_pass(const spr_cloud *c, int32_t *out)
     return spr_now_ms() - t0;
 }
 
-int cli_bench_grouping(const cli_args *a, size_t npts, int reps, int quiet)
+int cli_bench_grouping(cli_args *a, size_t npts, int reps, int quiet)
 {
     spr_load_desc ld;
     spr_load_defaults(&ld);

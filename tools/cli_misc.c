@@ -8,7 +8,7 @@
 #include <string.h>
 
 static const cli_opt info_opts[] = {
-    {"model", "PATH|builtin:NAME", "model to describe"},
+    {"model", "PATH|builtin:NAME", "model to describe (without it: what the library contains)"},
     {"points", "N", "size of a built-in model (default 20000)"},
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
@@ -16,13 +16,31 @@ static const cli_opt info_opts[] = {
 int cmd_info(int argc, char **argv)
 {
     cli_args a;
-    int pr = cli_parse(&a, "info", info_opts, "--model M", 0, argc, argv);
+    int pr = cli_parse(&a, "info", info_opts, "[--model M]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     const char *model = cli_get(&a, "model");
-    if (!model) { cli_error(&a, "--model is required"); return 2; }
     spr_load_desc ld;
     spr_load_defaults(&ld);
-    if (cli_get_size(&a, "points", &ld.points, 16, SPR_MAX_SPLATS) < 0) return 2;
+    if ((model && !strncmp(model, "builtin:", 8) && cli_get_size(&a, "points", &ld.points, 16, SPR_MAX_SPLATS) < 0) ||
+        (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
+        return 2;
+    if (!model) { /* the registries: what can be rendered, composited and stored */
+        printf("algorithms:\n");
+        for (int al = 0; al < SPR_ALGO__COUNT; al++)
+            printf("  %-12s SPEC %-4s %s\n", spr_algo_name((spr_algo)al), spr_algo_info_of((spr_algo)al)->spec,
+                   spr_algo_info_of((spr_algo)al)->summary);
+        printf("composite ops:\n");
+        for (int op = 0; op < SPR_COMP__COUNT; op++)
+            printf("  %-12s %s\n", spr_composite_info_of((spr_composite_op)op)->name, spr_composite_info_of((spr_composite_op)op)->summary);
+        printf("target planes:\n");
+        for (int p = 0; p < SPR_PLANE__COUNT; p++)
+            printf("  %-12s %d channel%s\n", spr_plane_name((spr_plane)p), spr_plane_channels((spr_plane)p),
+                   spr_plane_channels((spr_plane)p) > 1 ? "s" : "");
+        printf("grouping methods:\n ");
+        for (int m = 0; m < SPR_GROUP__COUNT; m++) printf(" %s", spr_group_method_name((spr_group_method)m));
+        printf("\n");
+        return 0;
+    }
     ld.progress = cli_progress(cli_flag(&a, "quiet"));
     spr_cloud c;
     spr_error err = {0};

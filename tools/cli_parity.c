@@ -134,11 +134,11 @@ int cmd_parity(int argc, char **argv)
            s.view.height);
     report_ref rr = {&s, spr_gl_renderer(gl), 0, {0}, {0}};
     int all_exact = 1;
-    for (int algo = 0; algo < SPR_ALGO__COUNT; algo++) {
-        static const spr_algo order[SPR_ALGO__COUNT] = {SPR_ALGO_PBR2P1, SPR_ALGO_DEFERRED};
-        if (!s.all_algos && order[algo] != rd.algo) continue;
+    for (int algo = 0; algo < SPR_ALGO__COUNT; algo++) { /* the registry, in its order */
+        if (!s.all_algos && (spr_algo)algo != rd.algo) continue;
         spr_render_desc d = rd, dt;
-        d.algo = order[algo];
+        d.algo = (spr_algo)algo;
+        if (!(spr_algo_info_of(d.algo)->uses & SPR_USES_GROUPS)) d.groups = NULL;
         dt = d;
         if (gl_eps > 0.0) dt.eps = gl_eps;
         spr_error err = {0};

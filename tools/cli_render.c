@@ -95,10 +95,10 @@ static int stats_body(FILE *f, const void *user)
     fprintf(f, "  \"eps_t\": %.9g,\n  \"lowres\": {\"d_min\": %.9g, \"d_max\": %.9g, \"n\": %.9g},\n", st->res->eps_t,
             st->res->lowres.d_min, st->res->lowres.d_max, st->res->lowres.n);
     fprintf(f, "  \"K\": %d,\n  \"grouping\": {\"method\": \"%s\", \"max_degree\": %d, \"avg_degree\": %.4f, \"ms_graph\": %.3f, \"ms_color\": %.3f},\n",
-            st->res->K, s->group_method ? s->group_method : "none", s->gstats.max_degree, s->gstats.avg_degree,
-            s->gstats.ms_graph, s->gstats.ms_color);
+            st->res->K, s->group_method ? s->group_method : "none", s->g.stats.max_degree, s->g.stats.avg_degree,
+            s->g.stats.ms_graph, s->g.stats.ms_color);
     fprintf(f, "  \"group_sizes\": [");
-    for (int k = 0; k < s->groups.K; k++) fprintf(f, "%s%u", k ? ", " : "", s->groups.start[k + 1] - s->groups.start[k]);
+    for (int k = 0; k < s->g.groups.K; k++) fprintf(f, "%s%u", k ? ", " : "", s->g.groups.start[k + 1] - s->g.groups.start[k]);
     fprintf(f, "],\n  \"passes\": [\n");
     for (int p = 0; p < st->res->n_passes; p++) {
         const spr_pass_record *pr = &st->res->passes[p];
@@ -127,9 +127,11 @@ int cmd_render(int argc, char **argv)
     int gl_device = -1;
     if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
     if (strcmp(bname, "cpu") && strcmp(bname, "gl")) { cli_error(&a, "--backend: '%s' is not cpu or gl", bname); return 2; }
+    const char *dump_dir = cli_get(&a, "dump"), *groups_out = cli_get(&a, "groups-out"), *float_out = cli_get(&a, "float"), *stats_out = cli_get(&a, "stats");
     if (cli_scene_setup(&a, &s, &rd, 0)) goto done;
+    if (groups_out && !rd.groups) { cli_error(&a, "--groups-out: %s uses no groups", spr_algo_name(rd.algo)); goto done; }
     if (!(b = cli_backend(&a, bname, s.threads, gl_device))) goto done;
-    dump_ctx dc = {cli_get(&a, "dump"), 0, {0}};
+    dump_ctx dc = {dump_dir, 0, {0}};
     if (dc.dir) {
         if (mkdir(dc.dir, 0777) != 0 && errno != EEXIST) { cli_error(&a, "--dump: cannot create %s: %s", dc.dir, strerror(errno)); goto done; }
         rd.hook = dump_hook;
@@ -143,20 +145,20 @@ int cmd_render(int argc, char **argv)
     size_t covered = 0, np = (size_t)res.width * res.height;
     for (size_t i = 0; i < np; i++) covered += res.rgba[4 * i + 3] > 0.0f;
     if (spr_write_png(out, res.rgba, res.width, res.height, 4, &err) ||
-        (cli_get(&a, "float") && spr_write_pfm(cli_get(&a, "float"), res.rgba, res.width, res.height, 4, &err))) {
+        (float_out && spr_write_pfm(float_out, res.rgba, res.width, res.height, 4, &err))) {
         fprintf(stderr, "splatref render: %s\n", err.msg);
         goto done;
     }
     /* one group per splat, or memberships when duplication put splats in several groups */
-    if (cli_get(&a, "groups-out") && s.labels &&
-        (s.groups.start && s.groups.start[s.groups.K] != s.cloud.n ? spr_groups_write_memberships(cli_get(&a, "groups-out"), &s.groups, &err)
-                                                                  : spr_groups_write(cli_get(&a, "groups-out"), s.labels, s.cloud.n, &err))) {
+    if (groups_out &&
+        (s.g.groups.start[s.g.groups.K] != s.cloud.n ? spr_groups_write_memberships(groups_out, &s.g.groups, &err)
+                                                     : spr_groups_write(groups_out, s.g.labels, s.cloud.n, &err))) {
         fprintf(stderr, "splatref render: %s\n", err.msg);
         goto done;
     }
-    if (cli_get(&a, "stats")) {
-        stats_ref st = {&s, &rd, &res, render_ms, s.load_ms, s.ms_grouping + s.ms_extend, covered};
-        if (spr__write_atomic(cli_get(&a, "stats"), stats_body, &st, &err)) { fprintf(stderr, "splatref render: %s\n", err.msg); goto done; }
+    if (stats_out) {
+        stats_ref st = {&s, &rd, &res, render_ms, s.load_ms, s.g.ms_grouping + s.g.ms_extend, covered};
+        if (spr__write_atomic(stats_out, stats_body, &st, &err)) { fprintf(stderr, "splatref render: %s\n", err.msg); goto done; }
     }
     printf("render: %s, %zu splats, %s%s, K=%d, %dx%d, %s backend, %zu covered pixels, %.1f ms -> %s\n", s.model, s.cloud.n,
            spr_algo_name(rd.algo), rd.voronoi && rd.algo == SPR_ALGO_DEFERRED ? "+voronoi" : "", res.K, res.width, res.height,

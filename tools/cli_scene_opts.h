@@ -1,13 +1,20 @@
-/* cli_scene_opts.h — the option table entries shared by render and parity. */
+/* cli_scene_opts.h — option table rows shared by the subcommands, in
+ * groups, so each command lists only what it can use (and cli_reject_unused
+ * refuses what the chosen algorithm or grouping does not read). */
 #ifndef CLI_SCENE_OPTS_H
 #define CLI_SCENE_OPTS_H
 
-/* Options shared by render and parity: the scene, the algorithm, the groups. */
-#define CLI_SCENE_OPTS \
+/* Loading a model. */
+#define CLI_MODEL_OPTS \
     {"model", "PATH|builtin:NAME", "model file (.ply .off .xyz .pwn) or builtin:sphere|torus|octahedron|planes|cube (default builtin:torus)"}, \
     {"points", "N", "size of a built-in model (default 20000)"}, \
     {"radius-k", "K", "k of the radius rule r = rho*d_k when the file has no radii (default 8)"}, \
     {"radius-scale", "RHO", "rho of the radius rule (default 1.0)"}, \
+    {"threads", "N", "CPU threads (default: all cores)"}, \
+    {"quiet", NULL, "no progress on stderr"}
+
+/* The camera and the image. */
+#define CLI_CAMERA_OPTS \
     {"eye", "X,Y,Z", "camera position (default: frame the model from +z)"}, \
     {"target", "X,Y,Z", "point looked at (default: model centre)"}, \
     {"up", "X,Y,Z", "up vector (default 0,1,0)"}, \
@@ -16,22 +23,31 @@
     {"near", "N", "near plane (default: tight around the model)"}, \
     {"far", "F", "far plane (default: tight around the model)"}, \
     {"size", "WxH", "image size (default 512x512)"}, \
-    {"background", "R,G,B", "background colour in [0,1] (default 0,0,0)"}, \
-    {"algo", "NAME", "pbr2p1 | deferred (default deferred)"}, \
-    {"groups", "METHOD", "deferred grouping: none | mgc | wgc | hash (default mgc)"}, \
-    {"groups-file", "F", "read one group per splat (input order) from F"}, \
-    {"c", "C", "MGC overlap relaxation factor in (0,1] (default 1.0)"}, \
-    {"relax", "LIST", "MGC relaxations: coplanar,opposite | coplanar | opposite | none (default both)"}, \
-    {"k", "K", "wgc/hash grouping: number of groups (default 8)"}, \
-    {"mode", "M", "hash: 1 no collision handling, 2 collisions handled, 3 mixed (default 1)"}, \
-    {"hash-axis", "AXIS", "hash: bsp (leaf average normal, default) | normal (own normal)"}, \
-    {"hash-near", "DIST", "hash mode 3: handle collisions within this eye distance ('centre': eye to model centre)"}, \
-    {"extend", "HOW", "extended grouping: dup (duplication) | radius (Eq. 13) | hash-radius (sqrt(50)/4 for K=8)"}, \
+    {"background", "R,G,B", "background colour in [0,1] (default 0,0,0)"}
+
+/* The algorithm and its parameters (which ones an algorithm reads: the registry). */
+#define CLI_ALGO_OPTS \
+    {"algo", "NAME", "algorithm from the registry (listed below; default deferred)"}, \
     {"kernel", "NAME", "gauss | constant | linear | epanechnikov (default gauss)"}, \
     {"eps", "E", "depth tolerance in world units (default 2 x mean radius)"}, \
     {"voronoi", NULL, "deferred: Voronoi depth [ZP] Eq. 14"}, \
-    {"lowres-n", "N", "quantisation steps n of the low-precision depth (default from eps)"}, \
-    {"threads", "N", "CPU threads (default: all cores)"}, \
-    {"quiet", NULL, "no progress on stderr"}
+    {"lowres-n", "N", "quantisation steps n of the low-precision depth (default from eps)"}
+
+/* Grouping parameters; the method itself is render's --groups or group's --method. */
+#define CLI_GROUP_OPTS \
+    {"groups-file", "F", "read the groups from F (one group per splat, or `splat group` memberships)"}, \
+    {"c", "C", "mgc: overlap relaxation factor in (0,1] (default 1.0)"}, \
+    {"relax", "LIST", "mgc: relaxations coplanar,opposite | coplanar | opposite | none (default both)"}, \
+    {"k", "K", "wgc/hash: number of groups (default 8)"}, \
+    {"mode", "M", "hash: 1 no collision handling, 2 collisions handled, 3 mixed (default 1)"}, \
+    {"hash-axis", "AXIS", "hash: bsp (leaf average normal, default) | normal (own normal)"}, \
+    {"hash-near", "DIST", "hash mode 3: handle collisions within this eye distance ('centre': eye to model centre)"}, \
+    {"extend", "HOW", "extended grouping: dup (duplication) | radius (Eq. 13) | hash-radius (sqrt(50)/4 for K=8)"}
+
+/* Everything that determines a rendered scene (render, parity, reference). */
+#define CLI_SCENE_OPTS \
+    CLI_MODEL_OPTS, CLI_CAMERA_OPTS, CLI_ALGO_OPTS, \
+    {"groups", "METHOD", "grouping of the algorithms that use groups: none | mgc | wgc | hash (default mgc)"}, \
+    CLI_GROUP_OPTS
 
 #endif

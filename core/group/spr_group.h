@@ -163,6 +163,54 @@ spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *g, const spr_extend
  * (with S_k's radius scale): how completely each group alone covers the surface. */
 double spr_group_coverage(const spr_cloud *c, const spr_groups *g, double eps, int threads);
 
+/* ---- grouping as one call: method, then extension (SPEC §5) ---- */
+typedef enum spr_group_method {
+    SPR_GROUP_NONE = 0,  /* one group */
+    SPR_GROUP_MGC,       /* §5.1 */
+    SPR_GROUP_WGC,       /* §5.2 */
+    SPR_GROUP_HASH,      /* §5.3 */
+    SPR_GROUP_FILE,      /* memberships read from a groups file */
+    SPR_GROUP__COUNT
+} spr_group_method;
+typedef enum spr_group_extend {
+    SPR_EXTEND_NONE = 0,
+    SPR_EXTEND_DUP,          /* §5.5 (1) duplication */
+    SPR_EXTEND_RADIUS,       /* §5.5 (2) Eq. 13 */
+    SPR_EXTEND_HASH_RADIUS,  /* §5.5 (2) the lattice circumradius, √50/4 for K = 8 */
+    SPR_EXTEND__COUNT
+} spr_group_extend;
+/* Name ↔ enum ("none", "mgc", "wgc", "hash", "file"; "none", "dup",
+ * "radius", "hash-radius"); −1 if unknown. */
+int spr_group_method_from_name(const char *name);
+const char *spr_group_method_name(spr_group_method m);
+int spr_group_extend_from_name(const char *name);
+
+/* Everything a grouping needs; zero = defaults via spr_grouping_defaults(). */
+typedef struct spr_grouping_desc {
+    spr_group_method method;
+    spr_mgc_desc mgc;        /* MGC options (c, relaxations) */
+    spr_wgc_desc wgc;        /* WGC options (K) */
+    spr_hash_desc hash;      /* hash options (K, mode, axis, eye, near_dist) */
+    const char *file;        /* SPR_GROUP_FILE: the groups file */
+    spr_group_extend extend;
+    spr_extend_desc ext;
+    int keep_graph;          /* WGC: keep its overlap graph in the result */
+    int threads;
+    spr_progress progress;
+} spr_grouping_desc;
+void spr_grouping_defaults(spr_grouping_desc *d);
+
+typedef struct spr_grouping {
+    spr_groups groups;       /* memberships by group, radius scales when extended */
+    int32_t *labels;         /* each splat's first group */
+    spr_group_stats stats;
+    double ms_grouping, ms_extend, dup_ratio;
+    spr_overlap_graph graph; /* WGC's overlap graph when keep_graph (n = 0 otherwise) */
+} spr_grouping;
+/* Group c by d->method, then extend; *out is owned by the caller. */
+spr_result spr_group_run(const spr_cloud *c, const spr_grouping_desc *d, spr_grouping *out, spr_error *err);
+void spr_grouping_free(spr_grouping *g);
+
 /* ---- metrics (SPEC §5.7) ---- */
 /* Mean over splats of Σ (r_i + r_k − |p_i − p_k|)/r_i over overlapping
  * same-group neighbours k ([ZP] §6.1 with unequal radii [decision]). */

@@ -25,8 +25,8 @@ void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b)
     }
     radius = sqrt(radius) + b->max_radius;
     if (!(radius > 0.0)) radius = 1.0;
-    int have_eye = c->eye[0] != 0.0 || c->eye[1] != 0.0 || c->eye[2] != 0.0;
-    int have_target = c->target[0] != 0.0 || c->target[1] != 0.0 || c->target[2] != 0.0;
+    int have_eye = c->have_eye || c->eye[0] != 0.0 || c->eye[1] != 0.0 || c->eye[2] != 0.0;
+    int have_target = c->have_target || c->target[0] != 0.0 || c->target[1] != 0.0 || c->target[2] != 0.0;
     if (!have_target) memcpy(c->target, center, sizeof center);
     if (!have_eye) {
         double half = c->ortho_height > 0.0 ? 0.0 : 0.5 * c->fov_deg * M_PI / 180.0;

@@ -14,6 +14,7 @@
 /* Camera descriptor; zero fields take the defaults of spr_camera_defaults(). */
 typedef struct spr_camera_desc {
     double eye[3], target[3], up[3];
+    int have_eye, have_target; /* eye/target given even when (0,0,0); a non-zero value counts as given too */
     double fov_deg;       /* vertical field of view, perspective */
     double ortho_height;  /* > 0 selects glOrtho with this height */
     double near_plane, far_plane;
@@ -34,7 +35,8 @@ typedef struct spr_view {
 /* Defaults: 512×512, fov 30°, up +y; eye/target/near/far 0 = "frame the model". */
 void spr_camera_defaults(spr_camera_desc *c);
 /* Place eye on the +z side of the bounding sphere of b and set tight near/far
- * for every field the caller left zero. */
+ * for every field the caller did not give (eye/target: neither flagged nor
+ * non-zero; near/far: both zero). */
 void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b);
 /* Build the view; SPR_E_ARG for a degenerate camera (names the field). */
 spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err);
