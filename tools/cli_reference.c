@@ -106,6 +106,11 @@ int cmd_reference(int argc, char **argv)
         gd.device = gl_device;
         gl = spr_gl_create(&gd, &gerr);
         if (!gl) gl_reason = gerr.msg;
+        if (!gl && gerr.code != SPR_E_NO_DEVICE) { /* a context exists but the backend does not build: a failure */
+            fprintf(stderr, "splatref reference: %s\n", gerr.msg);
+            spr_backend_destroy(cpu);
+            return 1;
+        }
         else printf("reference: GL renderer %s\n", spr_gl_renderer(gl));
     }
     int bad = 0, checked = 0;
@@ -172,5 +177,7 @@ int cmd_reference(int argc, char **argv)
     spr_backend_destroy(gl);
     printf("reference: %d scenes, %d failed%s%s\n", checked, bad, gl_reason ? "; GL skipped: " : "", gl_reason ? gl_reason : "");
     if (bad) return 1;
+    const char *req = getenv("SPLATREF_REQUIRE_GL");
+    if (gl_reason && !update && req && *req && strcmp(req, "0")) return 1; /* CI: GL must run */
     return gl_reason && !update ? 77 : 0;
 }
