@@ -16,6 +16,7 @@
 #define SPR_OUT out float
 #define SPR_SET(x) x
 #define SPR_REF(x) x
+#define SPR_FLOAT(i) float(i)
 #define SPR_PIXEL ivec2
 #define spr_floor floor
 #define spr_sqrt sqrt

@@ -392,7 +392,7 @@ END_TEST
 /* A draw that reads another target (SPEC §6.2 step 2): fragments with
  * d_f ≤ z_near + ε_t of the mask target are dropped, on both backends alike,
  * and the mask really drops some (the front layer of the sphere). */
-START_TEST(depth_mask_matches)
+START_TEST(depth_mask_and_composites_match)
 {
     spr_cloud c = tu_builtin("builtin:sphere", 3000);
     spr_camera_desc cam;
@@ -428,6 +428,25 @@ START_TEST(depth_mask_matches)
         ck_assert_msg(memcmp(a, b, np * 4 * (size_t)spr_plane_channels((spr_plane)p)) == 0, "masked draw: plane %s differs",
                       spr_plane_name((spr_plane)p));
     }
+    /* every composite op of the table over the two targets (K = 2) */
+    for (int op = 0; op < SPR_COMP__COUNT; op++) {
+        int out[2];
+        for (int k = 0; k < 2; k++) {
+            int in[2] = {m[k], t[k]};
+            ck_assert_int_eq(spr_backend_target_create(be[k], SPR_PLANES_ALL, &out[k]), SPR_OK);
+            spr_composite_desc cd = {(spr_composite_op)op, in, op == SPR_COMP_NORMALIZE ? 1 : 2, out[k], 0.01f, {0.1f, 0.2f, 0.3f}};
+            ck_assert_int_eq(spr_backend_composite(be[k], &cd), SPR_OK);
+        }
+        for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+            ck_assert_int_eq(spr_backend_read_plane(cpu, out[0], (spr_plane)p, a), SPR_OK);
+            ck_assert_int_eq(spr_backend_read_plane(gl, out[1], (spr_plane)p, b), SPR_OK);
+            ck_assert_msg(memcmp(a, b, np * 4 * (size_t)spr_plane_channels((spr_plane)p)) == 0, "composite %s: plane %s differs",
+                          spr_composite_info_of((spr_composite_op)op)->name, spr_plane_name((spr_plane)p));
+        }
+        spr_backend_target_destroy(cpu, out[0]);
+        spr_backend_target_destroy(gl, out[1]);
+        cases++;
+    }
     for (int k = 0; k < 2; k++) {
         spr_backend_target_destroy(be[k], m[k]);
         spr_backend_target_destroy(be[k], t[k]);
@@ -462,13 +481,13 @@ START_TEST(programs_embed_the_shared_arithmetic)
 END_TEST
 
 /* Every case above ran (a loop that silently ran nothing would pass them):
- * 9 blend pairs × 3 functions × 2 outputs = 54 raw draws, 1 masked draw,
- * and the 85 algorithm scenes of expect_exact (bunny views × configurations,
- * built-ins, adversarial scenes) = 140. */
+ * 9 blend pairs × 3 functions × 2 outputs = 54 raw draws, 1 masked draw, one
+ * raw composite per op of the table, and the 85 algorithm scenes of
+ * expect_exact (bunny views × configurations, built-ins, adversarial scenes). */
 START_TEST(summary)
 {
     printf("gl: %s — %d parity cases, %d planes compared, all bit-exact\n", spr_gl_renderer(gl), cases, planes_checked);
-    ck_assert_int_ge(cases, 140);
+    ck_assert_int_ge(cases, 140 + SPR_COMP__COUNT);
     ck_assert_int_gt(planes_checked, 1000);
 }
 END_TEST
@@ -484,7 +503,7 @@ Suite *make_gl_suite(void)
     tcase_add_test(tc, builtin_models);
     tcase_add_test(tc, adversarial_scenes);
     tcase_add_test(tc, report_shows_a_perturbation);
-    tcase_add_test(tc, depth_mask_matches);
+    tcase_add_test(tc, depth_mask_and_composites_match);
     tcase_add_test(tc, programs_embed_the_shared_arithmetic);
     tcase_add_test(tc, summary);
     suite_add_tcase(s, tc);

@@ -208,6 +208,45 @@ START_TEST(thousands_of_fragments_in_submission_order)
 }
 END_TEST
 
+/* SPEC §6.1's average, I = (1/K) Σ I_k, on values exact in float: inputs
+ * (0.25, 0.5, 0.75, 1) and (0.5, 0, 0.25, 0.5) give (0.375, 0.25, 0.5, 0.75);
+ * a splat drawn into the second input at t = 0.5 makes the output depth 0.5
+ * there (the nearest), 1 elsewhere. */
+START_TEST(average_composite)
+{
+    fixture f;
+    setup(&f, 2);
+    int t1, out;
+    ck_assert_int_eq(spr_backend_target_create(f.b, SPR_PLANES_ALL, &t1), SPR_OK);
+    ck_assert_int_eq(spr_backend_target_create(f.b, SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH), &out), SPR_OK);
+    static const float c0[4] = {0.25f, 0.5f, 0.75f, 1.0f}, c1[4] = {0.5f, 0.0f, 0.25f, 0.5f};
+    ck_assert_int_eq(spr_backend_clear(f.b, f.t, c0), SPR_OK);
+    ck_assert_int_eq(spr_backend_clear(f.b, t1, c1), SPR_OK);
+    spr_cloud c;
+    const double xyz[3] = {0.0, 0.0, 0.0}; /* world z 0: t = 0.5; covers the 4 centre pixels (tu_hand_view) */
+    tu_cloud(&c, 1, xyz, 0.75f);
+    spr_draw_desc d = {.cloud = &c};
+    spr_pass_state_defaults(&d.state);
+    d.state.write_mask = SPR_WRITE_DEPTH; /* colour stays as cleared */
+    ck_assert_int_eq(spr_backend_draw(f.b, t1, &d, NULL), SPR_OK);
+    int in[2] = {f.t, t1};
+    spr_composite_desc cd = {SPR_COMP_AVERAGE, in, 2, out, 0.0f, {0, 0, 0}};
+    ck_assert_int_eq(spr_backend_composite(f.b, &cd), SPR_OK);
+    ck_assert_int_eq(spr_backend_read_plane(f.b, out, SPR_PLANE_COLOR, f.color), SPR_OK);
+    ck_assert_int_eq(spr_backend_read_plane(f.b, out, SPR_PLANE_DEPTH, f.depth), SPR_OK);
+    static const float want[4] = {0.375f, 0.25f, 0.5f, 0.75f};
+    for (int i = 0; i < 16; i++) {
+        for (int ch = 0; ch < 4; ch++) ck_assert_float_eq(f.color[4 * i + ch], want[ch]);
+        int x = i % 4, y = i / 4, centre = x >= 1 && x <= 2 && y >= 1 && y <= 2;
+        ck_assert_float_eq(f.depth[i], centre ? 0.5f : 1.0f);
+    }
+    /* a target without a test plane takes no test-plane read */
+    ck_assert_int_ne(spr_backend_read_plane(f.b, out, SPR_PLANE_TEST, f.test), SPR_OK);
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
 START_TEST(backend_rejects_bad_calls)
 {
     fixture f;
@@ -244,6 +283,7 @@ Suite *make_raster_suite(void)
     tcase_add_test(tc, backface_culling);
     tcase_add_test(tc, thousands_of_fragments_in_submission_order);
     tcase_add_test(tc, backend_rejects_bad_calls);
+    tcase_add_test(tc, average_composite);
     suite_add_tcase(s, tc);
     return s;
 }

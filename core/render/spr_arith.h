@@ -26,6 +26,7 @@
  *   SPR_OUT        float *                     out float   scalar the function sets
  *   SPR_SET(x)     (*(x))                      x           the scalar behind SPR_OUT
  *   SPR_REF(x)     &(x)                        x           pass a local as SPR_OUT
+ *   SPR_FLOAT(i)   ((float)(i))                float(i)    int to float (exact below 2^24)
  *   SPR_PIXEL      const spr_pixel_in *        ivec2       where a pixel's inputs live
  * and each backend supplies how inputs are fetched:
  *   spr_in_depth(px, k)      stored depth d_f of input target k
@@ -243,5 +244,24 @@ SPR_FN void spr_comp_deferred(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], 
         for (int ch = 0; ch < 4; ch++) acc[ch] = acc[ch] + spr_in_color(px, k, ch);
     }
     spr_normalize_rgba(acc, bg, o);
+    SPR_SET(d) = dmin;
+}
+
+/* §6.1 ([ZP] §3.3): I = (1/K) Σ_k I_k, every channel; depth = min_k d_f(k). */
+SPR_FN void spr_comp_average(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+{
+    float dmin = spr_in_depth(px, 0);
+    SPR_PRECISE float acc[4];
+    for (int ch = 0; ch < 4; ch++) acc[ch] = 0.0f;
+    for (int k = 0; k < K; k++) {
+        float dk = spr_in_depth(px, k);
+        if (dk < dmin) dmin = dk;
+        for (int ch = 0; ch < 4; ch++) acc[ch] = acc[ch] + spr_in_color(px, k, ch);
+    }
+    SPR_PRECISE float inv_K = 1.0f / SPR_FLOAT(K);
+    for (int ch = 0; ch < 4; ch++) {
+        SPR_PRECISE float v = acc[ch] * inv_K;
+        o[ch] = v;
+    }
     SPR_SET(d) = dmin;
 }

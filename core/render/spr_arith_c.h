@@ -20,6 +20,7 @@
 #define SPR_OUT float *
 #define SPR_SET(x) (*(x))
 #define SPR_REF(x) (&(x))
+#define SPR_FLOAT(i) ((float)(i))
 #define SPR_PIXEL const spr_pixel_in *
 #define spr_floor floorf
 #define spr_sqrt sqrtf

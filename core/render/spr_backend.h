@@ -154,7 +154,8 @@ typedef struct spr_draw_stats {
 #define SPR_MAX_COMPOSITE_INPUTS SPR_MAX_GROUPS
 #define SPR_COMPOSITE_LIST(X)                                                                        \
     X(NORMALIZE, normalize, 1, "c = rgb/a where a > 0, else background; depth copied (SPEC 4.1 step 3)") \
-    X(DEFERRED, deferred, SPR_MAX_COMPOSITE_INPUTS, "eps-composite of the inputs in order, then normalise (SPEC 4.2)")
+    X(DEFERRED, deferred, SPR_MAX_COMPOSITE_INPUTS, "eps-composite of the inputs in order, then normalise (SPEC 4.2)") \
+    X(AVERAGE, average, SPR_MAX_COMPOSITE_INPUTS, "(1/K) sum of the inputs, every channel; nearest depth (SPEC 6.1)")
 
 typedef enum spr_composite_op {
 #define SPR__COMP_ENUM(e, fn, max_in, summary) SPR_COMP_##e,
