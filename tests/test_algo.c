@@ -51,6 +51,31 @@ START_TEST(pbr2p1_blends_inside_eps_only)
 }
 END_TEST
 
+/* zbuffer: the nearer splat's colour exactly, with no blending even where
+ * the farther one is within ε; background elsewhere. */
+START_TEST(zbuffer_keeps_the_nearest_splat)
+{
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    spr_render_desc d = {.algo = SPR_ALGO_ZBUFFER, .background = {0.5f, 0.5f, 0.5f}};
+    spr_cloud c;
+    spr_render_result r;
+    two_layers(&c, 0.1); /* B (blue) at t = 0.45, in front of A (red) at 0.5 */
+    tu_render(&v, &c, &d, 1, &r);
+    for (int y = 1; y <= 2; y++)
+        for (int x = 1; x <= 2; x++) {
+            ck_assert_float_eq(px(&r, x, y)[0], 0.0f);
+            ck_assert_float_eq(px(&r, x, y)[2], 1.0f);
+            ck_assert_float_eq(px(&r, x, y)[3], 1.0f);
+        }
+    ck_assert_float_eq(px(&r, 0, 0)[0], 0.5f);
+    ck_assert_float_eq(px(&r, 0, 0)[3], 0.0f);
+    ck_assert_int_eq(r.n_passes, 2);
+    spr_render_result_free(&r);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 START_TEST(deferred_composite_inside_and_beyond_eps)
 {
     spr_view v;
@@ -183,6 +208,7 @@ Suite *make_algo_suite(void)
     TCase *tc = tcase_create("algo");
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, pbr2p1_blends_inside_eps_only);
+    tcase_add_test(tc, zbuffer_keeps_the_nearest_splat);
     tcase_add_test(tc, deferred_composite_inside_and_beyond_eps);
     tcase_add_test(tc, deferred_composite_unequal_weights);
     tcase_add_test(tc, voronoi_nearer_centre_wins_farther_layer_never);

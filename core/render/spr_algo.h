@@ -29,7 +29,8 @@ enum {
     X(DEFERRED, deferred, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI, "4.2",         \
       "1+1-pass deferred blending: one target per group, then the eps-composite ([ZP] 3.2)")                  \
     X(PBR2P1, pbr2p1, SPR_USES_KERNEL | SPR_USES_EPS, "4.1",                                                    \
-      "standard 2+1-pass splatting: visibility, additive blend, normalise ([ZP] 3.1)")
+      "standard 2+1-pass splatting: visibility, additive blend, normalise ([ZP] 3.1)")                       \
+    X(ZBUFFER, zbuffer, 0, "3.3", "no blending: the nearest splat's colour per pixel (the aliasing baseline)")
 
 typedef enum spr_algo {
 #define SPR__ALGO_ENUM(e, name, uses, spec, summary) SPR_ALGO_##e,
