@@ -127,7 +127,11 @@ static spr_result gl_set_view(spr_backend *b, const spr_view *v)
 {
     gl_context *c = gl_ctx(b);
     gl__make_current(c);
-    drop_pool(c); /* no target lives across a view change (core checks) */
+    /* no target lives across a view change (core checks); the pool is kept
+     * while the size stays, so frames do not reallocate it */
+    if (c->pool_w != v->width || c->pool_h != v->height) drop_pool(c);
+    c->pool_w = v->width;
+    c->pool_h = v->height;
     glViewport(0, 0, v->width, v->height);
     return gl__check(b, "viewport");
 }

@@ -48,7 +48,7 @@ typedef struct gl_context {
     GLuint vao, instances, counters;
     size_t instances_cap;
     GLuint pool[SPR_PLANE__COUNT]; /* one 2D array texture per plane, a layer per target handle */
-    int pool_layers;
+    int pool_layers, pool_w, pool_h;
     gl_target *targets;
     int cap;
 } gl_context;

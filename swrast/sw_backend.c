@@ -80,8 +80,19 @@ static spr_result sw_clear(spr_backend *b, int t, const float color[4])
             else { float f = (float)pi->clear; memcpy(&v[k], &f, 4); }
         }
         uint32_t *dst = tg->plane[p];
+        if (ch == 4) {
 #pragma omp parallel for num_threads(c->threads) schedule(static)
-        for (long i = 0; i < np; i++) memcpy(dst + (size_t)ch * i, v, (size_t)ch * 4);
+            for (long i = 0; i < np; i++) {
+                dst[4 * i] = v[0];
+                dst[4 * i + 1] = v[1];
+                dst[4 * i + 2] = v[2];
+                dst[4 * i + 3] = v[3];
+            }
+        } else {
+#pragma omp parallel for num_threads(c->threads) schedule(static)
+            for (long i = 0; i < np; i++)
+                for (int k = 0; k < ch; k++) dst[(size_t)ch * i + k] = v[k];
+        }
     }
     return SPR_OK;
 }

@@ -6,9 +6,32 @@
 #include "sw_internal.h"
 #include "spr_fragment.h"
 
-typedef void (*sw_comp_fn)(const spr_pixel_in *px, int K, float eps_t, const float bg[3], float o[4], float *d);
-static const sw_comp_fn comp_fns[SPR_COMP__COUNT] = {
-#define SW__COMP_FN(e, fn, max_in, summary) spr_comp_##fn,
+/* One pixel loop per op of the table, so each op's function is inlined. */
+#define SW__COMP_LOOP(e, fn, max_in, summary)                                                                     \
+    static void comp_##fn(const spr_composite_desc *cd, long np, int threads, const float *const *color,          \
+                          const float *const *depth, float *ocolor, float *odepth, float *otest)                   \
+    {                                                                                                             \
+        _Pragma("omp parallel num_threads(threads)")                                                              \
+        {                                                                                                         \
+            unsigned fp = sw_fp_enter();                                                                          \
+            _Pragma("omp for schedule(static)")                                                                   \
+            for (long i = 0; i < np; i++) {                                                                       \
+                spr_pixel_in px = {color, depth, (size_t)i};                                                      \
+                float d;                                                                                          \
+                spr_comp_##fn(&px, cd->n_inputs, cd->eps_t, cd->background, ocolor + 4 * i, &d);                  \
+                odepth[i] = d;                                                                                    \
+                if (otest) otest[i] = d;                                                                          \
+            }                                                                                                     \
+            sw_fp_leave(fp);                                                                                      \
+        }                                                                                                         \
+    }
+SPR_COMPOSITE_LIST(SW__COMP_LOOP)
+#undef SW__COMP_LOOP
+
+typedef void (*sw_comp_loop)(const spr_composite_desc *, long, int, const float *const *, const float *const *, float *, float *,
+                             float *);
+static const sw_comp_loop comp_loops[SPR_COMP__COUNT] = {
+#define SW__COMP_FN(e, fn, max_in, summary) comp_##fn,
     SPR_COMPOSITE_LIST(SW__COMP_FN)
 #undef SW__COMP_FN
 };
@@ -24,21 +47,6 @@ spr_result sw__composite(spr_backend *b, const spr_composite_desc *cd)
         color[k] = SW_F(&c->targets[cd->inputs[k]], COLOR);
         depth[k] = SW_F(&c->targets[cd->inputs[k]], DEPTH);
     }
-    const sw_comp_fn fn = comp_fns[cd->op];
-    float *ocolor = SW_F(out, COLOR), *odepth = SW_F(out, DEPTH), *otest = SW_F(out, TEST);
-
-#pragma omp parallel num_threads(c->threads)
-    {
-        unsigned fp = sw_fp_enter();
-#pragma omp for schedule(static)
-        for (long i = 0; i < np; i++) {
-            spr_pixel_in px = {color, depth, (size_t)i};
-            float d;
-            fn(&px, K, cd->eps_t, cd->background, ocolor + 4 * i, &d);
-            odepth[i] = d;
-            if (otest) otest[i] = d;
-        }
-        sw_fp_leave(fp);
-    }
+    comp_loops[cd->op](cd, np, c->threads, color, depth, SW_F(out, COLOR), SW_F(out, DEPTH), SW_F(out, TEST));
     return SPR_OK;
 }
