@@ -285,6 +285,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
         glColorMaski((GLuint)a, on, on, on, on);
         const spr_plane_type type = spr_plane_info_of((spr_plane)p)->type;
         if (p == SPR_PLANE_COLOR) set_blend((GLuint)a, s->blend, s->blend_alpha);
+        else if (p == SPR_PLANE_OPACITY) set_blend((GLuint)a, s->blend_alpha, s->blend_alpha);
         else if (type == SPR_PLANE_COUNTER) set_blend((GLuint)a, SPR_BLEND_ADD, SPR_BLEND_ADD);
         else set_blend((GLuint)a, SPR_BLEND_REPLACE, SPR_BLEND_REPLACE);
     }

@@ -14,6 +14,7 @@ layout(location = SPR_LOC_COLOR) out vec4 o_color;
 layout(location = SPR_LOC_DEPTH) out float o_depth;
 layout(location = SPR_LOC_ID) out uint o_id;
 layout(location = SPR_LOC_COUNT) out float o_count;
+layout(location = SPR_LOC_OPACITY) out float o_opacity;
 void main()
 {
     float o0[3];
@@ -33,6 +34,7 @@ void main()
     float src[4];
     spr_fragment_color(u_output, u_kernel, rho2, rho, c, v_na.w, src);
     o_color = vec4(src[0], src[1], src[2], src[3]);
+    o_opacity = spr_fragment_opacity(u_output, src, v_na.w);
     o_depth = t;
     o_id = v_id;
     o_count = 1.0;

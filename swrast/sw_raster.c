@@ -41,6 +41,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     const unsigned mask = s->write_mask;
     float *color = SW_F(tg, COLOR), *depth = SW_F(tg, DEPTH), *test = SW_F(tg, TEST);
     uint32_t *id = SW_U(tg, ID), *count = SW_U(tg, COUNT);
+    float *opacity = SW_F(tg, OPACITY);
     const float *z_near = d->depth_mask ? SW_F(&c->targets[d->mask_target], DEPTH) : NULL;
     uint64_t gen = 0, passed = 0;
     for (uint32_t e = job->bin_start[tile]; e < job->bin_start[tile + 1]; e++) {
@@ -67,10 +68,13 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                 passed++;
                 if (s->depth_write) test[pix] = z;
                 if (mask & SPR_WRITE_DEPTH) depth[pix] = t;
-                if (mask & SPR_WRITE_COLOR) {
+                if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY)) {
                     float src[4];
                     spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, cl->alpha[sid], src);
-                    sw_blend4(s, src, color + 4 * pix);
+                    if (mask & SPR_WRITE_COLOR) sw_blend4(s, src, color + 4 * pix);
+                    if (mask & SPR_WRITE_OPACITY) /* replace or add (core refuses over) */
+                        opacity[pix] = sw_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, cl->alpha[sid]),
+                                                 opacity[pix], 1.0f);
                 }
                 if (mask & SPR_WRITE_ID) id[pix] = sid;
                 if (mask & SPR_WRITE_COUNT) count[pix]++;

@@ -145,6 +145,7 @@ START_TEST(blend_modes_and_depth_funcs_match)
                     d.state.depth_write = func != SPR_FUNC_ALWAYS;
                     d.state.depth_value = SPR_DEPTH_EPS_OFFSET;
                     d.state.eps_t = 0.01f;
+                    if (d.state.blend_alpha != SPR_BLEND_OVER) d.state.write_mask |= SPR_WRITE_OPACITY;
                     for (int rep = 0; rep < 2; rep++) /* twice: the second draw blends onto the first */
                         ck_assert_int_eq(spr_backend_draw(be[k], t[k], &d, NULL), SPR_OK);
                 }
@@ -417,6 +418,7 @@ START_TEST(depth_mask_and_composites_match)
         d.depth_mask = 1;
         d.mask_target = m[k];
         d.state.eps_t = 0.02f;
+        d.state.write_mask |= SPR_WRITE_OPACITY;
         spr_pass_state_blend(&d.state, SPR_BLEND_ADD);
         ck_assert_int_eq(spr_backend_draw(be[k], t[k], &d, &st[k]), SPR_OK);
     }

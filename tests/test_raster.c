@@ -247,6 +247,39 @@ START_TEST(average_composite)
 }
 END_TEST
 
+/* The opacity plane (SPEC §6.2): w·α per fragment; with the constant
+ * kernel (w = 1) and α = 0.5 a covered pixel holds 0.5 after one draw and
+ * 1.0 after a second with `add`; `over` on it is refused. */
+START_TEST(opacity_plane)
+{
+    fixture f;
+    setup(&f, 2);
+    spr_cloud c;
+    const double xyz[3] = {0.0, 0.0, 0.0};
+    tu_cloud(&c, 1, xyz, 0.75f);
+    c.alpha[0] = 0.5f;
+    spr_draw_desc d = {.cloud = &c};
+    spr_pass_state_defaults(&d.state);
+    d.state.kernel = SPR_KERNEL_CONSTANT;
+    d.state.depth_func = SPR_FUNC_ALWAYS;
+    d.state.write_mask = SPR_WRITE_OPACITY;
+    spr_pass_state_blend(&d.state, SPR_BLEND_ADD);
+    float op[16];
+    for (int rep = 1; rep <= 2; rep++) {
+        ck_assert_int_eq(spr_backend_draw(f.b, f.t, &d, NULL), SPR_OK);
+        ck_assert_int_eq(spr_backend_read_plane(f.b, f.t, SPR_PLANE_OPACITY, op), SPR_OK);
+        for (int i = 0; i < 16; i++) {
+            int x = i % 4, y = i / 4, centre = x >= 1 && x <= 2 && y >= 1 && y <= 2;
+            ck_assert_float_eq(op[i], centre ? 0.5f * (float)rep : 0.0f);
+        }
+    }
+    d.state.blend_alpha = SPR_BLEND_OVER;
+    ck_assert_int_eq(spr_backend_draw(f.b, f.t, &d, NULL), SPR_E_ARG);
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
 START_TEST(backend_rejects_bad_calls)
 {
     fixture f;
@@ -284,6 +317,7 @@ Suite *make_raster_suite(void)
     tcase_add_test(tc, thousands_of_fragments_in_submission_order);
     tcase_add_test(tc, backend_rejects_bad_calls);
     tcase_add_test(tc, average_composite);
+    tcase_add_test(tc, opacity_plane);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -19,8 +19,8 @@ spr_result spr__algo_deferred(spr__run *run, int *final_target)
     int *I = malloc((size_t)(K + 1) * sizeof(int));
     if (!I) return spr__fail(run->err, SPR_E_NOMEM, "deferred: out of memory");
     spr_result r = SPR_OK;
-    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_ALL, &I[k]);
-    if (!r) r = spr__run_target(run, SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_TEST), &I[K]);
+    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k]);
+    if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &I[K]);
     if (r) goto done;
     spr_draw_desc d = {.cloud = run->cloud};
     spr_pass_state_defaults(&d.state);

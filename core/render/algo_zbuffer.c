@@ -11,8 +11,8 @@ spr_result spr__algo_zbuffer(spr__run *run, int *final_target)
 {
     int img, out;
     spr_result r;
-    if ((r = spr__run_target(run, SPR_PLANES_ALL, &img)) ||
-        (r = spr__run_target(run, SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_TEST), &out)))
+    if ((r = spr__run_target(run, SPR_PLANES_OPAQUE, &img)) ||
+        (r = spr__run_target(run, SPR_PLANES_IMAGE, &out)))
         return r;
     spr_draw_desc d = {.cloud = run->cloud};
     spr_pass_state_defaults(&d.state);

@@ -120,6 +120,8 @@ spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, 
     if ((unsigned)s->blend >= SPR_BLEND__COUNT) return bad(b, "draw: blend %d unknown", (int)s->blend);
     if ((unsigned)s->blend_alpha >= SPR_BLEND__COUNT) return bad(b, "draw: alpha blend %d unknown", (int)s->blend_alpha);
     if (!has(b, target, SPR_PLANE_TEST)) return bad(b, "draw: target %d has no test plane", target);
+    if ((s->write_mask & SPR_WRITE_OPACITY) && s->blend_alpha == SPR_BLEND_OVER)
+        return bad(b, "draw: the opacity plane is replaced or added, not blended `over` (%d)", 0);
     for (int p = 0; p < SPR_PLANE__COUNT; p++)
         if ((s->write_mask & SPR_PLANE_BIT(p)) && p != SPR_PLANE_TEST && !has(b, target, (spr_plane)p))
             return spr__fail(&b->err, SPR_E_ARG, "draw: writes plane %s, which target %d does not have", spr_plane_name((spr_plane)p), target);

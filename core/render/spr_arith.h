@@ -194,6 +194,15 @@ SPR_FN void spr_fragment_color(int out_kind, int kernel, float rho2, float rho, 
     src[3] = w;
 }
 
+/* What a fragment offers the opacity plane (SPEC §6.2): w·α for the
+ * weighted output (src[3] = w of spr_fragment_color), α for the (c, α) output. */
+SPR_FN float spr_fragment_opacity(int out_kind, SPR_CARR src[4], float alpha)
+{
+    if (out_kind == SPR_OUT_ALPHA) return alpha;
+    SPR_PRECISE float wa = src[3] * alpha;
+    return wa;
+}
+
 /* ---- composite operations (SPEC §4.1 step 3, §4.2), one per row of
  * SPR_COMPOSITE_LIST (spr_backend.h).  Each fills the output colour o and
  * the output depth d of one pixel from K input targets. ---- */

@@ -40,7 +40,8 @@ typedef enum spr_plane_type {
     X(DEPTH, "depth", 1, SPR_PLANE_F32, 1.0)      /* stored depth d_f of the last write */       \
     X(TEST, "test", 1, SPR_PLANE_ZTEST, 1.0)      /* test depth z */                             \
     X(ID, "id", 1, SPR_PLANE_U32, 4294967295.0)   /* splat id of the last write, ~0 = none */    \
-    X(COUNT, "count", 1, SPR_PLANE_COUNTER, 0.0)  /* fragments that passed the depth test */
+    X(COUNT, "count", 1, SPR_PLANE_COUNTER, 0.0)  /* fragments that passed the depth test */   \
+    X(OPACITY, "opacity", 1, SPR_PLANE_F32, 0.0)  /* w·α or α (SPEC 6.2): replace or add */
 
 typedef enum spr_plane {
 #define SPR__PLANE_ENUM(e, name, ch, type, clear) SPR_PLANE_##e,
@@ -50,6 +51,11 @@ typedef enum spr_plane {
 } spr_plane;
 #define SPR_PLANE_BIT(p) (1u << (p))
 #define SPR_PLANES_ALL ((1u << SPR_PLANE__COUNT) - 1u)
+/* The planes of an opaque geometry target: colour, depth, test, id, count. */
+#define SPR_PLANES_OPAQUE (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_TEST) | \
+                           SPR_PLANE_BIT(SPR_PLANE_ID) | SPR_PLANE_BIT(SPR_PLANE_COUNT))
+/* The planes of a composite output: colour, depth, test. */
+#define SPR_PLANES_IMAGE (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_TEST))
 
 typedef struct spr_plane_info {
     const char *name;
@@ -100,7 +106,8 @@ enum {
     SPR_WRITE_DEPTH = SPR_PLANE_BIT(SPR_PLANE_DEPTH),  /* stored depth d_f, always replaced */
     SPR_WRITE_ID    = SPR_PLANE_BIT(SPR_PLANE_ID),
     SPR_WRITE_COUNT = SPR_PLANE_BIT(SPR_PLANE_COUNT),
-    SPR_WRITE_ALL   = SPR_PLANES_ALL & ~SPR_PLANE_BIT(SPR_PLANE_TEST)
+    SPR_WRITE_OPACITY = SPR_PLANE_BIT(SPR_PLANE_OPACITY), /* under blend_alpha: replace or add (not over) */
+    SPR_WRITE_ALL   = SPR_PLANES_OPAQUE & ~SPR_PLANE_BIT(SPR_PLANE_TEST)  /* the opaque planes */
 };
 
 /* Per-draw state; zero = defaults (gauss, plain, LESS, no depth write,
