@@ -290,6 +290,33 @@ START_TEST(unused_options_are_refused)
 }
 END_TEST
 
+/* render --trace writes the backend calls of SPEC §4.1 in order: a
+ * visibility draw (LESS on d_f + eps_t, depth write on), a blend draw
+ * (LEQUAL on d_f, no depth write, add), one normalise composite, a read. */
+START_TEST(trace_lists_the_passes_in_order)
+{
+    setup_dir();
+    char err[4096];
+    char *argv[] = {"splatref", "render", "--algo", "pbr2p1", "--size", "64x64", "--out", (char *)path_in("t.png"), "--trace",
+                    (char *)path_in("t.txt"), "--quiet", NULL};
+    ck_assert_int_eq(run(argv, err, sizeof err), 0);
+    char *txt;
+    size_t len;
+    spr_error e = {0};
+    ck_assert_int_eq(spr__read_file(path_in("t.txt"), &txt, &len, &e), SPR_OK);
+    static const char *const want[] = {"set_view 64x64", "target_create t0", "draw t0:", "test LESS d_f+eps_t, depth write on",
+                                       "draw t0:", "test LEQUAL d_f, depth write off, blend rgb add alpha add",
+                                       "composite normalize of t0 -> t1", "read t1 color"};
+    const char *at = txt;
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+        const char *hit = strstr(at, want[i]);
+        ck_assert_msg(hit != NULL, "trace lacks \"%s\" after offset %td:\n%s", want[i], at - txt, txt);
+        at = hit + strlen(want[i]);
+    }
+    free(txt);
+}
+END_TEST
+
 START_TEST(no_gl_context)
 {
     /* No EGL vendor at all: render --backend gl fails with one line and no
@@ -323,6 +350,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, group_command);
     tcase_add_test(tc, explicit_origin_target_is_used);
     tcase_add_test(tc, unused_options_are_refused);
+    tcase_add_test(tc, trace_lists_the_passes_in_order);
     suite_add_tcase(s, tc);
     return s;
 }

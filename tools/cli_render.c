@@ -4,6 +4,7 @@
 #include "cli_scene_opts.h"
 #include "spr_image.h"
 #include "spr_swrast.h"
+#include "spr_trace.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -21,6 +22,7 @@ static const cli_opt render_opts[] = {
     {"stats", "FILE.json", "model size, K, group sizes, fragments and ms per pass"},
     {"backend", "NAME", "cpu (default) | gl"},
     {"gl-device", "N", "GL backend: the N-th EGL device instead of the surfaceless platform"},
+    {"trace", "FILE", "every backend call of the frame, one line each (views, targets, clears, draws with their state and fragment counts, composites, reads)"},
     {NULL, NULL, NULL}};
 
 /* ---- --dump: every plane of every pass ---- */
@@ -111,12 +113,22 @@ static int stats_body(FILE *f, const void *user)
     return ferror(f) ? -1 : 0;
 }
 
+typedef struct text_ref { const char *s; size_t n; } text_ref;
+static int write_text(FILE *f, const void *user)
+{
+    const text_ref *t = user;
+    return fwrite(t->s, 1, t->n, f) == t->n ? 0 : -1;
+}
+
 int cmd_render(int argc, char **argv)
 {
     cli_args a;
     int pr = cli_parse(&a, "render", render_opts, "[options]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     int rc = 2;
+    char *trace_buf = NULL;
+    size_t trace_len = 0;
+    FILE *trace_f = NULL;
     cli_scene s;
     spr_backend *b = NULL;
     spr_render_result res = {0};
@@ -127,10 +139,15 @@ int cmd_render(int argc, char **argv)
     int gl_device = -1;
     if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
     if (strcmp(bname, "cpu") && strcmp(bname, "gl")) { cli_error(&a, "--backend: '%s' is not cpu or gl", bname); return 2; }
-    const char *dump_dir = cli_get(&a, "dump"), *groups_out = cli_get(&a, "groups-out"), *float_out = cli_get(&a, "float"), *stats_out = cli_get(&a, "stats");
+    const char *trace_out = cli_get(&a, "trace"), *dump_dir = cli_get(&a, "dump"), *groups_out = cli_get(&a, "groups-out"), *float_out = cli_get(&a, "float"), *stats_out = cli_get(&a, "stats");
     if (cli_scene_setup(&a, &s, &rd, 0)) goto done;
     if (groups_out && !rd.groups) { cli_error(&a, "--groups-out: %s uses no groups", spr_algo_name(rd.algo)); goto done; }
     if (!(b = cli_backend(&a, bname, s.threads, gl_device))) goto done;
+    if (trace_out) { /* the trace backend in front of the real one; written out at the end */
+        spr_backend *tb = (trace_f = open_memstream(&trace_buf, &trace_len)) ? spr_trace_create(b, trace_f, &err) : NULL;
+        if (!tb) { cli_error(&a, "--trace: %s", trace_f ? err.msg : "out of memory"); goto done; }
+        b = tb;
+    }
     dump_ctx dc = {dump_dir, 0, {0}};
     if (dc.dir) {
         if (mkdir(dc.dir, 0777) != 0 && errno != EEXIST) { cli_error(&a, "--dump: cannot create %s: %s", dc.dir, strerror(errno)); goto done; }
@@ -156,6 +173,12 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "splatref render: %s\n", err.msg);
         goto done;
     }
+    if (trace_f) {
+        fclose(trace_f);
+        trace_f = NULL;
+        text_ref tx = {trace_buf, trace_len};
+        if (spr__write_atomic(trace_out, write_text, &tx, &err)) { fprintf(stderr, "splatref render: %s\n", err.msg); goto done; }
+    }
     if (stats_out) {
         stats_ref st = {&s, &rd, &res, render_ms, s.load_ms, s.g.ms_grouping + s.g.ms_extend, covered};
         if (spr__write_atomic(stats_out, stats_body, &st, &err)) { fprintf(stderr, "splatref render: %s\n", err.msg); goto done; }
@@ -165,6 +188,8 @@ int cmd_render(int argc, char **argv)
            b->name, covered, render_ms, out);
     rc = 0;
 done:
+    if (trace_f) fclose(trace_f);
+    free(trace_buf);
     spr_render_result_free(&res);
     spr_backend_destroy(b);
     cli_scene_free(&s);

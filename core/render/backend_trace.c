@@ -1,0 +1,136 @@
+/* backend_trace.c — the trace backend of spr_trace.h: each entry point
+ * forwards to the inner backend through its validating wrapper and writes
+ * one line.  Target handles stay equal on both sides because every target
+ * call goes through here and both take the lowest free handle. */
+#include "spr_algo.h"
+#include "spr_trace.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct trace_backend {
+    spr_backend base; /* first: a trace_backend is an spr_backend */
+    spr_backend *inner;
+    FILE *out;
+    unsigned char *slots; /* spr__backend_add_target bookkeeping, one byte each */
+    int cap;
+} trace_backend;
+
+static trace_backend *tr(spr_backend *b) { return (trace_backend *)b; }
+
+static spr_result pass_on(spr_backend *b, spr_result r)
+{
+    if (r) b->err = tr(b)->inner->err;
+    return r;
+}
+
+static void planes(FILE *f, unsigned mask)
+{
+    int first = 1;
+    for (int p = 0; p < SPR_PLANE__COUNT; p++)
+        if (mask & SPR_PLANE_BIT(p)) { fprintf(f, "%s%s", first ? "" : ",", spr_plane_name((spr_plane)p)); first = 0; }
+    if (first) fprintf(f, "-");
+}
+
+static spr_result t_set_view(spr_backend *b, const spr_view *v)
+{
+    fprintf(tr(b)->out, "set_view %dx%d%s near %.9g far %.9g\n", v->width, v->height, v->ortho ? " ortho" : "", v->near_plane, v->far_plane);
+    return pass_on(b, spr_backend_set_view(tr(b)->inner, v));
+}
+
+static spr_result t_target_create(spr_backend *b, unsigned mask, int *out)
+{
+    trace_backend *t = tr(b);
+    int mine, theirs;
+    spr_result r = spr__backend_add_target(b, mask, &mine, (void **)&t->slots, &t->cap, 1);
+    if (r) return r;
+    if ((r = spr_backend_target_create(t->inner, mask, &theirs)) || theirs != mine) {
+        if (!r) spr_backend_target_destroy(t->inner, theirs);
+        b->target_live[mine] = 0;
+        return r ? pass_on(b, r) : spr__fail(&b->err, SPR_E_BACKEND, "trace: handles out of step (%d vs %d)", mine, theirs);
+    }
+    fprintf(t->out, "target_create t%d planes ", mine);
+    planes(t->out, mask);
+    fprintf(t->out, "\n");
+    *out = mine;
+    return SPR_OK;
+}
+
+static void t_target_destroy(spr_backend *b, int target)
+{
+    fprintf(tr(b)->out, "target_destroy t%d\n", target);
+    spr_backend_target_destroy(tr(b)->inner, target);
+}
+
+static spr_result t_clear(spr_backend *b, int target, const float c[4])
+{
+    fprintf(tr(b)->out, "clear t%d color (%.9g, %.9g, %.9g, %.9g), other planes to the plane table's values\n", target, c[0], c[1],
+            c[2], c[3]);
+    return pass_on(b, spr_backend_clear(tr(b)->inner, target, c));
+}
+
+static spr_result t_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
+{
+    static const char *const depth[] = {"d_f", "d_f+eps_t", "z_lowres", "voronoi"}, *const func[] = {"LESS", "LEQUAL", "ALWAYS"},
+                             *const blend[] = {"replace", "add", "over"}, *const outk[] = {"(w*c, w)", "(c, alpha)"};
+    const spr_pass_state *s = &d->state;
+    spr_result r = pass_on(b, spr_backend_draw(tr(b)->inner, target, d, st));
+    FILE *f = tr(b)->out;
+    fprintf(f, "draw t%d: %zu splats%s, kernel %s, output %s, test %s %s, depth write %s, blend rgb %s alpha %s, writes ", target,
+            d->indices ? d->count : d->cloud->n, d->radius_override ? " (radii overridden)" : "", spr_kernel_name(s->kernel),
+            outk[s->output], func[s->depth_func], depth[s->depth_value], s->depth_write ? "on" : "off", blend[s->blend],
+            blend[s->blend_alpha]);
+    planes(f, s->write_mask);
+    fprintf(f, ", eps_t %.9g, lowres d_min %.9g d_max %.9g n %.9g%s", s->eps_t, s->lowres.d_min, s->lowres.d_max, s->lowres.n,
+            s->cull_backfaces ? ", back faces culled" : "");
+    if (d->depth_mask) fprintf(f, ", masked by t%d", d->mask_target);
+    if (!r) fprintf(f, " -> %llu fragments, %llu passed\n", (unsigned long long)st->generated, (unsigned long long)st->passed);
+    else fprintf(f, " -> failed: %s\n", b->err.msg);
+    return r;
+}
+
+static spr_result t_composite(spr_backend *b, const spr_composite_desc *c)
+{
+    FILE *f = tr(b)->out;
+    fprintf(f, "composite %s of", spr_composite_info_of(c->op)->name);
+    for (int k = 0; k < c->n_inputs; k++) fprintf(f, " t%d", c->inputs[k]);
+    fprintf(f, " -> t%d, eps_t %.9g, background (%.9g, %.9g, %.9g)\n", c->output, c->eps_t, c->background[0], c->background[1],
+            c->background[2]);
+    return pass_on(b, spr_backend_composite(tr(b)->inner, c));
+}
+
+static spr_result t_read(spr_backend *b, int target, spr_plane p, void *out)
+{
+    fprintf(tr(b)->out, "read t%d %s\n", target, spr_plane_name(p));
+    return pass_on(b, spr_backend_read_plane(tr(b)->inner, target, p, out));
+}
+
+static void t_destroy(spr_backend *b)
+{
+    trace_backend *t = tr(b);
+    spr_backend_destroy(t->inner);
+    free(t->slots);
+    free(t);
+}
+
+spr_backend *spr_trace_create(spr_backend *inner, FILE *out, spr_error *err)
+{
+    trace_backend *t = calloc(1, sizeof *t);
+    if (!t) {
+        spr__fail(err, SPR_E_NOMEM, "trace: out of memory");
+        return NULL;
+    }
+    t->inner = inner;
+    t->out = out;
+    spr_backend *b = &t->base;
+    b->name = inner->name; /* the planes are the inner backend's */
+    b->set_view = t_set_view;
+    b->target_create = t_target_create;
+    b->target_destroy = t_target_destroy;
+    b->clear = t_clear;
+    b->draw_splats = t_draw;
+    b->composite = t_composite;
+    b->read_plane = t_read;
+    b->destroy = t_destroy;
+    return b;
+}
