@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include "spr_algo.h"
 #include "spr_io.h"
+#include <cjson/cJSON.h>
 
 typedef struct cli_opt {
     const char *name;   /* without the leading "--" */
@@ -74,6 +75,11 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
 /* "cpu" or "gl" backend, or NULL after printing the reason. */
 spr_backend *cli_backend(cli_args *a, const char *name, int threads, int gl_device);
 void cli_scene_free(cli_scene *s);
+
+/* Print root (consumed) to path through a temporary file; 0 or −1 after a line. */
+int cli_write_json(cli_args *a, const char *path, cJSON *root);
+/* [size of S_0, …, size of S_{K−1}]. */
+cJSON *cli_json_group_sizes(const spr_groups *g);
 
 struct spr_parity_report;
 /* One summary line per algorithm, then its first differing planes. */

@@ -25,25 +25,36 @@ typedef struct group_report {
     double avg_degree;
 } group_report;
 
-static int stats_body(FILE *f, const void *user)
+static cJSON *stats_json(const group_report *r)
 {
-    const group_report *r = user;
     const cli_scene *s = r->s;
     const spr_group_stats *st = &s->g.stats;
-    fprintf(f, "{\n  \"model\": \"%s\",\n  \"splats\": %zu,\n  \"method\": \"%s\",\n  \"K\": %d,\n  \"group_sizes\": [", s->model,
-            s->cloud.n, s->group_method, s->g.groups.K);
-    for (int k = 0; k < s->g.groups.K; k++) fprintf(f, "%s%u", k ? ", " : "", s->g.groups.start[k + 1] - s->g.groups.start[k]);
-    fprintf(f, "],\n  \"memberships\": %u,\n  \"duplication_ratio\": %.6f,\n", s->g.groups.start[s->g.groups.K], s->g.dup_ratio);
-    fprintf(f, "  \"max_degree\": %d,\n  \"avg_degree\": %.4f,\n  \"average_overlap_factor\": %.6f,\n  \"cost_L\": %.9g,\n",
-            r->max_degree, r->avg_degree, r->overlap_factor, r->cost);
-    fprintf(f, "  \"cost_L_before_optimisation\": %.9g,\n  \"cost_L_after_optimisation\": %.9g,\n  \"optimisation_pops\": %zu,\n",
-            st->cost_before, st->cost_after, st->pops);
-    fprintf(f, "  \"hash_displaced\": %zu,\n  \"radius_scale\": [", st->displaced);
-    for (int k = 0; s->g.groups.radius_scale && k < s->g.groups.K; k++) fprintf(f, "%s%.6f", k ? ", " : "", s->g.groups.radius_scale[k]);
-    fprintf(f, "],\n  \"ms\": {\"neighbour_graph\": %.3f, \"colouring\": %.3f, \"optimisation\": %.3f, \"extension\": %.3f, "
-               "\"total_grouping\": %.3f, \"metrics\": %.3f}\n}\n",
-            st->ms_graph, st->ms_color, st->ms_optimise, s->g.ms_extend, s->g.ms_grouping, r->ms_metrics);
-    return ferror(f) ? -1 : 0;
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "model", s->model);
+    cJSON_AddNumberToObject(o, "splats", (double)s->cloud.n);
+    cJSON_AddStringToObject(o, "method", s->group_method);
+    cJSON_AddNumberToObject(o, "K", s->g.groups.K);
+    cJSON_AddItemToObject(o, "group_sizes", cli_json_group_sizes(&s->g.groups));
+    cJSON_AddNumberToObject(o, "memberships", s->g.groups.start[s->g.groups.K]);
+    cJSON_AddNumberToObject(o, "duplication_ratio", s->g.dup_ratio);
+    cJSON_AddNumberToObject(o, "max_degree", r->max_degree);
+    cJSON_AddNumberToObject(o, "avg_degree", r->avg_degree);
+    cJSON_AddNumberToObject(o, "average_overlap_factor", r->overlap_factor);
+    cJSON_AddNumberToObject(o, "cost_L", r->cost);
+    cJSON_AddNumberToObject(o, "cost_L_before_optimisation", st->cost_before);
+    cJSON_AddNumberToObject(o, "cost_L_after_optimisation", st->cost_after);
+    cJSON_AddNumberToObject(o, "optimisation_pops", (double)st->pops);
+    cJSON_AddNumberToObject(o, "hash_displaced", (double)st->displaced);
+    cJSON *rs = cJSON_AddArrayToObject(o, "radius_scale");
+    for (int k = 0; s->g.groups.radius_scale && k < s->g.groups.K; k++) cJSON_AddItemToArray(rs, cJSON_CreateNumber(s->g.groups.radius_scale[k]));
+    cJSON *ms = cJSON_AddObjectToObject(o, "ms");
+    cJSON_AddNumberToObject(ms, "neighbour_graph", st->ms_graph);
+    cJSON_AddNumberToObject(ms, "colouring", st->ms_color);
+    cJSON_AddNumberToObject(ms, "optimisation", st->ms_optimise);
+    cJSON_AddNumberToObject(ms, "extension", s->g.ms_extend);
+    cJSON_AddNumberToObject(ms, "total_grouping", s->g.ms_grouping);
+    cJSON_AddNumberToObject(ms, "metrics", r->ms_metrics);
+    return o;
 }
 
 int cmd_group(int argc, char **argv)
@@ -107,11 +118,11 @@ int cmd_group(int argc, char **argv)
     free(w);
     spr_overlap_graph_free(&og);
     rep.ms_metrics = spr_now_ms() - t0;
-    if ((cli_get(&a, "out") && spr_groups_write_memberships(cli_get(&a, "out"), &s.g.groups, &err)) ||
-        (cli_get(&a, "stats") && spr__write_atomic(cli_get(&a, "stats"), stats_body, &rep, &err))) {
+    if (cli_get(&a, "out") && spr_groups_write_memberships(cli_get(&a, "out"), &s.g.groups, &err)) {
         fprintf(stderr, "splatref group: %s\n", err.msg);
         goto done;
     }
+    if (cli_get(&a, "stats") && cli_write_json(&a, cli_get(&a, "stats"), stats_json(&rep))) goto done;
     printf("group: %s, %zu splats, %s: K=%d, max degree %d, avg degree %.2f, overlap factor %.4f, cost L %.6g",
            s.model, s.cloud.n, s.group_method, s.g.groups.K, rep.max_degree, rep.avg_degree, rep.overlap_factor, rep.cost);
     if (!strcmp(s.group_method, "wgc")) printf(" (before optimisation %.6g)", s.g.stats.cost_before);

@@ -28,16 +28,6 @@ const char *cli_cpu_flags(void)
     return buf;
 }
 
-static void json_esc(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        if (*s == '"' || *s == '\\') fputc('\\', f);
-        if ((unsigned char)*s >= 0x20) fputc(*s, f);
-    }
-    fputc('"', f);
-}
-
 typedef struct report_ref {
     const cli_scene *s;
     const char *renderer;
@@ -46,50 +36,55 @@ typedef struct report_ref {
     const spr_parity_report *rep[SPR_ALGO__COUNT];
 } report_ref;
 
-static void json_num(FILE *f, double v)
+static cJSON *report_json(const report_ref *r)
 {
-    if (v != v || v > 1e300 || v < -1e300) fprintf(f, "null");
-    else fprintf(f, "%.9g", v);
-}
-
-static int report_body(FILE *f, const void *user)
-{
-    const report_ref *r = user;
-    fprintf(f, "{\n  \"reference\": \"cpu\",\n  \"test\": \"gl\",\n  \"gl_renderer\": ");
-    json_esc(f, r->renderer);
-    fprintf(f, ",\n  \"cpu_flags\": \"%s\",\n  \"model\": ", cli_cpu_flags());
-    json_esc(f, r->s->model);
-    fprintf(f, ",\n  \"splats\": %zu,\n  \"width\": %d,\n  \"height\": %d,\n  \"algorithms\": [\n", r->s->cloud.n,
-            r->s->view.width, r->s->view.height);
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "reference", "cpu");
+    cJSON_AddStringToObject(o, "test", "gl");
+    cJSON_AddStringToObject(o, "gl_renderer", r->renderer);
+    cJSON_AddStringToObject(o, "cpu_flags", cli_cpu_flags());
+    cJSON_AddStringToObject(o, "model", r->s->model);
+    cJSON_AddNumberToObject(o, "splats", (double)r->s->cloud.n);
+    cJSON_AddNumberToObject(o, "width", r->s->view.width);
+    cJSON_AddNumberToObject(o, "height", r->s->view.height);
+    cJSON *algos = cJSON_AddArrayToObject(o, "algorithms");
     for (int a = 0; a < r->n; a++) {
         const spr_parity_report *p = r->rep[a];
-        fprintf(f, "    {\"algo\": \"%s\", \"bit_exact\": %s, \"planes\": %d, \"exact_planes\": %d, \"max_ulp\": %llu, "
-                   "\"passes_ref\": %d, \"passes_test\": %d, \"stats_mismatches\": %d, \"first_stats_mismatch\": ",
-                r->algo[a], spr_parity_exact(p) ? "true" : "false", p->n_planes, p->exact_planes,
-                (unsigned long long)p->max_ulp, p->passes_ref, p->passes_test, p->stats_mismatches);
-        json_esc(f, p->first_stats_mismatch);
-        fprintf(f, ",\n     \"plane_results\": [\n");
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddStringToObject(e, "algo", r->algo[a]);
+        cJSON_AddBoolToObject(e, "bit_exact", spr_parity_exact(p));
+        cJSON_AddNumberToObject(e, "planes", p->n_planes);
+        cJSON_AddNumberToObject(e, "exact_planes", p->exact_planes);
+        cJSON_AddNumberToObject(e, "max_ulp", (double)p->max_ulp);
+        cJSON_AddNumberToObject(e, "passes_ref", p->passes_ref);
+        cJSON_AddNumberToObject(e, "passes_test", p->passes_test);
+        cJSON_AddNumberToObject(e, "stats_mismatches", p->stats_mismatches);
+        cJSON_AddStringToObject(e, "first_stats_mismatch", p->first_stats_mismatch);
+        cJSON *planes = cJSON_AddArrayToObject(e, "plane_results");
         for (int i = 0; i < p->n_planes; i++) {
             const spr_plane_diff *d = &p->planes[i];
-            fprintf(f, "       {\"pass\": %d, \"pass_name\": \"%s\", \"group\": %d, \"plane\": \"%s\", \"differing_pixels\": %zu, "
-                       "\"max_ulp\": %llu, \"max_abs\": ",
-                    d->pass, d->pass_name, d->group, d->plane == SPR_PLANE_FINAL ? "final" : spr_plane_name((spr_plane)d->plane),
-                    d->differing_pixels, (unsigned long long)d->max_ulp);
-            json_num(f, d->max_abs);
+            cJSON *q = cJSON_CreateObject();
+            cJSON_AddNumberToObject(q, "pass", d->pass);
+            cJSON_AddStringToObject(q, "pass_name", d->pass_name);
+            cJSON_AddNumberToObject(q, "group", d->group);
+            cJSON_AddStringToObject(q, "plane", d->plane == SPR_PLANE_FINAL ? "final" : spr_plane_name((spr_plane)d->plane));
+            cJSON_AddNumberToObject(q, "differing_pixels", (double)d->differing_pixels);
+            cJSON_AddNumberToObject(q, "max_ulp", (double)d->max_ulp);
+            cJSON_AddNumberToObject(q, "max_abs", d->max_abs); /* cJSON writes null for NaN and infinity */
             if (d->differing_pixels) {
-                fprintf(f, ", \"first\": {\"x\": %d, \"y\": %d, \"channel\": %d, \"cpu\": ", d->first_x, d->first_y, d->first_channel);
-                json_num(f, d->first_ref);
-                fprintf(f, ", \"gl\": ");
-                json_num(f, d->first_test);
-                fprintf(f, "}, \"heatmap\": ");
-                json_esc(f, d->heatmap);
+                cJSON *f = cJSON_AddObjectToObject(q, "first");
+                cJSON_AddNumberToObject(f, "x", d->first_x);
+                cJSON_AddNumberToObject(f, "y", d->first_y);
+                cJSON_AddNumberToObject(f, "channel", d->first_channel);
+                cJSON_AddNumberToObject(f, "cpu", d->first_ref);
+                cJSON_AddNumberToObject(f, "gl", d->first_test);
+                cJSON_AddStringToObject(q, "heatmap", d->heatmap);
             }
-            fprintf(f, "}%s\n", i + 1 < p->n_planes ? "," : "");
+            cJSON_AddItemToArray(planes, q);
         }
-        fprintf(f, "     ]}%s\n", a + 1 < r->n ? "," : "");
+        cJSON_AddItemToArray(algos, e);
     }
-    fprintf(f, "  ]\n}\n");
-    return ferror(f) ? -1 : 0;
+    return o;
 }
 
 /* The summary line of one algorithm, then where it first departs. */
@@ -154,9 +149,8 @@ int cmd_parity(int argc, char **argv)
     }
     if (dir) {
         char path[1200];
-        spr_error err = {0};
         snprintf(path, sizeof path, "%s/report.json", dir);
-        if (spr__write_atomic(path, report_body, &rr, &err)) { fprintf(stderr, "splatref parity: %s\n", err.msg); goto done; }
+        if (cli_write_json(&a, path, report_json(&rr))) goto done;
         printf("report: %s\n", path);
     }
     printf("verdict: %s\n", all_exact ? "BIT-EXACT (Tier A)" : "DIFFERENT");

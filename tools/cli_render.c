@@ -74,43 +74,47 @@ typedef struct stats_ref {
     size_t covered;
 } stats_ref;
 
-static void json_str(FILE *f, const char *s)
+static cJSON *stats_json(const stats_ref *st)
 {
-    fputc('"', f);
-    for (; *s; s++) {
-        if (*s == '"' || *s == '\\') fputc('\\', f);
-        if ((unsigned char)*s < 0x20) { fprintf(f, "\\u%04x", *s); continue; }
-        fputc(*s, f);
-    }
-    fputc('"', f);
-}
-
-static int stats_body(FILE *f, const void *user)
-{
-    const stats_ref *st = user;
     const cli_scene *s = st->s;
-    fprintf(f, "{\n  \"model\": ");
-    json_str(f, s->model);
-    fprintf(f, ",\n  \"splats\": %zu,\n  \"width\": %d,\n  \"height\": %d,\n", s->cloud.n, s->view.width, s->view.height);
-    fprintf(f, "  \"algo\": \"%s\",\n  \"kernel\": \"%s\",\n  \"voronoi\": %s,\n", spr_algo_name(st->rd->algo),
-            spr_kernel_name(st->rd->kernel), st->rd->voronoi ? "true" : "false");
-    fprintf(f, "  \"eps_t\": %.9g,\n  \"lowres\": {\"d_min\": %.9g, \"d_max\": %.9g, \"n\": %.9g},\n", st->res->eps_t,
-            st->res->lowres.d_min, st->res->lowres.d_max, st->res->lowres.n);
-    fprintf(f, "  \"K\": %d,\n  \"grouping\": {\"method\": \"%s\", \"max_degree\": %d, \"avg_degree\": %.4f, \"ms_graph\": %.3f, \"ms_color\": %.3f},\n",
-            st->res->K, s->group_method ? s->group_method : "none", s->g.stats.max_degree, s->g.stats.avg_degree,
-            s->g.stats.ms_graph, s->g.stats.ms_color);
-    fprintf(f, "  \"group_sizes\": [");
-    for (int k = 0; k < s->g.groups.K; k++) fprintf(f, "%s%u", k ? ", " : "", s->g.groups.start[k + 1] - s->g.groups.start[k]);
-    fprintf(f, "],\n  \"passes\": [\n");
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "model", s->model);
+    cJSON_AddNumberToObject(o, "splats", (double)s->cloud.n);
+    cJSON_AddNumberToObject(o, "width", s->view.width);
+    cJSON_AddNumberToObject(o, "height", s->view.height);
+    cJSON_AddStringToObject(o, "algo", spr_algo_name(st->rd->algo));
+    cJSON_AddStringToObject(o, "kernel", spr_kernel_name(st->rd->kernel));
+    cJSON_AddBoolToObject(o, "voronoi", st->rd->voronoi);
+    cJSON_AddNumberToObject(o, "eps_t", st->res->eps_t);
+    cJSON *lr = cJSON_AddObjectToObject(o, "lowres");
+    cJSON_AddNumberToObject(lr, "d_min", st->res->lowres.d_min);
+    cJSON_AddNumberToObject(lr, "d_max", st->res->lowres.d_max);
+    cJSON_AddNumberToObject(lr, "n", st->res->lowres.n);
+    cJSON_AddNumberToObject(o, "K", st->res->K);
+    cJSON *gr = cJSON_AddObjectToObject(o, "grouping");
+    cJSON_AddStringToObject(gr, "method", s->group_method ? s->group_method : "none");
+    cJSON_AddNumberToObject(gr, "max_degree", s->g.stats.max_degree);
+    cJSON_AddNumberToObject(gr, "avg_degree", s->g.stats.avg_degree);
+    cJSON_AddNumberToObject(gr, "ms_graph", s->g.stats.ms_graph);
+    cJSON_AddNumberToObject(gr, "ms_color", s->g.stats.ms_color);
+    cJSON_AddItemToObject(o, "group_sizes", cli_json_group_sizes(&s->g.groups));
+    cJSON *passes = cJSON_AddArrayToObject(o, "passes");
     for (int p = 0; p < st->res->n_passes; p++) {
         const spr_pass_record *pr = &st->res->passes[p];
-        fprintf(f, "    {\"name\": \"%s\", \"group\": %d, \"splats\": %llu, \"fragments_generated\": %llu, \"fragments_passed\": %llu, \"ms\": %.3f}%s\n",
-                pr->name, pr->group, (unsigned long long)pr->stats.splats, (unsigned long long)pr->stats.generated,
-                (unsigned long long)pr->stats.passed, pr->ms, p + 1 < st->res->n_passes ? "," : "");
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddStringToObject(e, "name", pr->name);
+        cJSON_AddNumberToObject(e, "group", pr->group);
+        cJSON_AddNumberToObject(e, "splats", (double)pr->stats.splats);
+        cJSON_AddNumberToObject(e, "fragments_generated", (double)pr->stats.generated);
+        cJSON_AddNumberToObject(e, "fragments_passed", (double)pr->stats.passed);
+        cJSON_AddNumberToObject(e, "ms", pr->ms);
+        cJSON_AddItemToArray(passes, e);
     }
-    fprintf(f, "  ],\n  \"covered_pixels\": %zu,\n  \"ms_load\": %.3f,\n  \"ms_grouping\": %.3f,\n  \"ms_render\": %.3f\n}\n",
-            st->covered, st->load_ms, st->group_ms, st->total_ms);
-    return ferror(f) ? -1 : 0;
+    cJSON_AddNumberToObject(o, "covered_pixels", (double)st->covered);
+    cJSON_AddNumberToObject(o, "ms_load", st->load_ms);
+    cJSON_AddNumberToObject(o, "ms_grouping", st->group_ms);
+    cJSON_AddNumberToObject(o, "ms_render", st->total_ms);
+    return o;
 }
 
 typedef struct text_ref { const char *s; size_t n; } text_ref;
@@ -181,7 +185,7 @@ int cmd_render(int argc, char **argv)
     }
     if (stats_out) {
         stats_ref st = {&s, &rd, &res, render_ms, s.load_ms, s.g.ms_grouping + s.g.ms_extend, covered};
-        if (spr__write_atomic(stats_out, stats_body, &st, &err)) { fprintf(stderr, "splatref render: %s\n", err.msg); goto done; }
+        if (cli_write_json(&a, stats_out, stats_json(&st))) goto done;
     }
     printf("render: %s, %zu splats, %s%s, K=%d, %dx%d, %s backend, %zu covered pixels, %.1f ms -> %s\n", s.model, s.cloud.n,
            spr_algo_name(rd.algo), rd.voronoi && rd.algo == SPR_ALGO_DEFERRED ? "+voronoi" : "", res.K, res.width, res.height,

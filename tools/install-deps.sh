@@ -9,7 +9,7 @@ pkgs="build-essential cmake pkg-config ca-certificates \
   libflann-dev liblz4-dev check libsubunit-dev \
   libpng-dev zlib1g-dev \
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
-  libqhull-dev libcgal-demo"
+  libqhull-dev libcjson-dev libcgal-demo"
 
 missing=""
 for p in $pkgs; do
