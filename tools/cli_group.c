@@ -45,6 +45,7 @@ static cJSON *stats_json(const group_report *r)
     cJSON_AddNumberToObject(o, "cost_L_after_optimisation", st->cost_after);
     cJSON_AddNumberToObject(o, "optimisation_pops", (double)st->pops);
     cJSON_AddNumberToObject(o, "hash_displaced", (double)st->displaced);
+    cJSON_AddNumberToObject(o, "radius_scale_capped_groups", s->g.capped_groups);
     cJSON *rs = cJSON_AddArrayToObject(o, "radius_scale");
     for (int k = 0; s->g.groups.radius_scale && k < s->g.groups.K; k++) cJSON_AddItemToArray(rs, cJSON_CreateNumber(s->g.groups.radius_scale[k]));
     cJSON *ms = cJSON_AddObjectToObject(o, "ms");
@@ -128,6 +129,7 @@ int cmd_group(int argc, char **argv)
     if (!strcmp(s.group_method, "wgc")) printf(" (before optimisation %.6g)", s.g.stats.cost_before);
     if (s.g.dup_ratio > 0.0) printf(", duplication +%.1f%%", 100.0 * s.g.dup_ratio);
     if (s.g.groups.radius_scale) printf(", radius scale k0 %.4f", s.g.groups.radius_scale[0]);
+    if (s.g.capped_groups) printf(" (%d group(s) stopped at the Eq. 13 cap)", s.g.capped_groups);
     printf(", %.0f ms\n", s.g.ms_grouping + s.g.ms_extend);
     rc = 0;
 done:

@@ -40,7 +40,7 @@ int cli_parse_group_opts(cli_args *a, const char *method_opt, spr_grouping_desc 
     if (gd->method == SPR_GROUP_FILE) { cli_error(a, "--%s: use --groups-file F for groups from a file", method_opt); return -1; }
     if (gd->method == SPR_GROUP_MGC) {
         const char *relax = cli_get(a, "relax");
-        if (cli_get_double(a, "c", &gd->mgc.c, 1e-6, 1.0) < 0) return -1;
+        if (cli_get_double(a, "c", &gd->mgc.c, 0.0, 1.0) < 0) return -1;
         if (relax) {
             static const char *const ok[] = {"none", "coplanar", "opposite", "coplanar,opposite", "opposite,coplanar", NULL};
             int i = 0;

@@ -36,7 +36,7 @@
 /* Grouping parameters; the method itself is render's --groups or group's --method. */
 #define CLI_GROUP_OPTS \
     {"groups-file", "F", "read the groups from F (one group per splat, or `splat group` memberships)"}, \
-    {"c", "C", "mgc: overlap relaxation factor in (0,1] (default 1.0)"}, \
+    {"c", "C", "mgc: overlap relaxation factor in [0,1] (default 1.0; 0: no edge, one group)"}, \
     {"relax", "LIST", "mgc: relaxations coplanar,opposite | coplanar | opposite | none (default both)"}, \
     {"k", "K", "wgc/hash: number of groups (default 8)"}, \
     {"mode", "M", "hash: 1 no collision handling, 2 collisions handled, 3 mixed (default 1)"}, \

@@ -131,6 +131,12 @@ static int cmp_u32(const void *a, const void *b)
 spr_result spr_knn_radius_graph(spr_knn *kn, const float *rad, double f, double r_max, int threads, spr_graph *g,
                                 const spr_progress *prog, spr_error *err)
 {
+    return spr_knn_radius_graph_rows(kn, rad, f, r_max, NULL, 0, threads, g, prog, err);
+}
+
+spr_result spr_knn_radius_graph_rows(spr_knn *kn, const float *rad, double f, double r_max, const unsigned char *row,
+                                     unsigned char want, int threads, spr_graph *g, const spr_progress *prog, spr_error *err)
+{
     memset(g, 0, sizeof *g);
     const size_t n = kn->n;
     uint32_t **lists = calloc(n, sizeof *lists);
@@ -154,6 +160,7 @@ spr_result spr_knn_radius_graph(spr_knn *kn, const float *rad, double f, double 
 #pragma omp for schedule(dynamic, 256)
         for (size_t i = 0; i < n; i++) {
             if (!fi || !fd) { failed = 1; continue; }
+            if (row && row[i] != want) continue;
             if ((i & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", i, n);
             /* FLANN's radius is squared for L2; search slightly wider in float
              * and decide membership in double below. */

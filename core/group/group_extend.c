@@ -26,6 +26,8 @@ void spr_extend_defaults(spr_extend_desc *d)
 {
     memset(d, 0, sizeof *d);
     d->max_share = 0.5;
+    d->max_scale = 3.0;
+    d->max_iterations = 50;
 }
 
 /* Clipped(p_i, s·r_i, k): disk i covered by its neighbours flagged in_k
@@ -143,11 +145,14 @@ static double union_area(const spr_cloud *c, const spr_graph *g, double eps, uin
     return A;
 }
 
-spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_extend_desc *din, spr_error *err)
+spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_extend_desc *din, int *capped, spr_error *err)
 {
     spr_extend_desc d = *din;
     if (!(d.eps > 0.0)) d.eps = spr_cloud_default_eps(c);
-    const double F = 3.0; /* neighbours for scales up to 3 */
+    if (!(d.max_scale >= 1.0) || d.max_iterations < 1)
+        return spr__fail(err, SPR_E_ARG, "enlarge: max scale %g or %d iterations out of range", d.max_scale, d.max_iterations);
+    if (capped) *capped = 0;
+    const double F = d.max_scale; /* the neighbour search covers every pair that can overlap up to this scale */
     spr_graph gw;
     spr_result r = spr__pair_graph(c, F, d.threads, &d.progress, &gw, err);
     if (r) return r;
@@ -177,7 +182,8 @@ spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_exte
             disk_sum += M_PI * (double)c->radius[S_k[m]] * c->radius[S_k[m]];
         }
         double s = 1.0;
-        for (int it = 0; it < 50 && disk_sum > 0.0; it++) {
+        int converged = disk_sum == 0.0;
+        for (int it = 0; it < d.max_iterations && !converged; it++) {
 #pragma omp parallel num_threads(d.threads > 0 ? d.threads : 1)
             {
                 uint32_t *tb = malloc(md * sizeof *tb);
@@ -188,11 +194,11 @@ spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *grp, const spr_exte
             double sum = 0.0; /* in member order: the same bits for any thread count */
             for (long m = 0; m < nm; m++) sum += clip[m];
             double next = sqrt((A + sum) / disk_sum);
-            if (next > F) next = F;
-            int done = fabs(next - s) < 1e-3 * s;
+            if (next > F) { s = F; break; } /* beyond the searched neighbourhood: stop at the cap, counted below */
+            converged = fabs(next - s) < 1e-3 * s;
             s = next;
-            if (done) break;
         }
+        if (!converged && capped) (*capped)++;
         grp->radius_scale[k] = (float)s;
     }
     spr_progress_report(&d.progress, "radius enlargement", (size_t)grp->K, (size_t)grp->K);

@@ -100,11 +100,12 @@ int spr_hash_table(int64_t x, int64_t y, int K, int s)
     return (int)(m < 0 ? m + K : m);
 }
 
-typedef struct cell_key { int64_t x, y; int32_t d; uint32_t i; } cell_key;
+/* A collision is two splats in one (x, y) entry of the hash table (SPEC
+ * §5.3: "the first splat of each (x,y) cell"), whatever their axes. */
+typedef struct cell_key { int64_t x, y; uint32_t i; } cell_key;
 static int by_cell(const void *a, const void *b)
 {
     const cell_key *p = a, *q = b;
-    if (p->d != q->d) return p->d < q->d ? -1 : 1;
     if (p->x != q->x) return p->x < q->x ? -1 : 1;
     if (p->y != q->y) return p->y < q->y ? -1 : 1;
     return (p->i > q->i) - (p->i < q->i);
@@ -150,7 +151,7 @@ static int least_overlap(const spr_overlap_graph *og, size_t v, const int32_t *l
     return best;
 }
 
-static int same_cell(const cell_key *a, const cell_key *b) { return a->d == b->d && a->x == b->x && a->y == b->y; }
+static int same_cell(const cell_key *a, const cell_key *b) { return a->x == b->x && a->y == b->y; }
 
 enum { PLACED = 0, PENDING = 1, PENDING_COLLIDES = 2 };
 
@@ -170,7 +171,9 @@ static spr_result place_pending(const spr_cloud *c, spr_hash_desc *d, int32_t *l
     spr_overlap_graph og;
     double t1 = spr_now_ms();
     if (!(d->eps > 0.0)) d->eps = spr_cloud_default_eps(c); /* a full pass: only when collisions need areas */
-    spr_result r = spr_overlap_graph_build(c, d->eps, d->threads, &d->progress, &og, err);
+    /* neighbours and areas only for the colliding splats: mode 3 does
+     * collision work only for the splats nearer than its threshold */
+    spr_result r = spr_overlap_graph_build_rows(c, d->eps, state, PENDING_COLLIDES, d->threads, &d->progress, &og, err);
     st->ms_graph = spr_now_ms() - t1;
     for (size_t i = 0; !r && i < c->n; i++) {
         if (state[i] == PLACED) continue;
@@ -228,7 +231,6 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
     unsigned char *state = calloc(c->n ? c->n : 1, 1);
     if (!keys || !state) { r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory"); goto done; }
     for (size_t i = 0; i < c->n; i++) {
-        keys[i].d = axis[i];
         spr_hash_cell(c, i, axis[i], &keys[i].x, &keys[i].y);
         keys[i].i = (uint32_t)i;
     }
@@ -274,14 +276,14 @@ spr_result spr_group_hash_update(const spr_cloud *c, const spr_hash_desc *din, i
         size_t nk = 0;
         for (size_t i = 0; i < c->n; i++)
             if (!state[i]) {
-                keys[nk] = (cell_key){0, 0, axis[i], (uint32_t)i};
+                keys[nk] = (cell_key){0, 0, (uint32_t)i};
                 spr_hash_cell(c, i, axis[i], &keys[nk].x, &keys[nk].y);
                 nk++;
             }
         qsort(keys, nk, sizeof *keys, by_cell);
         for (size_t i = 0; i < c->n; i++) {
             if (!state[i]) continue;
-            cell_key probe = {0, 0, axis[i], 0};
+            cell_key probe = {0, 0, 0};
             spr_hash_cell(c, i, axis[i], &probe.x, &probe.y);
             size_t lo = 0, hi = nk;
             while (lo < hi) {

@@ -6,9 +6,10 @@
  *   order vertices by degree, descending (ties: index)
  *   colour(v) = smallest colour not used by an already coloured neighbour
  *
- * [decision] relaxation 1 is asymmetric in the source (|(p_j − p_i)·n_i| ≤
- * τ·r_i); we drop the edge only when it holds from both ends, so the graph
- * stays undirected and the relaxation never removes a visible overlap.
+ * [decision] relaxation 1 is asymmetric in SPEC (|(p_j − p_i)·n_i| ≤ τ·r_i);
+ * we drop the edge only when it holds from both ends, so the graph stays
+ * undirected and the relaxation never removes a visible overlap
+ * (docs/grouping.md, "Where the code reads SPEC differently").
  */
 #include "spr_util.h"
 #include "spr_group.h"
@@ -58,11 +59,18 @@ static int by_degree(const void *a, const void *b)
 spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *label, spr_group_stats *st, spr_error *err)
 {
     spr_mgc_desc d = *din;
-    if (!(d.c > 0.0 && d.c <= 1.0)) return spr__fail(err, SPR_E_ARG, "mgc: --c %g outside (0, 1]", d.c);
+    if (!(d.c >= 0.0 && d.c <= 1.0)) return spr__fail(err, SPR_E_ARG, "mgc: --c %g outside [0, 1]", d.c);
     memset(st, 0, sizeof *st);
     double t0 = spr_now_ms();
     spr_graph g; /* |p_i − p_j| < c·(r_i + r_j): relaxation 3 applied by the search */
-    spr_result r = spr__pair_graph(c, d.c, d.threads, &d.progress, &g, err);
+    spr_result r = SPR_OK;
+    if (d.c > 0.0) {
+        r = spr__pair_graph(c, d.c, d.threads, &d.progress, &g, err);
+    } else { /* c = 0: no pair is closer than 0, so no edge (SPEC §5.1 allows c ∈ [0, 1]) */
+        g.n = c->n;
+        g.adj = NULL;
+        if (!(g.start = calloc(c->n + 1, sizeof *g.start))) r = spr__fail(err, SPR_E_NOMEM, "mgc: out of memory");
+    }
     if (r) return r;
     /* Keep only conflict edges, in place (lists stay ascending). */
     uint64_t w = 0;

@@ -98,7 +98,7 @@ spr_result spr_group_run(const spr_cloud *c, const spr_grouping_desc *d, spr_gro
         r = spr_group_duplicate(c, out->labels, out->stats.K, &ed, &out->groups, &out->dup_ratio, err);
     } else {
         r = spr_groups_from_labels(out->labels, n, out->stats.K, &out->groups, err);
-        if (!r && d->extend == SPR_EXTEND_RADIUS) r = spr_group_enlarge(c, &out->groups, &ed, err);
+        if (!r && d->extend == SPR_EXTEND_RADIUS) r = spr_group_enlarge(c, &out->groups, &ed, &out->capped_groups, err);
         if (!r && d->extend == SPR_EXTEND_HASH_RADIUS) {
             /* [ZP] §4.4.2's fast approximation: the lattice circumradius, √50/4 for K = 8 */
             out->groups.radius_scale = malloc((size_t)out->groups.K * sizeof(float));

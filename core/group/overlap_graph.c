@@ -19,12 +19,18 @@ void spr_overlap_graph_free(spr_overlap_graph *og)
 /* Neighbour graph with |p_i − p_j| < f·(r_i + r_j). */
 spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err)
 {
+    return spr__pair_graph_rows(c, f, NULL, 0, threads, prog, g, err);
+}
+
+spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
+                                const spr_progress *prog, spr_graph *g, spr_error *err)
+{
     spr_bounds b;
     spr_cloud_bounds(c, &b);
     spr_knn *kn;
     spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
     if (r) return r;
-    r = spr_knn_radius_graph(kn, c->radius, f, b.max_radius, threads, g, prog, err);
+    r = spr_knn_radius_graph_rows(kn, c->radius, f, b.max_radius, row, want, threads, g, prog, err);
     spr_knn_free(kn);
     if (r) return r;
     uint64_t w = 0;
@@ -49,9 +55,15 @@ spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_
 spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
                                    spr_overlap_graph *og, spr_error *err)
 {
+    return spr_overlap_graph_build_rows(c, eps, NULL, 0, threads, prog, og, err);
+}
+
+spr_result spr_overlap_graph_build_rows(const spr_cloud *c, double eps, const unsigned char *row, unsigned char want, int threads,
+                                        const spr_progress *prog, spr_overlap_graph *og, spr_error *err)
+{
     memset(og, 0, sizeof *og);
     og->eps = eps;
-    spr_result r = spr__pair_graph(c, 1.0, threads, prog, &og->g, err);
+    spr_result r = spr__pair_graph_rows(c, 1.0, row, want, threads, prog, &og->g, err);
     if (r) return r;
     const spr_graph *g = &og->g;
     const uint64_t w = g->start[c->n];

@@ -38,7 +38,7 @@ spr_result spr_groups_write_memberships(const char *path, const spr_groups *g, s
 
 /* MGC options, zero = defaults of SPEC §5.1 (via spr_mgc_defaults). */
 typedef struct spr_mgc_desc {
-    double c;               /* overlap relaxation factor, (0, 1] */
+    double c;               /* overlap relaxation factor, [0, 1] */
     int relax_coplanar;     /* relaxation 1 */
     int relax_opposite;     /* relaxation 2 */
     double coplanar_deg;    /* θ_c */
@@ -118,8 +118,15 @@ typedef struct spr_overlap_graph {
 spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
                                    spr_overlap_graph *og, spr_error *err);
 void spr_overlap_graph_free(spr_overlap_graph *og);
-/* All pairs with |p_i − p_j| < f·(r_i + r_j) (no areas). */
+/* The same for the rows i with row[i] == want only (the other rows stay
+ * empty: a one-sided graph for callers that read those rows alone). */
+spr_result spr_overlap_graph_build_rows(const spr_cloud *c, double eps, const unsigned char *row, unsigned char want, int threads,
+                                        const spr_progress *prog, spr_overlap_graph *og, spr_error *err);
+/* All pairs with |p_i − p_j| < f·(r_i + r_j) (no areas); row (may be NULL):
+ * only rows i with row[i] == want are searched. */
 spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err);
+spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
+                                const spr_progress *prog, spr_graph *g, spr_error *err);
 
 /* ---- WGC: weighted graph colouring with K colours (SPEC §5.2) ---- */
 typedef struct spr_wgc_desc {
@@ -145,6 +152,8 @@ int spr_minimize_overlap(const spr_overlap_graph *og, size_t v, const int32_t *l
 typedef struct spr_extend_desc {
     double eps;          /* 0 = spr_cloud_default_eps */
     double max_share;    /* duplication: drop a candidate covered beyond this share (default 0.5) */
+    double max_scale;    /* Eq. 13: largest radius scale (default 3: the neighbour search covers pairs up to 3·(r_i + r_j)) */
+    int max_iterations;  /* Eq. 13: iterations per group before giving up on the 1e-3 criterion (default 50) */
     int threads;
     spr_progress progress;
 } spr_extend_desc;
@@ -157,8 +166,10 @@ spr_result spr_group_duplicate(const spr_cloud *c, const int32_t *label, int K, 
                                double *dup_ratio, spr_error *err);
 /* Radius enlargement by [ZP] Eq. 13 per group: n·π·r̃² = A + Σ Clipped(p_i, r̃, k),
  * iterated from r̃ = r until the relative change is below 1e-3; the result
- * is a radius scale per group in g->radius_scale (allocated here). */
-spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *g, const spr_extend_desc *d, spr_error *err);
+ * is a radius scale per group in g->radius_scale (allocated here).  A group
+ * whose iteration reaches d->max_scale or runs d->max_iterations times
+ * stops there and is counted in *capped (may be NULL). */
+spr_result spr_group_enlarge(const spr_cloud *c, spr_groups *g, const spr_extend_desc *d, int *capped, spr_error *err);
 /* Mean over groups k and splats i of the share of disk i covered by S_k
  * (with S_k's radius scale): how completely each group alone covers the surface. */
 double spr_group_coverage(const spr_cloud *c, const spr_groups *g, double eps, int threads);
@@ -206,6 +217,7 @@ typedef struct spr_grouping {
     spr_group_stats stats;
     double ms_grouping, ms_extend, dup_ratio;
     spr_overlap_graph graph; /* WGC's overlap graph when keep_graph (n = 0 otherwise) */
+    int capped_groups;       /* Eq. 13 groups stopped by max_scale or max_iterations */
 } spr_grouping;
 /* Group c by d->method, then extend; *out is owned by the caller. */
 spr_result spr_group_run(const spr_cloud *c, const spr_grouping_desc *d, spr_grouping *out, spr_error *err);
