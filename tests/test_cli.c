@@ -7,6 +7,7 @@
 #include <dirent.h>
 #include <unistd.h>
 #include "spr_image.h"
+#include <cjson/cJSON.h>
 #include "test_util.h"
 
 static char dir[64];
@@ -181,8 +182,18 @@ START_TEST(sample_then_info)
     ck_assert_uint_eq(c.n, 5000);
     ck_assert_uint_eq(c.flags & (SPR_SRC_NORMALS | SPR_SRC_RADII | SPR_SRC_COLORS), SPR_SRC_NORMALS | SPR_SRC_RADII | SPR_SRC_COLORS);
     spr_cloud_free(&c);
+    /* info describes the file it was given: the count and where each attribute came from */
     char *info[] = {"splatref", "info", "--model", (char *)ply, NULL};
-    ck_assert_int_eq(run(info, err, sizeof err), 0);
+    ck_assert_int_eq(run_in(NULL, NULL, 1, info, err, sizeof err), 0);
+    static const char *const lines[] = {"splats:   5000\n", "normals:  from the file\n", "colours:  from the file\n",
+                                        "radii:    from the file\n", "opacity:  from the file\n"};
+    for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++)
+        ck_assert_msg(strstr(err, lines[i]) != NULL, "info lacks \"%s\":\n%s", lines[i], err);
+    /* without a model it lists the registries */
+    char *reg[] = {"splatref", "info", NULL};
+    ck_assert_int_eq(run_in(NULL, NULL, 1, reg, err, sizeof err), 0);
+    for (int al = 0; al < SPR_ALGO__COUNT; al++) ck_assert_ptr_nonnull(strstr(err, spr_algo_name((spr_algo)al)));
+    for (int op = 0; op < SPR_COMP__COUNT; op++) ck_assert_ptr_nonnull(strstr(err, spr_composite_info_of((spr_composite_op)op)->name));
     char *bad[] = {"splatref", "sample", "--model", (char *)tu_data("points_3/kitten.xyz"), "--points", "10", "--out", (char *)path_in("x.ply"), NULL};
     ck_assert_int_eq(run(bad, err, sizeof err), 2); /* a point file has no faces to sample */
     ck_assert_ptr_nonnull(strstr(err, "kitten.xyz"));
@@ -209,6 +220,34 @@ START_TEST(group_command)
     }
     fclose(f);
     ck_assert_int_ge(lines, 2976); /* every splat, plus duplicates */
+    /* the statistics agree with the memberships file: K, group sizes, the
+     * membership count, and every one of the 2976 splats present */
+    char *js_text;
+    size_t js_len;
+    spr_error je = {0};
+    ck_assert_int_eq(spr__read_file(js, &js_text, &js_len, &je), SPR_OK);
+    cJSON *root = cJSON_Parse(js_text);
+    ck_assert_ptr_nonnull(root);
+    ck_assert_int_eq(cJSON_GetObjectItem(root, "K")->valueint, 8);
+    ck_assert_int_eq(cJSON_GetObjectItem(root, "memberships")->valueint, lines);
+    ck_assert_int_eq(cJSON_GetObjectItem(root, "splats")->valueint, 2976);
+    int per_group[8] = {0};
+    unsigned char *seen = calloc(2976, 1);
+    f = fopen(out, "r");
+    while (fscanf(f, "%u %d", &idx, &k) == 2) {
+        ck_assert(idx < 2976 && k >= 0 && k < 8);
+        seen[idx] = 1;
+        per_group[k]++;
+    }
+    fclose(f);
+    for (int i = 0; i < 2976; i++) ck_assert_msg(seen[i], "splat %d in no group", i);
+    cJSON *sizes = cJSON_GetObjectItem(root, "group_sizes");
+    ck_assert_int_eq(cJSON_GetArraySize(sizes), 8);
+    for (int g = 0; g < 8; g++) ck_assert_int_eq(cJSON_GetArrayItem(sizes, g)->valueint, per_group[g]);
+    ck_assert_double_gt(cJSON_GetObjectItem(root, "duplication_ratio")->valuedouble, 0.0);
+    free(seen);
+    free(js_text);
+    cJSON_Delete(root);
     /* render reads the memberships back, duplicates included */
     char *rargv[] = {"splatref", "render", "--model", "builtin:torus", "--points", "3000", "--groups-file", (char *)out,
                      "--size", "64x64", "--out", (char *)path_in("gr.png"), "--quiet", NULL};

@@ -230,14 +230,54 @@ START_TEST(sample_is_reproducible)
 }
 END_TEST
 
+/* Each built-in model is the surface SPEC §1 and builtin.c's header name:
+ * every centre on it (float tolerance), every normal its outward unit
+ * normal, radii from the radius rule (positive), about n points. */
 START_TEST(builtins_load)
 {
-    for (const char *const *n = spr_builtin_names; *n; n++) {
+    for (const char *const *nm = spr_builtin_names; *nm; nm++) {
         char name[64];
-        snprintf(name, sizeof name, "builtin:%s", *n);
+        snprintf(name, sizeof name, "builtin:%s", *nm);
         spr_cloud c = tu_builtin(name, 4000);
         ck_assert_uint_ge(c.n, 3000);
         ck_assert_uint_le(c.n, 4000);
+        double worst_pos = 0.0, worst_nrm = 0.0;
+        for (size_t i = 0; i < c.n; i++) {
+            const float *p = c.pos + 3 * i, *n = c.nrm + 3 * i;
+            double x = p[0], y = p[1], z = p[2], want[3], off;
+            if (!strcmp(*nm, "sphere")) { /* unit sphere, radial normals */
+                double l = sqrt(x * x + y * y + z * z);
+                off = fabs(l - 1.0);
+                want[0] = x / l; want[1] = y / l; want[2] = z / l;
+            } else if (!strcmp(*nm, "torus")) { /* R = 1, r = 0.35, axis +y tilted 60° toward +z */
+                const double ct = 0.5, st = 0.86602540378443865;
+                double ly = y * ct + z * st, lz = -y * st + z * ct; /* undo the tilt: the axis is local y */
+                double rho = sqrt(x * x + lz * lz), cx = x / rho, cz = lz / rho; /* nearest point of the tube's centre circle */
+                double q[3] = {x - cx, ly, lz - cz}, l = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+                off = fabs(l - 0.35);
+                double lw[3] = {q[0] / l, q[1] / l, q[2] / l};
+                want[0] = lw[0]; want[1] = lw[1] * ct - lw[2] * st; want[2] = lw[1] * st + lw[2] * ct;
+            } else if (!strcmp(*nm, "octahedron")) { /* |x|+|y|+|z| = 1, face normals (±1,±1,±1)/√3 */
+                off = fabs(fabs(x) + fabs(y) + fabs(z) - 1.0);
+                for (int k = 0; k < 3; k++) want[k] = (p[k] < 0 ? -1.0 : 1.0) / sqrt(3.0);
+            } else if (!strcmp(*nm, "planes")) { /* z = 0 and z = −0.5 within [−1,1]², normals +z, α = 0.5 */
+                off = fmin(fabs(z), fabs(z + 0.5)) + (fabs(x) > 1.0 || fabs(y) > 1.0);
+                want[0] = 0; want[1] = 0; want[2] = 1;
+                ck_assert_float_eq(c.alpha[i], 0.5f);
+            } else { /* cube [−1,1]³: one coordinate ±1, the normal along it */
+                int ax = fabs(x) >= fabs(y) && fabs(x) >= fabs(z) ? 0 : fabs(y) >= fabs(z) ? 1 : 2;
+                off = fabs(fabs((double)p[ax]) - 1.0) + (fabs(x) > 1.0 + 1e-6 || fabs(y) > 1.0 + 1e-6 || fabs(z) > 1.0 + 1e-6);
+                want[0] = want[1] = want[2] = 0.0;
+                want[ax] = p[ax] < 0 ? -1.0 : 1.0;
+            }
+            double dn = fabs(n[0] - want[0]) + fabs(n[1] - want[1]) + fabs(n[2] - want[2]);
+            if (off > worst_pos) worst_pos = off;
+            if (dn > worst_nrm) worst_nrm = dn;
+            if (!(c.radius[i] > 0.0f)) ck_abort_msg("%s: splat %zu radius %g", name, i, c.radius[i]);
+        }
+        printf("io: %s: %zu splats, largest distance to the surface %.2g, largest normal error %.2g\n", name, c.n, worst_pos, worst_nrm);
+        ck_assert_double_le(worst_pos, 1e-6);
+        ck_assert_double_le(worst_nrm, 1e-5);
         spr_cloud_free(&c);
     }
 }
