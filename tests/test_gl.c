@@ -460,6 +460,44 @@ START_TEST(depth_mask_and_composites_match)
 }
 END_TEST
 
+/* Two GL backends in one process, used in turn: each call makes its own
+ * context current, so both draw into their own targets and both equal the
+ * CPU reference. */
+START_TEST(two_gl_backends_in_one_process)
+{
+    spr_error err = {0};
+    spr_backend *gl2 = spr_gl_create(NULL, &err);
+    ck_assert_msg(gl2 != NULL, "%s", err.msg);
+    spr_cloud c = tu_builtin("builtin:torus", 3000);
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.width = 64;
+    cam.height = 48;
+    spr_view v;
+    view_for(&c, &cam, &v);
+    spr_render_desc d = {.algo = SPR_ALGO_PBR2P1};
+    spr_render_result rc, r1, r2;
+    tu_render(&v, &c, &d, 2, &rc);
+    spr_backend *be[2] = {gl, gl2};
+    int t[2];
+    for (int k = 0; k < 2; k++) { /* interleaved: a target on each, then draws on each */
+        ck_assert_int_eq(spr_backend_set_view(be[k], &v), SPR_OK);
+        ck_assert_int_eq(spr_backend_target_create(be[k], SPR_PLANES_OPAQUE, &t[k]), SPR_OK);
+    }
+    for (int k = 0; k < 2; k++) spr_backend_target_destroy(be[k], t[k]);
+    ck_assert_int_eq(spr_render(gl2, &v, &c, &d, &r2, &err), SPR_OK);
+    ck_assert_int_eq(spr_render(gl, &v, &c, &d, &r1, &err), SPR_OK);
+    size_t bytes = (size_t)v.width * v.height * 4 * sizeof(float);
+    ck_assert_msg(memcmp(rc.rgba, r1.rgba, bytes) == 0, "first GL backend differs from the CPU");
+    ck_assert_msg(memcmp(rc.rgba, r2.rgba, bytes) == 0, "second GL backend differs from the CPU");
+    spr_render_result_free(&rc);
+    spr_render_result_free(&r1);
+    spr_render_result_free(&r2);
+    spr_backend_destroy(gl2);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 /* The program text GL compiled contains the shared arithmetic file,
  * byte for byte, as it is in the source tree (no copy in a string). */
 START_TEST(programs_embed_the_shared_arithmetic)
@@ -507,6 +545,7 @@ Suite *make_gl_suite(void)
     tcase_add_test(tc, report_shows_a_perturbation);
     tcase_add_test(tc, depth_mask_and_composites_match);
     tcase_add_test(tc, programs_embed_the_shared_arithmetic);
+    tcase_add_test(tc, two_gl_backends_in_one_process);
     tcase_add_test(tc, summary);
     suite_add_tcase(s, tc);
     return s;
