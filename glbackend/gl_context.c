@@ -16,6 +16,31 @@ static PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display(void)
     return (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
 }
 
+/* EGL displays are per process: eglGetPlatformDisplay returns the same
+ * handle to every backend on one platform/device, and eglTerminate on it
+ * would end the contexts of every other backend too.  Each display is
+ * terminated when the last backend that initialised it closes. */
+#define GL_MAX_DISPLAYS 8
+static struct { EGLDisplay dpy; int refs; } displays[GL_MAX_DISPLAYS];
+
+static void display_ref(EGLDisplay d)
+{
+    int free_slot = -1;
+    for (int i = 0; i < GL_MAX_DISPLAYS; i++) {
+        if (displays[i].refs && displays[i].dpy == d) { displays[i].refs++; return; }
+        if (!displays[i].refs && free_slot < 0) free_slot = i;
+    }
+    if (free_slot >= 0) { displays[free_slot].dpy = d; displays[free_slot].refs = 1; }
+}
+
+/* 1 when this was the last reference (terminate it). */
+static int display_unref(EGLDisplay d)
+{
+    for (int i = 0; i < GL_MAX_DISPLAYS; i++)
+        if (displays[i].refs && displays[i].dpy == d) return --displays[i].refs == 0;
+    return 1;
+}
+
 spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
 {
     /* Mesa's loader warnings would add lines to our one-line errors. */
@@ -46,6 +71,7 @@ spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
         return spr__fail(err, SPR_E_NO_DEVICE, "gl: eglInitialize failed on the %s platform (EGL error 0x%x): no usable GL driver there",
                          device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
     }
+    display_ref(c->dpy);
     if (!eglBindAPI(EGL_OPENGL_API)) return spr__fail(err, SPR_E_NO_DEVICE, "gl: EGL cannot bind the OpenGL API");
     const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
@@ -76,9 +102,10 @@ void gl__make_current(gl_context *c)
 void gl__egl_close(gl_context *c)
 {
     if (c->dpy != EGL_NO_DISPLAY) {
-        eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        if (c->ctx != EGL_NO_CONTEXT && eglGetCurrentContext() == c->ctx)
+            eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         if (c->ctx != EGL_NO_CONTEXT) eglDestroyContext(c->dpy, c->ctx);
-        eglTerminate(c->dpy);
+        if (display_unref(c->dpy)) eglTerminate(c->dpy); /* the last backend on this display */
     }
     c->dpy = EGL_NO_DISPLAY;
     c->ctx = EGL_NO_CONTEXT;

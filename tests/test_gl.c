@@ -469,31 +469,50 @@ START_TEST(two_gl_backends_in_one_process)
     spr_backend *gl2 = spr_gl_create(NULL, &err);
     ck_assert_msg(gl2 != NULL, "%s", err.msg);
     spr_cloud c = tu_builtin("builtin:torus", 3000);
-    spr_camera_desc cam;
-    spr_camera_defaults(&cam);
-    cam.width = 64;
-    cam.height = 48;
-    spr_view v;
-    view_for(&c, &cam, &v);
-    spr_render_desc d = {.algo = SPR_ALGO_PBR2P1};
-    spr_render_result rc, r1, r2;
-    tu_render(&v, &c, &d, 2, &rc);
-    spr_backend *be[2] = {gl, gl2};
-    int t[2];
-    for (int k = 0; k < 2; k++) { /* interleaved: a target on each, then draws on each */
-        ck_assert_int_eq(spr_backend_set_view(be[k], &v), SPR_OK);
-        ck_assert_int_eq(spr_backend_target_create(be[k], SPR_PLANES_OPAQUE, &t[k]), SPR_OK);
+    spr_view v[2];
+    for (int k = 0; k < 2; k++) { /* different sizes, so neither backend's objects fit the other's frame */
+        spr_camera_desc cam;
+        spr_camera_defaults(&cam);
+        cam.width = k ? 40 : 64;
+        cam.height = k ? 30 : 48;
+        view_for(&c, &cam, &v[k]);
     }
-    for (int k = 0; k < 2; k++) spr_backend_target_destroy(be[k], t[k]);
-    ck_assert_int_eq(spr_render(gl2, &v, &c, &d, &r2, &err), SPR_OK);
-    ck_assert_int_eq(spr_render(gl, &v, &c, &d, &r1, &err), SPR_OK);
-    size_t bytes = (size_t)v.width * v.height * 4 * sizeof(float);
-    ck_assert_msg(memcmp(rc.rgba, r1.rgba, bytes) == 0, "first GL backend differs from the CPU");
-    ck_assert_msg(memcmp(rc.rgba, r2.rgba, bytes) == 0, "second GL backend differs from the CPU");
-    spr_render_result_free(&rc);
-    spr_render_result_free(&r1);
-    spr_render_result_free(&r2);
+    spr_render_desc d = {.algo = SPR_ALGO_DEFERRED};
+    spr_backend *order[3] = {gl2, gl, gl2};
+    for (int i = 0; i < 3; i++) {
+        int k = order[i] == gl2;
+        spr_render_result rc, rg;
+        tu_render(&v[k], &c, &d, 2, &rc);
+        ck_assert_msg(spr_render(order[i], &v[k], &c, &d, &rg, &err) == SPR_OK, "%s", err.msg);
+        ck_assert_msg(memcmp(rc.rgba, rg.rgba, (size_t)v[k].width * v[k].height * 4 * sizeof(float)) == 0,
+                      "GL backend %d (render %d) differs from the CPU", k + 1, i);
+        spr_render_result_free(&rc);
+        spr_render_result_free(&rg);
+    }
+    /* targets alive on both at once keep their own contents */
+    static const float red[4] = {1, 0, 0, 1}, blue[4] = {0, 0, 1, 1};
+    int t1, t2;
+    ck_assert_int_eq(spr_backend_set_view(gl, &v[0]), SPR_OK);
+    ck_assert_int_eq(spr_backend_set_view(gl2, &v[0]), SPR_OK);
+    ck_assert_int_eq(spr_backend_target_create(gl, SPR_PLANES_IMAGE, &t1), SPR_OK);
+    ck_assert_int_eq(spr_backend_target_create(gl2, SPR_PLANES_IMAGE, &t2), SPR_OK);
+    ck_assert_int_eq(spr_backend_clear(gl, t1, red), SPR_OK);
+    ck_assert_int_eq(spr_backend_clear(gl2, t2, blue), SPR_OK);
+    float px[64 * 48 * 4];
+    ck_assert_int_eq(spr_backend_read_plane(gl, t1, SPR_PLANE_COLOR, px), SPR_OK);
+    ck_assert_msg(px[0] == 1.0f && px[2] == 0.0f, "the first backend's target holds (%g, %g, %g)", px[0], px[1], px[2]);
+    ck_assert_int_eq(spr_backend_read_plane(gl2, t2, SPR_PLANE_COLOR, px), SPR_OK);
+    ck_assert_msg(px[0] == 0.0f && px[2] == 1.0f, "the second backend's target holds (%g, %g, %g)", px[0], px[1], px[2]);
+    spr_backend_target_destroy(gl, t1);
+    spr_backend_target_destroy(gl2, t2);
     spr_backend_destroy(gl2);
+    /* and the first one still works once the second (and its context) is gone */
+    spr_render_result rc, rg;
+    tu_render(&v[0], &c, &d, 2, &rc);
+    ck_assert_msg(spr_render(gl, &v[0], &c, &d, &rg, &err) == SPR_OK, "%s", err.msg);
+    ck_assert_msg(memcmp(rc.rgba, rg.rgba, (size_t)v[0].width * v[0].height * 4 * sizeof(float)) == 0, "after destroying the second backend");
+    spr_render_result_free(&rc);
+    spr_render_result_free(&rg);
     spr_cloud_free(&c);
 }
 END_TEST
