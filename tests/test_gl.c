@@ -112,18 +112,25 @@ static void view_for(const spr_cloud *c, spr_camera_desc *cam, spr_view *v)
     ck_assert_msg(spr_view_make(cam, v, &err) == SPR_OK, "%s", err.msg);
 }
 
-START_TEST(blend_modes_and_depth_funcs_match)
+/* The raw-call scenes: a 3000-splat sphere framed at 96×80. */
+static spr_cloud sphere_scene(spr_view *v)
 {
-    /* Raw draws, every blend mode × depth function × output, on float targets:
-     * PARITY.md rule 7 checked directly, not only through the algorithms. */
     spr_cloud c = tu_builtin("builtin:sphere", 3000);
-    for (size_t i = 0; i < c.n; i++) c.alpha[i] = (float)(i % 17) / 16.0f;
     spr_camera_desc cam;
     spr_camera_defaults(&cam);
     cam.width = 96;
     cam.height = 80;
+    view_for(&c, &cam, v);
+    return c;
+}
+
+START_TEST(blend_modes_and_depth_funcs_match)
+{
+    /* Raw draws, every blend mode × depth function × output, on float targets:
+     * PARITY.md rule 7 checked directly, not only through the algorithms. */
     spr_view v;
-    view_for(&c, &cam, &v);
+    spr_cloud c = sphere_scene(&v);
+    for (size_t i = 0; i < c.n; i++) c.alpha[i] = (float)(i % 17) / 16.0f;
     size_t np = (size_t)v.width * v.height;
     float *a = malloc(np * 16), *b = malloc(np * 16);
     for (int blend = 0; blend < SPR_BLEND__COUNT * SPR_BLEND__COUNT; blend++) /* rgb × alpha blends */
@@ -395,13 +402,8 @@ END_TEST
  * and the mask really drops some (the front layer of the sphere). */
 START_TEST(depth_mask_and_composites_match)
 {
-    spr_cloud c = tu_builtin("builtin:sphere", 3000);
-    spr_camera_desc cam;
-    spr_camera_defaults(&cam);
-    cam.width = 96;
-    cam.height = 80;
     spr_view v;
-    view_for(&c, &cam, &v);
+    spr_cloud c = sphere_scene(&v);
     size_t np = (size_t)v.width * v.height;
     float *a = malloc(np * 16), *b = malloc(np * 16);
     spr_backend *be[2] = {cpu, gl};
