@@ -4,7 +4,8 @@
  * Manifest lines: NAME HASH OPTIONS...   (HASH = FNV-1a 64 of the final RGBA
  * float image of the CPU reference, OPTIONS = render's scene options).
  * Check (default): the CPU output must hash to HASH and the GL output must
- * equal the CPU output in every plane of every pass.  --update: render on
+ * equal the CPU output in every plane of every pass; every algorithm of the
+ * registry must have at least one scene.  --update: render on
  * the CPU, rewrite the hashes and NAME.png (run deliberately; look at the
  * pictures before committing them).
  */
@@ -113,7 +114,7 @@ int cmd_reference(int argc, char **argv)
         }
         else printf("reference: GL renderer %s\n", spr_gl_renderer(gl));
     }
-    int bad = 0, checked = 0;
+    int bad = 0, checked = 0, per_algo[SPR_ALGO__COUNT] = {0};
     for (int i = 0; i < n && bad < 1000; i++) {
         if (only && strcmp(only, sl[i].name)) continue;
         char args[1024], *sargv[64];
@@ -165,6 +166,7 @@ int cmd_reference(int argc, char **argv)
             bad += !cpu_ok;
         }
         checked++;
+        per_algo[rd.algo]++;
         spr_render_result_free(&res);
         cli_scene_free(&s);
     }
@@ -175,6 +177,15 @@ int cmd_reference(int argc, char **argv)
     }
     spr_backend_destroy(cpu);
     spr_backend_destroy(gl);
+    /* every algorithm of the registry has a canonical scene: a new row needs a reference image */
+    printf("reference: scenes per algorithm:");
+    for (int al = 0; al < SPR_ALGO__COUNT; al++) printf(" %s %d", spr_algo_name((spr_algo)al), per_algo[al]);
+    printf("\n");
+    for (int al = 0; al < SPR_ALGO__COUNT && !only; al++)
+        if (!per_algo[al]) {
+            printf("reference: algorithm %s has no scene in %s\n", spr_algo_name((spr_algo)al), mpath);
+            bad++;
+        }
     printf("reference: %d scenes, %d failed%s%s\n", checked, bad, gl_reason ? "; GL skipped: " : "", gl_reason ? gl_reason : "");
     if (bad) return 1;
     const char *req = getenv("SPLATREF_REQUIRE_GL");
