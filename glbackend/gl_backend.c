@@ -331,7 +331,7 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         int a = gl__plane_attachment((spr_plane)p);
         if (a < 0) continue;
-        GLboolean on = p == SPR_PLANE_COLOR || p == SPR_PLANE_DEPTH;
+        GLboolean on = (spr_composite_info_of(cd->op)->writes & SPR_PLANE_BIT(p)) != 0;
         glColorMaski((GLuint)a, on, on, on, on);
         glDisablei(GL_BLEND, (GLuint)a);
     }

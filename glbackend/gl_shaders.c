@@ -68,7 +68,7 @@ static void add_constants(strbuf *b)
         sb_add(b, "%suintBitsToFloat(0x%08xu)", i ? ", " : "", u);
     }
     sb_add(b, ");\n#define SPR_COMP_CALL(op, px, K, eps, bg, o, d)");
-#define GL__COMP(e, fn, max_in, summary) sb_add(b, " if (op == %d) spr_comp_" #fn "(px, K, eps, bg, o, d); else", SPR_COMP_##e);
+#define GL__COMP(e, fn, max_in, reads, writes, summary) sb_add(b, " if (op == %d) spr_comp_" #fn "(px, K, eps, bg, o, d); else", SPR_COMP_##e);
     SPR_COMPOSITE_LIST(GL__COMP)
 #undef GL__COMP
     sb_add(b, " {}\n");

@@ -1,13 +1,14 @@
 /* sw_composite.c — composite operations on the CPU: the loop over pixels
  * around the per-pixel functions of the composite table (SPR_COMPOSITE_LIST
- * in spr_backend.h, spr_comp_* in spr_arith.h).  The output's test plane,
- * when it has one, receives the output depth, as gl_FragDepth does in GL.
+ * in spr_backend.h, spr_comp_* in spr_arith.h).  Every op of the table
+ * writes colour and depth; the output's test plane, when it has one,
+ * receives the depth, as gl_FragDepth does in GL.
  */
 #include "sw_internal.h"
 #include "spr_fragment.h"
 
 /* One pixel loop per op of the table, so each op's function is inlined. */
-#define SW__COMP_LOOP(e, fn, max_in, summary)                                                                     \
+#define SW__COMP_LOOP(e, fn, max_in, reads, writes, summary)                                                                     \
     static void comp_##fn(const spr_composite_desc *cd, long np, int threads, const float *const *color,          \
                           const float *const *depth, float *ocolor, float *odepth, float *otest)                   \
     {                                                                                                             \
@@ -31,7 +32,7 @@ SPR_COMPOSITE_LIST(SW__COMP_LOOP)
 typedef void (*sw_comp_loop)(const spr_composite_desc *, long, int, const float *const *, const float *const *, float *, float *,
                              float *);
 static const sw_comp_loop comp_loops[SPR_COMP__COUNT] = {
-#define SW__COMP_FN(e, fn, max_in, summary) comp_##fn,
+#define SW__COMP_FN(e, fn, max_in, reads, writes, summary) comp_##fn,
     SPR_COMPOSITE_LIST(SW__COMP_FN)
 #undef SW__COMP_FN
 };

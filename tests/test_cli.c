@@ -313,6 +313,8 @@ START_TEST(unused_options_are_refused)
         {{"info", "--model", "x.ply", "--points", "100"}, "--points"},
         {{"bench", "--scene", "bunny", "--points", "1000"}, "--points"},
         {{"bench", "--scene", "grouping", "--size", "64x64"}, "--size"},
+        {{"render", "--backend", "cpu", "--gl-device", "0"}, "--gl-device"},
+        {{"reference", "--update", "--only", "none", "--gl-device", "0"}, "--gl-device"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         char *argv[12] = {"splatref"};

@@ -104,7 +104,7 @@ int cmd_compare(int argc, char **argv)
     if (pr) return pr == 1 ? 0 : 2;
     if (a.n_positional != 2) { cli_error(&a, "two PFM files are required"); return 2; }
     double bg[3] = {0, 0, 0};
-    if (cli_get_vec3(&a, "background", bg) < 0) return 2;
+    if (cli_get_vec3(&a, "background", bg) < 0 || cli_reject_unused(&a)) return 2;
     float *im[2] = {NULL, NULL};
     int w[2], h[2], ch[2];
     spr_error err = {0};

@@ -91,7 +91,9 @@ int cmd_reference(int argc, char **argv)
     const char *dir = cli_get(&a, "dir") ? cli_get(&a, "dir") : "reference_images";
     const char *only = cli_get(&a, "only");
     int update = cli_flag(&a, "update"), gl_device = -1, threads = 0;
-    if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || cli_get_int(&a, "threads", &threads, 0, 1024) < 0) return 2;
+    if ((!update && cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) || cli_get_int(&a, "threads", &threads, 0, 1024) < 0 ||
+        (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
+        return 2;
     char mpath[1200];
     snprintf(mpath, sizeof mpath, "%s/manifest.txt", dir);
     static scene_line sl[MAX_SCENES];

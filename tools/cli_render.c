@@ -141,8 +141,8 @@ int cmd_render(int argc, char **argv)
     const char *out = cli_get(&a, "out") ? cli_get(&a, "out") : "splatref.png";
     const char *bname = cli_get(&a, "backend") ? cli_get(&a, "backend") : "cpu";
     int gl_device = -1;
-    if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
     if (strcmp(bname, "cpu") && strcmp(bname, "gl")) { cli_error(&a, "--backend: '%s' is not cpu or gl", bname); return 2; }
+    if (!strcmp(bname, "gl") && cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
     const char *trace_out = cli_get(&a, "trace"), *dump_dir = cli_get(&a, "dump"), *groups_out = cli_get(&a, "groups-out"), *float_out = cli_get(&a, "float"), *stats_out = cli_get(&a, "stats");
     if (cli_scene_setup(&a, &s, &rd, 0)) goto done;
     if (groups_out && !rd.groups) { cli_error(&a, "--groups-out: %s uses no groups", spr_algo_name(rd.algo)); goto done; }

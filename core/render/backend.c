@@ -11,7 +11,7 @@ static const spr_plane_info plane_table[SPR_PLANE__COUNT] = {
 };
 
 static const spr_composite_info composite_table[SPR_COMP__COUNT] = {
-#define SPR__COMP_ROW(e, fn, max_in, summary) {#fn, max_in, summary},
+#define SPR__COMP_ROW(e, fn, max_in, reads, writes, summary) {#fn, max_in, reads, writes, summary},
     SPR_COMPOSITE_LIST(SPR__COMP_ROW)
 #undef SPR__COMP_ROW
 };
@@ -154,12 +154,12 @@ spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c)
     for (int i = 0; i < c->n_inputs; i++) {
         if (!live(b, c->inputs[i])) return bad(b, "composite: no input target %d", c->inputs[i]);
         if (c->inputs[i] == c->output) return bad(b, "composite: target %d is both input and output", c->output);
-        if (!has(b, c->inputs[i], SPR_PLANE_COLOR) || !has(b, c->inputs[i], SPR_PLANE_DEPTH))
-            return bad(b, "composite: input target %d lacks a colour or depth plane", c->inputs[i]);
+        if ((b->target_planes[c->inputs[i]] & ci->reads) != ci->reads)
+            return spr__fail(&b->err, SPR_E_ARG, "composite: %s reads planes input target %d lacks", ci->name, c->inputs[i]);
     }
     if (!live(b, c->output)) return bad(b, "composite: no output target %d", c->output);
-    if (!has(b, c->output, SPR_PLANE_COLOR) || !has(b, c->output, SPR_PLANE_DEPTH))
-        return bad(b, "composite: output target %d lacks a colour or depth plane", c->output);
+    if ((b->target_planes[c->output] & ci->writes) != ci->writes)
+        return spr__fail(&b->err, SPR_E_ARG, "composite: %s writes planes output target %d lacks", ci->name, c->output);
     return b->composite(b, c);
 }
 

@@ -152,20 +152,26 @@ typedef struct spr_draw_stats {
     uint64_t passed;      /* fragments that passed the depth test */
 } spr_draw_stats;
 
-/* The composite table: X(ENUM, function, most inputs, summary).  Each op is
- * one per-pixel function spr_comp_<function> of spr_arith.h that reads the
- * colour and depth planes of its inputs and writes the colour, depth and
- * test planes of its output; the CPU backend loops it over pixels, the GL
- * backend runs it as a full-screen pass.  A new op is one function and one
- * row (docs/architecture.md, "add a composite op"). */
+/* The composite table: X(ENUM, function, most inputs, planes read from each
+ * input, planes written, summary).  Each op is one per-pixel function
+ * spr_comp_<function> of spr_arith.h; it reads its inputs through
+ * spr_in_color/spr_in_depth and gives the output colour and depth (a test
+ * plane, when the output has one, receives the depth too, as gl_FragDepth
+ * does).  The CPU backend loops it over pixels, the GL backend runs it as a
+ * full-screen pass.  A new op is one function and one row
+ * (docs/architecture.md, "add a composite op"). */
 #define SPR_MAX_COMPOSITE_INPUTS SPR_MAX_GROUPS
-#define SPR_COMPOSITE_LIST(X)                                                                        \
-    X(NORMALIZE, normalize, 1, "c = rgb/a where a > 0, else background; depth copied (SPEC 4.1 step 3)") \
-    X(DEFERRED, deferred, SPR_MAX_COMPOSITE_INPUTS, "eps-composite of the inputs in order, then normalise (SPEC 4.2)") \
-    X(AVERAGE, average, SPR_MAX_COMPOSITE_INPUTS, "(1/K) sum of the inputs, every channel; nearest depth (SPEC 6.1)")
+#define SPR_PLANES_CD (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH))
+#define SPR_COMPOSITE_LIST(X)                                                                                           \
+    X(NORMALIZE, normalize, 1, SPR_PLANES_CD, SPR_PLANES_CD,                                                              \
+      "c = rgb/a where a > 0, else background; depth copied (SPEC 4.1 step 3)")                                         \
+    X(DEFERRED, deferred, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD, SPR_PLANES_CD,                                         \
+      "eps-composite of the inputs in order, then normalise (SPEC 4.2)")                                                \
+    X(AVERAGE, average, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD, SPR_PLANES_CD,                                           \
+      "(1/K) sum of the inputs, every channel; nearest depth (SPEC 6.1)")
 
 typedef enum spr_composite_op {
-#define SPR__COMP_ENUM(e, fn, max_in, summary) SPR_COMP_##e,
+#define SPR__COMP_ENUM(e, fn, max_in, reads, writes, summary) SPR_COMP_##e,
     SPR_COMPOSITE_LIST(SPR__COMP_ENUM)
 #undef SPR__COMP_ENUM
     SPR_COMP__COUNT
@@ -173,6 +179,8 @@ typedef enum spr_composite_op {
 typedef struct spr_composite_info {
     const char *name;
     int max_inputs;
+    unsigned reads;      /* planes each input must have */
+    unsigned writes;     /* planes the output must have (its test plane, if any, also gets the depth) */
     const char *summary;
 } spr_composite_info;
 const spr_composite_info *spr_composite_info_of(spr_composite_op op);
