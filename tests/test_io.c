@@ -213,6 +213,47 @@ START_TEST(bad_input_is_one_clear_error)
 }
 END_TEST
 
+/* The findings of issue 9 (libFuzzer on the readers): each was a hang, a
+ * memory blow-up or a wrong acceptance; each must now be one line naming
+ * the file and the position, returned at once. */
+START_TEST(fuzz_findings_are_clear_errors)
+{
+    /* an XYZ file of one NUL byte (the tokenizer never advanced) */
+    expect_error("nul.xyz", "\0", 1, SPR_E_FORMAT, "byte 0: NUL byte");
+    /* a 48-byte XYZ file with a NUL in the middle of a line: three 6-byte lines, then "3 3" → byte 21 */
+    const char nul48[48] = "0 0 0\n1 1 1\n2 2 2\n3 3\0 3\n4 4 4\n5 5 5\n6 6 6\n7 7";
+    expect_error("nul48.xyz", nul48, sizeof nul48, SPR_E_FORMAT, "byte 21: NUL byte");
+    /* an element with no properties and 99,999,999,999 items before the vertices */
+    const char *empty = "ply\nformat ascii 1.0\nelement junk 99999999999\nelement vertex 0\nproperty float x\nproperty float y\n"
+                        "property float z\nend_header\n";
+    expect_error("empty_elem.ply", empty, strlen(empty), SPR_E_FORMAT, "99999999999 items but no property");
+    /* 165 bytes declaring 67,108,864 vertices with a list property: refused
+     * before allocating (a list takes at least its count's bytes) */
+    char big[200];
+    int o = sprintf(big, "ply\nformat binary_little_endian 1.0\nelement vertex 67108864\nproperty float x\nproperty float y\n"
+                         "property float z\nproperty list uchar int idx\nend_header\n");
+    memset(big + o, 0, (size_t)(165 - o));
+    expect_error("list_blowup.ply", big, 165, SPR_E_TRUNCATED, "67108864 vertex items");
+    /* a list count written as nan, in a face list and in a vertex list property */
+    const char *nanface = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                          "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\nnan 0 1 2\n";
+    expect_error("nan_face.ply", nanface, strlen(nanface), SPR_E_FORMAT, "face 0: list length nan");
+    const char *nanvert = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+                          "property list uchar float extra\nend_header\n0 0 0 nan\n1 0 0 0\n";
+    expect_error("nan_list.ply", nanvert, strlen(nanvert), SPR_E_FORMAT, "vertex 0: list length nan");
+    /* 1e300 is a finite double but no finite float: refused at its line, naming the file */
+    const char *huge_v = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+                         "end_header\n0 0 0\n1e300 0 0\n";
+    expect_error("e300.ply", huge_v, strlen(huge_v), SPR_E_VALUE, ":9: vertex 1: coordinate x (1e+300)");
+    const char *e300x = "0 0 0\n0 1e300 0\n1 1 1\n", *e300o = "OFF\n3 0 0\n0 0 0\n1 0 0\n0 0 1e300\n";
+    expect_error("e300.xyz", e300x, strlen(e300x), SPR_E_VALUE, ":2: point 1: coordinate y (1e+300)");
+    expect_error("e300.off", e300o, strlen(e300o), SPR_E_VALUE, ":5: point 2: coordinate z");
+    const char *huge_r = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+                         "property float radius\nend_header\n0 0 0 1\n1 0 0 1e300\n";
+    expect_error("e300r.ply", huge_r, strlen(huge_r), SPR_E_VALUE, "property radius (1e+300)");
+}
+END_TEST
+
 START_TEST(sample_is_reproducible)
 {
     spr_cloud a, b;
@@ -293,6 +334,7 @@ Suite *make_io_suite(void)
     tcase_add_test(tc, pca_normals_on_a_sphere_point_out);
     tcase_add_test(tc, ply_both_endiannesses_and_round_trip);
     tcase_add_test(tc, bad_input_is_one_clear_error);
+    tcase_add_test(tc, fuzz_findings_are_clear_errors);
     tcase_add_test(tc, sample_is_reproducible);
     tcase_add_test(tc, builtins_load);
     suite_add_tcase(s, tc);

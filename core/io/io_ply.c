@@ -208,6 +208,7 @@ spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
     memset(mesh, 0, sizeof *mesh);
     memset(c, 0, sizeof *c);
     r = parse_header(path, buf, len, &fmt, el, &nel, &body, err);
+    if (!r) r = spr__check_text(path, buf, 0, fmt == F_ASCII ? len : body, err);
     if (r) goto fail;
     int vi = -1;
     for (int e = 0; e < nel; e++)
@@ -220,14 +221,10 @@ spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
     }
     int role[64], have = 0;
     ply_type ctype[64];
-    size_t vsize = 0;
-    int fixed = 1;
     for (int k = 0; k < V->nprops; k++) {
         role[k] = V->props[k].count_type == T_NONE ? role_of(V->props[k].name) : R_NONE;
         ctype[k] = V->props[k].type;
         if (role[k]) have |= 1 << role[k];
-        if (V->props[k].count_type != T_NONE) fixed = 0;
-        vsize += (size_t)type_size(V->props[k].type);
         if ((role[k] >= R_R && role[k] <= R_A) && (ctype[k] == T_I32 || ctype[k] == T_U32)) {
             r = spr__fail(err, SPR_E_FORMAT, "%s: colour property \"%s\" has a 32-bit integer type", path, V->props[k].name);
             goto fail;
@@ -237,17 +234,25 @@ spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
         r = spr__fail(err, SPR_E_FORMAT, "%s: vertex element lacks x, y or z", path);
         goto fail;
     }
-    /* Size check before allocating: every element before the vertices has a
-     * minimum size too, but the vertex block alone must fit in the body. */
-    if (fmt != F_ASCII && fixed && V->count * vsize > len - body) {
-        r = spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: header declares %llu vertices (%llu bytes) but only %zu bytes follow",
-                      path, body, V->count, V->count * (unsigned long long)vsize, len - body);
-        goto fail;
-    }
-    if (fmt == F_ASCII && V->count > (len - body) / 2 + 1) {
-        r = spr__fail(err, SPR_E_TRUNCATED, "%s: header declares %llu vertices but the file has only %zu bytes of data",
-                      path, V->count, len - body);
-        goto fail;
+    /* Size check before allocating or reading: every item of every element
+     * takes at least its fixed-size values plus the count of each list
+     * (binary), or two bytes per value ("0 ", ascii); an element with no
+     * properties takes no bytes and is refused if it claims items. */
+    for (int e = 0; e < nel; e++) {
+        const ply_elem *E = &el[e];
+        unsigned long long item = 0;
+        for (int k = 0; k < E->nprops; k++)
+            item += fmt == F_ASCII ? 2u : (unsigned)type_size(E->props[k].count_type != T_NONE ? E->props[k].count_type : E->props[k].type);
+        if (!E->nprops && E->count) {
+            r = spr__fail(err, SPR_E_FORMAT, "%s: element \"%s\" declares %llu items but no property", path, E->name, E->count);
+            goto fail;
+        }
+        unsigned long long room = len - body + (fmt == F_ASCII ? 1u : 0u); /* the last ascii value may lack its separator */
+        if (E->nprops && E->count > room / item) {
+            r = spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: header declares %llu %s items (at least %llu bytes each) but only %zu bytes follow",
+                          path, body, E->count, E->name, item, len - body);
+            goto fail;
+        }
     }
     r = spr_cloud_alloc(c, (size_t)V->count);
     if (r) { spr__fail(err, r, "%s: cannot allocate %llu splats", path, V->count); goto fail; }
@@ -269,7 +274,10 @@ spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
                 if (P->count_type != T_NONE) {
                     double cnt;
                     if ((r = read_value(&cu, P->count_type, &cnt, E->name, i))) goto fail;
-                    if (cnt < 0 || cnt > 1024) { r = spr__fail(err, SPR_E_FORMAT, "%s: %s %llu: list length %g", path, E->name, i, cnt); goto fail; }
+                    if (!(cnt >= 0 && cnt <= 1024) || cnt != floor(cnt)) { /* NaN fails too */
+                        r = spr__fail(err, SPR_E_FORMAT, "%s: %s %llu: list length %g is not a whole number in 0..1024", path, E->name, i, cnt);
+                        goto fail;
+                    }
                     uint32_t idx[1024];
                     for (int j = 0; j < (int)cnt; j++) {
                         if ((r = read_value(&cu, P->type, &v, E->name, i))) goto fail;
@@ -294,15 +302,17 @@ spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
                 if ((r = read_value(&cu, P->type, &v, E->name, i))) goto fail;
                 if (e != vi) continue;
                 size_t s = (size_t)i;
+                if (role[k] && !spr__finite_float(v)) { /* checked as the float it becomes: 1e300 is a finite double */
+                    r = cu.fmt == F_ASCII
+                            ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %zu: %s %s (%g) is not a finite 32-bit float", path, cu.line, s,
+                                        role[k] <= R_Z ? "coordinate" : "property", P->name, v)
+                            : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %zu: %s %s (%g) is not a finite 32-bit float", path,
+                                        (size_t)(cu.p - cu.base) - type_size(P->type), s, role[k] <= R_Z ? "coordinate" : "property",
+                                        P->name, v);
+                    goto fail;
+                }
                 switch (role[k]) {
                 case R_X: case R_Y: case R_Z:
-                    if (!isfinite(v)) {
-                        r = cu.fmt == F_ASCII
-                                ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %zu: coordinate %s is not finite", path, cu.line, s, P->name)
-                                : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %zu: coordinate %s is not finite", path,
-                                            (size_t)(cu.p - cu.base) - type_size(P->type), s, P->name);
-                        goto fail;
-                    }
                     c->pos[3 * s + role[k] - R_X] = (float)v;
                     break;
                 case R_NX: case R_NY: case R_NZ: c->nrm[3 * s + role[k] - R_NX] = (float)v; break;

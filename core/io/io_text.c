@@ -27,6 +27,13 @@ spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *
     return SPR_OK;
 }
 
+spr_result spr__check_text(const char *path, const char *buf, size_t from, size_t len, spr_error *err)
+{
+    const char *z = from < len ? memchr(buf + from, 0, len - from) : NULL;
+    if (z) return spr__fail(err, SPR_E_FORMAT, "%s: byte %zu: NUL byte in a text file", path, (size_t)(z - buf));
+    return SPR_OK;
+}
+
 void spr__mesh_free(spr__mesh *m)
 {
     free(m->tri);
@@ -93,11 +100,22 @@ static spr_result next_count(lexer *lx, unsigned long long *v, const char *what,
     return SPR_OK;
 }
 
+/* The n values of point i must be finite floats (checked after the
+ * conversion: 1e300 is a finite double). */
+static spr_result check_values(const lexer *lx, const double *v, int n, const char *what, size_t i, spr_error *err)
+{
+    for (int k = 0; k < n; k++)
+        if (!spr__finite_float(v[k]))
+            return spr__fail(err, SPR_E_VALUE, "%s:%zu: %s %zu: value %d (%g) is not a finite 32-bit float", lx->path, lx->line, what, i,
+                             k + 1, v[k]);
+    return SPR_OK;
+}
 static spr_result check_point(const lexer *lx, const double *xyz, size_t i, spr_error *err)
 {
     for (int k = 0; k < 3; k++)
-        if (!isfinite(xyz[k]))
-            return spr__fail(err, SPR_E_VALUE, "%s:%zu: point %zu: coordinate %c is not finite", lx->path, lx->line, i, "xyz"[k]);
+        if (!spr__finite_float(xyz[k]))
+            return spr__fail(err, SPR_E_VALUE, "%s:%zu: point %zu: coordinate %c (%g) is not a finite 32-bit float", lx->path, lx->line, i,
+                             "xyz"[k], xyz[k]);
     return SPR_OK;
 }
 
@@ -109,6 +127,7 @@ spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
     memset(mesh, 0, sizeof *mesh);
     spr_result r = spr__read_file(path, &buf, &len, err);
     if (r) return r;
+    if ((r = spr__check_text(path, buf, 0, len, err))) goto fail;
     lexer lx = {path, buf, buf + len, 1};
     char tok[64];
     unsigned long long nv, nf, ne;
@@ -137,16 +156,17 @@ spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
         if ((r = check_point(&lx, v, i, err))) goto fail;
         for (int k = 0; k < 3; k++) c->pos[3 * i + k] = (float)v[k];
         if (has_normal) {
-            for (int k = 0; k < 3; k++) {
+            for (int k = 0; k < 3; k++)
                 if ((r = next_double(&lx, &v[k], "vertex", i, err))) goto fail;
-                c->nrm[3 * i + k] = (float)v[k];
-            }
+            if ((r = check_values(&lx, v, 3, "vertex normal", i, err))) goto fail;
+            for (int k = 0; k < 3; k++) c->nrm[3 * i + k] = (float)v[k];
             if (spr__normalize3(c->nrm + 3 * i)) { r = spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %zu: zero normal", path, lx.line, i); goto fail; }
         }
         if (has_color) {
             double col[4];
             for (int k = 0; k < 4; k++)
                 if ((r = next_double(&lx, &col[k], "vertex", i, err))) goto fail;
+            if ((r = check_values(&lx, col, 4, "vertex colour", i, err))) goto fail;
             double s = (col[0] > 1.0 || col[1] > 1.0 || col[2] > 1.0) ? 1.0 / 255.0 : 1.0;
             for (int k = 0; k < 3; k++) c->color[3 * i + k] = (float)(col[k] * s);
             c->alpha[i] = (float)(col[3] * s);
@@ -198,6 +218,7 @@ spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err)
     memset(c, 0, sizeof *c);
     spr_result r = spr__read_file(path, &buf, &len, err);
     if (r) return r;
+    if ((r = spr__check_text(path, buf, 0, len, err))) goto fail;
     /* First pass: count data lines and columns of the first one. */
     size_t lines = 0;
     int cols = -1;
@@ -230,7 +251,7 @@ spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err)
         double v[6];
         for (int k = 0; k < cols; k++)
             if ((r = next_double(&l2, &v[k], "point", i, err))) goto fail;
-        if ((r = check_point(&l2, v, i, err))) goto fail;
+        if ((r = check_point(&l2, v, i, err)) || (r = check_values(&l2, v, cols, "point", i, err))) goto fail;
         for (int k = 0; k < 3; k++) c->pos[3 * i + k] = (float)v[k];
         if (cols == 6) {
             for (int k = 0; k < 3; k++) c->nrm[3 * i + k] = (float)v[3 + k];

@@ -11,6 +11,7 @@
 #ifndef SPR_IO_H
 #define SPR_IO_H
 
+#include <math.h>
 #include <stdio.h>
 #include "spr_cloud.h"
 #include "spr_knn.h"
@@ -50,6 +51,10 @@ typedef struct spr__mesh {
 } spr__mesh;
 void spr__mesh_free(spr__mesh *m);
 spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *err);
+/* Text files hold no NUL byte: SPR_E_FORMAT naming the first one in buf[from, len). */
+spr_result spr__check_text(const char *path, const char *buf, size_t from, size_t len, spr_error *err);
+/* 1 when v is finite as a float too (1e300 is a finite double but not a float). */
+static inline int spr__finite_float(double v) { return isfinite(v) && isfinite((float)v); }
 spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err);
