@@ -81,6 +81,9 @@ int cli_write_json(cli_args *a, const char *path, cJSON *root);
 /* [size of S_0, …, size of S_{K−1}]. */
 cJSON *cli_json_group_sizes(const spr_groups *g);
 
+/* parity --random: N generated scenes from seed on both backends (cli_random.c). */
+int cli_parity_random(cli_args *a, int count, uint64_t seed, const char *dir, int gl_device);
+
 struct spr_parity_report;
 /* One summary line per algorithm, then its first differing planes. */
 void cli_parity_summary(const char *algo, const struct spr_parity_report *p);

@@ -17,6 +17,8 @@ static const cli_opt parity_opts[] = {
     {"gl-device", "N", "GL backend on the N-th EGL device instead of the surfaceless platform"},
     {"report", "DIR", "write report.json and a diff heatmap PNG per differing plane"},
     {"gl-eps", "E", "use this eps for the GL side only (a deliberate perturbation, to see a report)"},
+    {"random", "N", "instead of one scene: N generated adversarial scenes, every algorithm; mismatches saved (and minimised) in --report DIR (default parity-random)"},
+    {"seed", "S", "--random: the seed of the scene generator (default 1)"},
     {NULL, NULL, NULL}};
 
 const char *cli_cpu_flags(void)
@@ -116,6 +118,14 @@ int cmd_parity(int argc, char **argv)
     double gl_eps = 0.0;
     if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || cli_get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
     const char *dir = cli_get(&a, "report");
+    if (cli_get(&a, "random")) { /* differential fuzzing: no scene options apply */
+        int count = 0;
+        size_t seed = 1;
+        if (cli_get_int(&a, "random", &count, 1, 100000000) < 0 || cli_get_size(&a, "seed", &seed, 0, (size_t)-1) < 0 ||
+            (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
+            return 2;
+        return cli_parity_random(&a, count, (uint64_t)seed, dir, gl_device);
+    }
     cli_scene s;
     spr_render_desc rd;
     spr_backend *cpu = NULL, *gl = NULL;
