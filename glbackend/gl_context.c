@@ -5,7 +5,26 @@
  * of EGL_EXT_device_enumeration, which is how a GPU driver (NVIDIA, Mesa
  * radeonsi/iris) is reached without a window system.
  */
+#if defined(SPR_PIN_DRIVERS)
+#define _GNU_SOURCE 1 /* dl_iterate_phdr, RTLD_NODELETE */
+#endif
 #include "gl_internal.h"
+
+#if defined(SPR_PIN_DRIVERS)
+#include <dlfcn.h>
+#include <link.h>
+/* Sanitizer builds: keep every library EGL loaded resident (RTLD_NODELETE),
+ * so that what the driver still holds at exit is reported against its own
+ * module and tools/lsan.supp can name it; after eglTerminate unloads it, the
+ * frames would read "<unknown module>". */
+static int pin(struct dl_phdr_info *info, size_t size, void *user)
+{
+    (void)size;
+    (void)user;
+    if (info->dlpi_name && info->dlpi_name[0]) dlopen(info->dlpi_name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+    return 0;
+}
+#endif
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -89,6 +108,9 @@ spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
     if (!eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx))
         return spr__fail(err, SPR_E_NO_DEVICE, "gl: cannot make the context current without a surface (EGL error 0x%x)",
                          (unsigned)eglGetError());
+#if defined(SPR_PIN_DRIVERS)
+    dl_iterate_phdr(pin, NULL);
+#endif
     snprintf(c->renderer, sizeof c->renderer, "%s | %s", (const char *)glGetString(GL_RENDERER),
              (const char *)glGetString(GL_VERSION));
     return SPR_OK;

@@ -358,6 +358,28 @@ START_TEST(trace_lists_the_passes_in_order)
 }
 END_TEST
 
+/* A command that fails after it began writing a dump directory leaves no
+ * directory behind (files go to DIR.tmpPID first); one that succeeds
+ * leaves the whole dump. */
+START_TEST(no_partial_dump_directory)
+{
+    setup_dir();
+    char err[4096];
+    const char *dump = path_in("dump_fail");
+    char *argv[] = {"splatref", "render", "--size", "32x32", "--out", (char *)path_in("p.png"), "--dump", (char *)dump, "--stats",
+                    "/nonexistent/dir/s.json", "--quiet", NULL};
+    int before = count_files();
+    ck_assert_int_eq(run(argv, err, sizeof err), 2);
+    ck_assert_ptr_nonnull(strstr(err, "s.json"));
+    ck_assert_int_ne(access(dump, F_OK), 0);
+    ck_assert_int_eq(count_files(), before + 1); /* the PNG, written before the failing stats; no dump, no temporary */
+    argv[8] = "--float";
+    argv[9] = (char *)path_in("p.pfm");
+    ck_assert_int_eq(run(argv, err, sizeof err), 0);
+    ck_assert_int_eq(access(path_in("dump_fail/000_geometry_k000_color.pfm"), F_OK), 0);
+}
+END_TEST
+
 START_TEST(no_gl_context)
 {
     /* No EGL vendor at all: render --backend gl fails with one line and no
@@ -398,6 +420,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, explicit_origin_target_is_used);
     tcase_add_test(tc, unused_options_are_refused);
     tcase_add_test(tc, trace_lists_the_passes_in_order);
+    tcase_add_test(tc, no_partial_dump_directory);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -95,11 +95,32 @@ spr_cloud tu_builtin(const char *name, size_t n)
     return c;
 }
 
+int tu_small(void)
+{
+    const char *s = getenv("SPLATREF_TEST_SIZE");
+    return s && !strcmp(s, "small");
+}
+
+/* Keep every k-th splat, in order (the small test size of real models). */
+static void subsample(spr_cloud *c, size_t k)
+{
+    size_t m = 0;
+    for (size_t i = 0; i < c->n; i += k, m++) {
+        memmove(c->pos + 3 * m, c->pos + 3 * i, 3 * sizeof(float));
+        memmove(c->nrm + 3 * m, c->nrm + 3 * i, 3 * sizeof(float));
+        memmove(c->color + 3 * m, c->color + 3 * i, 3 * sizeof(float));
+        c->radius[m] = c->radius[i];
+        c->alpha[m] = c->alpha[i];
+    }
+    c->n = m;
+}
+
 spr_cloud tu_model(const char *name, size_t n)
 {
-    if (strncmp(name, "builtin:", 8) == 0) return tu_builtin(name, n);
+    if (strncmp(name, "builtin:", 8) == 0) return tu_builtin(name, tu_small() ? (n / 4 > 500 ? n / 4 : n) : n);
     spr_cloud c;
     tu_load(name, &c);
+    if (tu_small()) subsample(&c, 8);
     return c;
 }
 

@@ -22,6 +22,10 @@ void tu_set_color(spr_cloud *c, size_t i, float r, float g, float b);
 void tu_render(const spr_view *v, const spr_cloud *c, const spr_render_desc *d, int threads, spr_render_result *out);
 /* A built-in model of about n points ("builtin:NAME"), or fail the test. */
 spr_cloud tu_builtin(const char *name, size_t n);
+/* SPLATREF_TEST_SIZE=small (the sanitizer build of .ci/run): the scenes of
+ * tu_model shrink — built-ins to a quarter of n, data files to every 8th
+ * splat — so instrumented runs stay fast; assertions are unchanged. */
+int tu_small(void);
 /* A built-in model ("builtin:…", n points) or a CGAL data file (n ignored). */
 spr_cloud tu_model(const char *name, size_t n);
 /* Load a CGAL data file (SPR_DATA_DIR/rel) or fail the test. */

@@ -81,6 +81,12 @@ int cli_write_json(cli_args *a, const char *path, cJSON *root);
 /* [size of S_0, …, size of S_{K−1}]. */
 cJSON *cli_json_group_sizes(const spr_groups *g);
 
+/* Output directories that appear whole or not at all (cli_outdir.c): write
+ * into tmp (DIR.tmpPID, made by begin), then end moves the files into DIR
+ * (commit) or deletes them.  0, or −1 after one line. */
+int cli_outdir_begin(cli_args *a, const char *opt, const char *dir, char *tmp, size_t cap);
+int cli_outdir_end(cli_args *a, const char *opt, const char *tmp, const char *dir, int commit);
+
 /* parity --random: N generated scenes from seed on both backends (cli_random.c). */
 int cli_parity_random(cli_args *a, int count, uint64_t seed, const char *dir, int gl_device);
 

@@ -31,6 +31,7 @@ const char *cli_cpu_flags(void)
 }
 
 typedef struct report_ref {
+    const char *tmp, *dir;  /* heatmaps are written under tmp, named under dir */
     const cli_scene *s;
     const char *renderer;
     int n;
@@ -80,7 +81,11 @@ static cJSON *report_json(const report_ref *r)
                 cJSON_AddNumberToObject(f, "channel", d->first_channel);
                 cJSON_AddNumberToObject(f, "cpu", d->first_ref);
                 cJSON_AddNumberToObject(f, "gl", d->first_test);
-                cJSON_AddStringToObject(q, "heatmap", d->heatmap);
+                char hm[1300];
+                size_t tl = strlen(r->tmp);
+                if (tl && !strncmp(d->heatmap, r->tmp, tl)) snprintf(hm, sizeof hm, "%s%s", r->dir, d->heatmap + tl);
+                else snprintf(hm, sizeof hm, "%s", d->heatmap);
+                cJSON_AddStringToObject(q, "heatmap", hm);
             }
             cJSON_AddItemToArray(planes, q);
         }
@@ -114,7 +119,8 @@ int cmd_parity(int argc, char **argv)
     cli_args a;
     int pr = cli_parse(&a, "parity", parity_opts, "[scene and algorithm options as for render] [--report DIR]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    int gl_device = -1, rc = 2;
+    int gl_device = -1, rc = 2, report_open = 0;
+    char report_tmp[1200] = "";
     double gl_eps = 0.0;
     if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || cli_get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
     const char *dir = cli_get(&a, "report");
@@ -133,11 +139,12 @@ int cmd_parity(int argc, char **argv)
     int nrep = 0;
     memset(reps, 0, sizeof reps);
     if (cli_scene_setup(&a, &s, &rd, 1)) goto done;
-    if (dir && mkdir(dir, 0777) != 0 && errno != EEXIST) { cli_error(&a, "--report: cannot create %s: %s", dir, strerror(errno)); goto done; }
+    if (dir && cli_outdir_begin(&a, "report", dir, report_tmp, sizeof report_tmp)) goto done;
+    report_open = dir != NULL;
     if (!(gl = cli_backend(&a, "gl", s.threads, gl_device)) || !(cpu = cli_backend(&a, "cpu", s.threads, -1))) goto done;
     printf("parity: cpu reference vs gl [%s], %s, %zu splats, %dx%d\n", spr_gl_renderer(gl), s.model, s.cloud.n, s.view.width,
            s.view.height);
-    report_ref rr = {&s, spr_gl_renderer(gl), 0, {0}, {0}};
+    report_ref rr = {report_tmp, dir, &s, spr_gl_renderer(gl), 0, {0}, {0}};
     int all_exact = 1;
     for (int algo = 0; algo < SPR_ALGO__COUNT; algo++) { /* the registry, in its order */
         if (!s.all_algos && (spr_algo)algo != rd.algo) continue;
@@ -147,7 +154,7 @@ int cmd_parity(int argc, char **argv)
         dt = d;
         if (gl_eps > 0.0) dt.eps = gl_eps;
         spr_error err = {0};
-        if (spr_parity_run(cpu, gl, &s.view, &s.cloud, &d, &dt, dir, spr_algo_name(d.algo), &reps[nrep], &err)) {
+        if (spr_parity_run(cpu, gl, &s.view, &s.cloud, &d, &dt, dir ? report_tmp : NULL, spr_algo_name(d.algo), &reps[nrep], &err)) {
             fprintf(stderr, "splatref parity: %s\n", err.msg);
             goto done;
         }
@@ -159,13 +166,15 @@ int cmd_parity(int argc, char **argv)
     }
     if (dir) {
         char path[1200];
-        snprintf(path, sizeof path, "%s/report.json", dir);
+        snprintf(path, sizeof path, "%s/report.json", report_tmp);
         if (cli_write_json(&a, path, report_json(&rr))) goto done;
-        printf("report: %s\n", path);
+        printf("report: %s/report.json\n", dir);
     }
     printf("verdict: %s\n", all_exact ? "BIT-EXACT (Tier A)" : "DIFFERENT");
     rc = all_exact ? 0 : 1;
 done:
+    /* the report of a finished comparison (equal or not) appears whole; a failed run leaves none */
+    if (report_open && cli_outdir_end(&a, "report", report_tmp, dir, rc != 2)) rc = 2;
     for (int i = 0; i < nrep; i++) spr_parity_report_free(&reps[i]);
     spr_backend_destroy(cpu);
     spr_backend_destroy(gl);

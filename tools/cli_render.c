@@ -133,6 +133,8 @@ int cmd_render(int argc, char **argv)
     char *trace_buf = NULL;
     size_t trace_len = 0;
     FILE *trace_f = NULL;
+    char dump_tmp[1200] = "";
+    int dump_open = 0;
     cli_scene s;
     spr_backend *b = NULL;
     spr_render_result res = {0};
@@ -152,9 +154,10 @@ int cmd_render(int argc, char **argv)
         if (!tb) { cli_error(&a, "--trace: %s", trace_f ? err.msg : "out of memory"); goto done; }
         b = tb;
     }
-    dump_ctx dc = {dump_dir, 0, {0}};
-    if (dc.dir) {
-        if (mkdir(dc.dir, 0777) != 0 && errno != EEXIST) { cli_error(&a, "--dump: cannot create %s: %s", dc.dir, strerror(errno)); goto done; }
+    dump_ctx dc = {dump_tmp, 0, {0}};
+    if (dump_dir) {
+        if (cli_outdir_begin(&a, "dump", dump_dir, dump_tmp, sizeof dump_tmp)) goto done;
+        dump_open = 1;
         rd.hook = dump_hook;
         rd.hook_user = &dc;
     }
@@ -192,6 +195,7 @@ int cmd_render(int argc, char **argv)
            b->name, covered, render_ms, out);
     rc = 0;
 done:
+    if (dump_open && cli_outdir_end(&a, "dump", dump_tmp, dump_dir, rc == 0)) rc = 2; /* all planes, or none */
     if (trace_f) fclose(trace_f);
     free(trace_buf);
     spr_render_result_free(&res);

@@ -9,7 +9,8 @@ pkgs="build-essential cmake pkg-config ca-certificates \
   libflann-dev liblz4-dev check libsubunit-dev \
   libpng-dev zlib1g-dev \
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
-  libqhull-dev libcjson-dev libcgal-demo"
+  libqhull-dev libcjson-dev libcgal-demo \
+  clang libclang-rt-14-dev"
 
 missing=""
 for p in $pkgs; do

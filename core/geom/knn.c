@@ -200,7 +200,8 @@ spr_result spr_knn_radius_graph_rows(spr_knn *kn, const float *rad, double f, do
     g->start[n] = total;
     g->adj = failed ? NULL : malloc((total ? total : 1) * sizeof(uint32_t));
     if (g->adj)
-        for (size_t i = 0; i < n; i++) memcpy(g->adj + g->start[i], lists[i], lens[i] * sizeof(uint32_t));
+        for (size_t i = 0; i < n; i++)
+            if (lens[i]) memcpy(g->adj + g->start[i], lists[i], lens[i] * sizeof(uint32_t)); /* rows not searched have no list */
     for (size_t i = 0; i < n; i++) free(lists[i]);
     free(lists);
     free(lens);

@@ -202,6 +202,14 @@ spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
     size_t len;
     spr_result r = spr__read_file(path, &buf, &len, err);
     if (r) return r;
+    r = spr__parse_ply(path, buf, len, c, mesh, err);
+    free(buf);
+    return r;
+}
+
+spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err)
+{
+    spr_result r;
     int fmt = F_ASCII, nel = 0;
     ply_elem el[16];
     size_t body = 0;
@@ -344,10 +352,8 @@ spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
                ((have & (1 << R_RADIUS)) ? SPR_SRC_RADII : 0) | ((have & (1 << R_A)) ? SPR_SRC_ALPHA : 0);
     if (!(have & (1 << R_NX)))
         for (size_t i = 0; i < 3 * c->n; i++) c->nrm[i] = 0.0f;
-    free(buf);
     return SPR_OK;
 fail:
-    free(buf);
     spr_cloud_free(c);
     spr__mesh_free(mesh);
     return r;

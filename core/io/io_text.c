@@ -127,6 +127,16 @@ spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
     memset(mesh, 0, sizeof *mesh);
     spr_result r = spr__read_file(path, &buf, &len, err);
     if (r) return r;
+    r = spr__parse_off(path, buf, len, c, mesh, err);
+    free(buf);
+    return r;
+}
+
+spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err)
+{
+    spr_result r;
+    memset(c, 0, sizeof *c);
+    memset(mesh, 0, sizeof *mesh);
     if ((r = spr__check_text(path, buf, 0, len, err))) goto fail;
     lexer lx = {path, buf, buf + len, 1};
     char tok[64];
@@ -202,10 +212,8 @@ spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_er
     c->flags = (has_normal ? SPR_SRC_NORMALS : 0) | (has_color ? SPR_SRC_COLORS | SPR_SRC_ALPHA : 0);
     if (!has_normal)
         for (size_t i = 0; i < 3 * c->n; i++) c->nrm[i] = 0.0f;
-    free(buf);
     return SPR_OK;
 fail:
-    free(buf);
     spr_cloud_free(c);
     spr__mesh_free(mesh);
     return r;
@@ -218,6 +226,15 @@ spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err)
     memset(c, 0, sizeof *c);
     spr_result r = spr__read_file(path, &buf, &len, err);
     if (r) return r;
+    r = spr__parse_xyz(path, buf, len, c, err);
+    free(buf);
+    return r;
+}
+
+spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err)
+{
+    spr_result r;
+    memset(c, 0, sizeof *c);
     if ((r = spr__check_text(path, buf, 0, len, err))) goto fail;
     /* First pass: count data lines and columns of the first one. */
     size_t lines = 0;
@@ -261,10 +278,8 @@ spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err)
         }
     }
     c->flags = cols == 6 ? SPR_SRC_NORMALS : 0;
-    free(buf);
     return SPR_OK;
 fail:
-    free(buf);
     spr_cloud_free(c);
     return r;
 }

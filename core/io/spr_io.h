@@ -58,6 +58,11 @@ static inline int spr__finite_float(double v) { return isfinite(v) && isfinite((
 spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err);
+/* The same readers over a buffer already in memory (`path` only names it in
+ * messages): what the fuzz harnesses of tests/fuzz/ drive. */
+spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
+spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
+spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err);
 spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err);
 /* Area-weighted face normals; returns the count of vertices left without one. */
 size_t spr__mesh_normals(const spr__mesh *m, spr_cloud *c);
