@@ -18,6 +18,7 @@
 #include "spr_glbackend.h"
 #include "spr_parity.h"
 #include "spr_swrast.h"
+#include "spr_util.h"
 
 #include <errno.h>
 #include <math.h>
@@ -27,15 +28,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* splitmix64: small, well mixed, and the same everywhere. */
-static uint64_t mix(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-static double uni(uint64_t *s) { return (double)(mix(s) >> 11) * 0x1.0p-53; }
+static uint64_t mix(uint64_t *s) { return spr__splitmix64(s); }
+static double uni(uint64_t *s) { return spr__uniform01(s); }
 static int pick(uint64_t *s, int n) { return (int)(mix(s) % (uint64_t)n); }
 static int chance(uint64_t *s, double p) { return uni(s) < p; }
 
@@ -205,24 +199,32 @@ static void render_desc(const rscene *s, spr_algo algo, spr_groups *g, spr_rende
     rd->groups = ai->uses & SPR_USES_GROUPS ? g : NULL;
 }
 
+/* The splats keep[0..m) of s as a cloud of their own, with their labels. */
+static int subset(const rscene *s, const uint32_t *keep, size_t m, spr_cloud *c, int32_t **lab, spr_error *err)
+{
+    *lab = malloc((m ? m : 1) * sizeof **lab);
+    if (!*lab || spr_cloud_alloc(c, m)) { free(*lab); return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1; }
+    for (size_t k = 0; k < m; k++) {
+        size_t j = keep[k];
+        memcpy(c->pos + 3 * k, s->cloud.pos + 3 * j, 3 * sizeof(float));
+        memcpy(c->nrm + 3 * k, s->cloud.nrm + 3 * j, 3 * sizeof(float));
+        memcpy(c->color + 3 * k, s->cloud.color + 3 * j, 3 * sizeof(float));
+        c->alpha[k] = s->cloud.alpha[j];
+        c->radius[k] = s->cloud.radius[j];
+        (*lab)[k] = s->labels[j];
+    }
+    c->flags = s->cloud.flags;
+    return 0;
+}
+
 /* Does `algo` differ between the backends on the splats keep[0..m) of s?
  * 1 differs, 0 equal, −1 failure; the report goes to rep when given. */
 static int differs(spr_backend *cpu, spr_backend *gl, const rscene *s, const uint32_t *keep, size_t m, spr_algo algo,
                    spr_parity_report *rep_out, spr_error *err)
 {
     spr_cloud c;
-    int32_t *lab = malloc((m ? m : 1) * sizeof *lab);
-    if (!lab || spr_cloud_alloc(&c, m)) { free(lab); return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1; }
-    for (size_t k = 0; k < m; k++) {
-        size_t j = keep[k];
-        memcpy(c.pos + 3 * k, s->cloud.pos + 3 * j, 3 * sizeof(float));
-        memcpy(c.nrm + 3 * k, s->cloud.nrm + 3 * j, 3 * sizeof(float));
-        memcpy(c.color + 3 * k, s->cloud.color + 3 * j, 3 * sizeof(float));
-        c.alpha[k] = s->cloud.alpha[j];
-        c.radius[k] = s->cloud.radius[j];
-        lab[k] = s->labels[j];
-    }
-    c.flags = s->cloud.flags;
+    int32_t *lab;
+    if (subset(s, keep, m, &c, &lab, err)) return -1;
     spr_groups g = {0};
     int rc = -1;
     spr_render_desc rd;
@@ -244,17 +246,8 @@ static int differs(spr_backend *cpu, spr_backend *gl, const rscene *s, const uin
 static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, const char *name, spr_error *err)
 {
     spr_cloud c;
-    int32_t *lab = malloc((m ? m : 1) * sizeof *lab);
-    if (!lab || spr_cloud_alloc(&c, m)) { free(lab); return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1; }
-    for (size_t k = 0; k < m; k++) {
-        size_t j = keep[k];
-        memcpy(c.pos + 3 * k, s->cloud.pos + 3 * j, 3 * sizeof(float));
-        memcpy(c.nrm + 3 * k, s->cloud.nrm + 3 * j, 3 * sizeof(float));
-        memcpy(c.color + 3 * k, s->cloud.color + 3 * j, 3 * sizeof(float));
-        c.alpha[k] = s->cloud.alpha[j];
-        c.radius[k] = s->cloud.radius[j];
-        lab[k] = s->labels[j];
-    }
+    int32_t *lab;
+    if (subset(s, keep, m, &c, &lab, err)) return -1;
     char ply[1200], grp[1200];
     snprintf(ply, sizeof ply, "%s.ply", name);
     snprintf(grp, sizeof grp, "%s.groups", name);

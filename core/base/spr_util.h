@@ -25,6 +25,18 @@ static inline void spr_progress_report(const spr_progress *p, const char *phase,
 typedef int (*spr__writer_fn)(FILE *f, const void *user);
 spr_result spr__write_atomic(const char *path, spr__writer_fn fn, const void *user, spr_error *err);
 
+/* splitmix64: a small, well-known generator, the same bits everywhere
+ * (mesh resampling, generated test scenes). */
+static inline uint64_t spr__splitmix64(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+/* Uniform in [0, 1) with 53 random bits. */
+static inline double spr__uniform01(uint64_t *s) { return (double)(spr__splitmix64(s) >> 11) * 0x1.0p-53; }
+
 /* Binary heap of (key, id, ver).  max = 1: largest key first; max = 0:
  * smallest first; equal keys: smaller id first (a total order, so pops are
  * deterministic).  ver lets callers skip superseded entries (lazy updates). */

@@ -222,15 +222,6 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
     return r;
 }
 
-/* splitmix64: small, well-known, reproducible everywhere. */
-static uint64_t splitmix(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-static double uniform01(uint64_t *s) { return (double)(splitmix(s) >> 11) * 0x1.0p-53; }
 
 spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_load_desc *din, spr_cloud *out, spr_error *err)
 {
@@ -268,7 +259,7 @@ spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_
     uint64_t s = seed;
     for (size_t i = 0; i < n; i++) {
         if ((i & 0xFFFF) == 0) spr_progress_report(&d.progress, "sampling", i, n);
-        double u = uniform01(&s) * total;
+        double u = spr__uniform01(&s) * total;
         size_t lo = 0, hi = mesh.nt - 1;
         while (lo < hi) {
             size_t mid = lo + (hi - lo) / 2;
@@ -276,7 +267,7 @@ spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_
         }
         const uint32_t *tv = mesh.tri + 3 * lo;
         const float *a = m.pos + 3 * (size_t)tv[0], *b = m.pos + 3 * (size_t)tv[1], *c = m.pos + 3 * (size_t)tv[2];
-        double r1 = sqrt(uniform01(&s)), r2 = uniform01(&s);
+        double r1 = sqrt(spr__uniform01(&s)), r2 = spr__uniform01(&s);
         double wa = 1.0 - r1, wb = r1 * (1.0 - r2), wc = r1 * r2;
         double e1[3], e2[3];
         for (int k = 0; k < 3; k++) {
