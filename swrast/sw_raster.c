@@ -70,11 +70,11 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                 if (mask & SPR_WRITE_DEPTH) depth[pix] = t;
                 if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY)) {
                     float src[4];
-                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, cl->alpha[sid], src);
+                    const float alpha = d->alpha_override ? d->alpha_override[sid] : cl->alpha[sid];
+                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, alpha, src);
                     if (mask & SPR_WRITE_COLOR) sw_blend4(s, src, color + 4 * pix);
                     if (mask & SPR_WRITE_OPACITY) /* replace or add (core refuses over) */
-                        opacity[pix] = sw_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, cl->alpha[sid]),
-                                                 opacity[pix], 1.0f);
+                        opacity[pix] = sw_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, alpha), opacity[pix], 1.0f);
                 }
                 if (mask & SPR_WRITE_ID) id[pix] = sid;
                 if (mask & SPR_WRITE_COUNT) count[pix]++;

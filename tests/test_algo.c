@@ -76,6 +76,49 @@ START_TEST(zbuffer_keeps_the_nearest_splat)
 }
 END_TEST
 
+/* transparent1 (SPEC §6.1), hand camera 4×4, one group, black background,
+ * α = 0.5: two coplanar splats covering the same pixels blend once, not
+ * twice (the second has the same z̃ and fails LESS): red over black =
+ * (0.5, 0, 0), alpha 0.5·0.5 = 0.25.  Two layers, blue at t = 0.75 behind
+ * red at t = 0.5, blend back to front whatever the submission order and the
+ * ordering method: blue first (0, 0, 0.5), then red (0.5, 0, 0.25). */
+START_TEST(transparent1_culls_within_a_layer_and_blends_back_to_front)
+{
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    spr_cloud c;
+    spr_render_result r;
+    spr_render_desc d = {.algo = SPR_ALGO_TRANSPARENT1, .eps = 0.1, .alpha = 0.5f}; /* ε_t = 0.05: t 0.5 and 0.75 fall in different z̃ cells */
+    two_layers(&c, 0.0); /* coplanar: both at t = 0.5 */
+    tu_render(&v, &c, &d, 1, &r);
+    for (int y = 1; y <= 2; y++)
+        for (int x = 1; x <= 2; x++) {
+            const float *q = px(&r, x, y);
+            ck_assert_float_eq(q[0], 0.5f);
+            ck_assert_float_eq(q[1], 0.0f);
+            ck_assert_float_eq(q[2], 0.0f);
+            ck_assert_float_eq(q[3], 0.25f);
+        }
+    ck_assert_uint_eq(r.passes[0].stats.passed, 4); /* 8 fragments, the coplanar four culled */
+    ck_assert_uint_eq(r.passes[0].stats.generated, 8);
+    spr_render_result_free(&r);
+    spr_cloud_free(&c);
+    for (int order = 0; order < 2; order++)
+        for (int flip = 0; flip < 2; flip++) {
+            /* blue behind (z = −0.5, t = 0.75); flip lists it first or second */
+            tu_cloud(&c, 2, flip ? (double[]){0, 0, -0.5, 0, 0, 0} : (double[]){0, 0, 0, 0, 0, -0.5}, 0.5f);
+            tu_set_color(&c, flip ? 1 : 0, 1, 0, 0);
+            tu_set_color(&c, flip ? 0 : 1, 0, 0, 1);
+            d.order = order ? SPR_ORDER_SORT : SPR_ORDER_BSP;
+            tu_render(&v, &c, &d, 1, &r);
+            const float *q = px(&r, 1, 2);
+            ck_assert_msg(q[0] == 0.5f && q[1] == 0.0f && q[2] == 0.25f, "order %d flip %d: (%g, %g, %g)", order, flip, q[0], q[1], q[2]);
+            spr_render_result_free(&r);
+            spr_cloud_free(&c);
+        }
+}
+END_TEST
+
 START_TEST(deferred_composite_inside_and_beyond_eps)
 {
     spr_view v;
@@ -209,6 +252,7 @@ Suite *make_algo_suite(void)
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, pbr2p1_blends_inside_eps_only);
     tcase_add_test(tc, zbuffer_keeps_the_nearest_splat);
+    tcase_add_test(tc, transparent1_culls_within_a_layer_and_blends_back_to_front);
     tcase_add_test(tc, deferred_composite_inside_and_beyond_eps);
     tcase_add_test(tc, deferred_composite_unequal_weights);
     tcase_add_test(tc, voronoi_nearer_centre_wins_farther_layer_never);

@@ -41,6 +41,8 @@ typedef struct rscene {
     double eps, lowres_n;
     spr_kernel kernel;
     int voronoi;
+    spr_order order;
+    float alpha;
     float background[3];
     char features[256];
 } rscene;
@@ -174,6 +176,8 @@ static int generate(uint64_t seed, int i, const char *tmp_ply, rscene *s, spr_er
     s->kernel = (spr_kernel)pick(&st, SPR_KERNEL__COUNT);
     s->voronoi = chance(&st, 0.5);
     s->lowres_n = chance(&st, 0.3) ? (double)(1 + pick(&st, 64)) : 0.0;
+    s->order = chance(&st, 0.5) ? SPR_ORDER_SORT : SPR_ORDER_BSP;
+    s->alpha = chance(&st, 0.3) ? (float)(1 + pick(&st, 255)) / 256.0f : 0.0f;
     for (int k = 0; k < 3; k++) s->background[k] = (float)pick(&st, 256) / 255.0f;
     int K = 1 + pick(&st, 8);
     if (!(s->labels = malloc(n * sizeof *s->labels))) return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1;
@@ -194,7 +198,9 @@ static void render_desc(const rscene *s, spr_algo algo, spr_groups *g, spr_rende
     rd->kernel = ai->uses & SPR_USES_KERNEL ? s->kernel : SPR_KERNEL_GAUSS;
     rd->eps = ai->uses & SPR_USES_EPS ? s->eps : 0.0;
     rd->voronoi = (ai->uses & SPR_USES_VORONOI) && s->voronoi;
-    rd->lowres_n = rd->voronoi ? s->lowres_n : 0.0;
+    rd->lowres_n = rd->voronoi || ((ai->uses & SPR_USES_LOWRES) && !(ai->uses & SPR_USES_VORONOI)) ? s->lowres_n : 0.0;
+    rd->order = ai->uses & SPR_USES_ORDER ? s->order : SPR_ORDER_BSP;
+    rd->alpha = ai->uses & SPR_USES_ALPHA ? s->alpha : 0.0f;
     memcpy(rd->background, s->background, sizeof rd->background);
     rd->groups = ai->uses & SPR_USES_GROUPS ? g : NULL;
 }
@@ -267,10 +273,11 @@ static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, 
     printf(" --background %.9g,%.9g,%.9g", s->background[0], s->background[1], s->background[2]);
     if (ai->uses & SPR_USES_KERNEL) printf(" --kernel %s", spr_kernel_name(s->kernel));
     if (ai->uses & SPR_USES_EPS) printf(" --eps %.17g", s->eps);
-    if ((ai->uses & SPR_USES_VORONOI) && s->voronoi) {
-        printf(" --voronoi");
+    if ((ai->uses & SPR_USES_VORONOI) && s->voronoi) printf(" --voronoi");
+    if (((ai->uses & SPR_USES_VORONOI) && s->voronoi) || ((ai->uses & SPR_USES_LOWRES) && !(ai->uses & SPR_USES_VORONOI)))
         if (s->lowres_n > 0.0) printf(" --lowres-n %.17g", s->lowres_n);
-    }
+    if (ai->uses & SPR_USES_ORDER) printf(" --order %s", s->order == SPR_ORDER_SORT ? "sort" : "bsp");
+    if ((ai->uses & SPR_USES_ALPHA) && s->alpha > 0.0f) printf(" --alpha %.9g", s->alpha);
     printf("\n");
     return 0;
 }

@@ -31,7 +31,9 @@
     {"kernel", "NAME", "gauss | constant | linear | epanechnikov (default gauss)"}, \
     {"eps", "E", "depth tolerance in world units (default 2 x mean radius)"}, \
     {"voronoi", NULL, "deferred: Voronoi depth [ZP] Eq. 14"}, \
-    {"lowres-n", "N", "quantisation steps n of the low-precision depth (default from eps)"}
+    {"lowres-n", "N", "quantisation steps n of the low-precision depth (default from eps)"}, \
+    {"order", "HOW", "transparent: back-to-front order by bsp (default) or sort"}, \
+    {"alpha", "A", "transparent: opacity in (0,1] for every splat (default: the file's, else 1)"}
 
 /* Grouping parameters; the method itself is render's --groups or group's --method. */
 #define CLI_GROUP_OPTS \

@@ -20,8 +20,16 @@ enum {
     SPR_USES_EPS     = 1u << 1,  /* eps */
     SPR_USES_GROUPS  = 1u << 2,  /* groups */
     SPR_USES_VORONOI = 1u << 3,  /* voronoi, and lowres_n with it */
-    SPR_USES_LOWRES  = 1u << 4   /* lowres_n without Voronoi (low-precision depth culling) */
+    SPR_USES_LOWRES  = 1u << 4,  /* lowres_n without Voronoi (low-precision depth culling) */
+    SPR_USES_ORDER   = 1u << 5,  /* order: back to front by BSP or by sorting */
+    SPR_USES_ALPHA   = 1u << 6   /* alpha: one opacity for every splat */
 };
+
+/* Back-to-front order of the transparent algorithms (SPEC §6.1). */
+typedef enum spr_order {
+    SPR_ORDER_BSP = 0,   /* BSP traversal, far child first ([ZP] §5.2.1, SPEC §5.6) */
+    SPR_ORDER_SORT       /* all centres sorted by view depth, farthest first (ties: index) */
+} spr_order;
 
 /* The registry: X(ENUM, name, uses, SPEC section, summary).  Row order is
  * the order parity, bench and reference run them; row 0 is the default. */
@@ -30,7 +38,9 @@ enum {
       "1+1-pass deferred blending: one target per group, then the eps-composite ([ZP] 3.2)")                  \
     X(PBR2P1, pbr2p1, SPR_USES_KERNEL | SPR_USES_EPS, "4.1",                                                    \
       "standard 2+1-pass splatting: visibility, additive blend, normalise ([ZP] 3.1)")                       \
-    X(ZBUFFER, zbuffer, 0, "3.3", "no blending: the nearest splat's colour per pixel (the aliasing baseline)")
+    X(ZBUFFER, zbuffer, 0, "3.3", "no blending: the nearest splat's colour per pixel (the aliasing baseline)")          \
+    X(TRANSPARENT1, transparent1, SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA, "6.1",  \
+      "transparent surfaces, Algorithm-1: per group back to front, `over` with z-tilde culling, average ([ZP] 3.3)")
 
 typedef enum spr_algo {
 #define SPR__ALGO_ENUM(e, name, uses, spec, summary) SPR_ALGO_##e,
@@ -73,7 +83,9 @@ typedef struct spr_render_desc {
     double eps;                  /* world units; 0 = 2 × mean splat radius */
     double lowres_n;             /* 0 = derived from ε (§3.3) */
     float background[3];
-    const spr_groups *groups;    /* deferred; NULL = one group */
+    const spr_groups *groups;    /* deferred, transparent1; NULL = one group */
+    spr_order order;             /* transparent1: back-to-front order */
+    float alpha;                 /* transparent1: > 0 replaces every splat's opacity */
     spr_pass_hook hook;
     void *hook_user;
 } spr_render_desc;

@@ -1,0 +1,120 @@
+/* algo_transparent1.c — transparent surfaces, Algorithm-1 of [ZP] §3.3
+ * (SPEC §6.1), one geometry pass and one compositing pass.
+ *
+ *   order  = every splat back to front for the view (BSP traversal, or
+ *            sorting the centres by view depth), computed on the host
+ *   for each group k = 0 … K−1:
+ *       clear I_k to (background, 0)
+ *       draw S_k in that order (radii r̃ = scale_k·r_i when the groups carry
+ *       them), fragment (c, α), depth test LESS on z̃ with depth write on
+ *       ([ZP] Eq. 10, SPEC §5.4: in one surface layer only the first
+ *       fragment in back-to-front order passes), blend `over` on all four
+ *       channels: dst = src·α + dst·(1 − α)
+ *   composite: I = (1/K) Σ_k I_k (the `average` op; [ZP]'s I = ½(I_A + I_B))
+ */
+#include "spr_algo.h"
+#include "spr_bsp.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct depth_key { double depth; uint32_t id; } depth_key;
+static int far_first(const void *a, const void *b)
+{
+    const depth_key *x = a, *y = b;
+    if (x->depth != y->depth) return x->depth > y->depth ? -1 : 1;
+    return (x->id > y->id) - (x->id < y->id);
+}
+
+/* Every splat id, farthest first: view depth −z_eye of the centre, in double. */
+static spr_result back_to_front(spr__run *run, const spr_view *v, uint32_t *out)
+{
+    const spr_cloud *c = run->cloud;
+    if (run->desc->order == SPR_ORDER_BSP) {
+        spr_bsp t;
+        spr_result r = spr_bsp_build(c, &t, run->err);
+        if (r) return r;
+        spr_bsp_back_to_front(&t, c, v, out);
+        spr_bsp_free(&t);
+        return SPR_OK;
+    }
+    depth_key *k = malloc((c->n ? c->n : 1) * sizeof *k);
+    if (!k) return spr__fail(run->err, SPR_E_NOMEM, "transparent1: out of memory");
+    for (size_t i = 0; i < c->n; i++) {
+        const float *p = c->pos + 3 * i;
+        k[i].depth = -(((v->V[8] * p[0] + v->V[9] * p[1]) + v->V[10] * p[2]) + v->V[11]);
+        k[i].id = (uint32_t)i;
+    }
+    qsort(k, c->n, sizeof *k, far_first);
+    for (size_t i = 0; i < c->n; i++) out[i] = k[i].id;
+    free(k);
+    return SPR_OK;
+}
+
+spr_result spr__algo_transparent1(spr__run *run, int *final_target)
+{
+    const spr_cloud *cl = run->cloud;
+    const spr_groups *g = run->desc->groups;
+    const int K = g ? g->K : 1;
+    const size_t n = cl->n;
+    int *I = malloc((size_t)(K + 1) * sizeof *I);
+    uint32_t *order = malloc((n ? n : 1) * sizeof *order), *members = malloc((n ? n : 1) * sizeof *members);
+    unsigned char *in_k = malloc(n ? n : 1);
+    float *radius = g && g->radius_scale ? malloc((n ? n : 1) * sizeof *radius) : NULL;
+    float *alpha = run->desc->alpha > 0.0f ? malloc((n ? n : 1) * sizeof *alpha) : NULL;
+    spr_result r = SPR_OK;
+    if (!I || !order || !in_k || !members || (g && g->radius_scale && !radius) || (run->desc->alpha > 0.0f && !alpha)) {
+        r = spr__fail(run->err, SPR_E_NOMEM, "transparent1: out of memory");
+        goto done;
+    }
+    if ((r = back_to_front(run, &run->b->view, order))) goto done;
+    for (size_t i = 0; alpha && i < n; i++) alpha[i] = run->desc->alpha;
+    const float bg[4] = {run->desc->background[0], run->desc->background[1], run->desc->background[2], 0.0f};
+    for (int k = 0; k < K && !r; k++)
+        if (!(r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k]))) r = spr_backend_clear(run->b, I[k], bg);
+    if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &I[K]);
+    if (r) goto done;
+    spr_draw_desc d = {.cloud = cl, .alpha_override = alpha};
+    spr_pass_state_defaults(&d.state);
+    d.state.output = SPR_OUT_ALPHA;
+    d.state.depth_value = SPR_DEPTH_LOWRES;
+    d.state.lowres = run->lowres;
+    d.state.eps_t = run->eps_t;
+    d.state.depth_func = SPR_FUNC_LESS;
+    d.state.depth_write = 1;
+    spr_pass_state_blend(&d.state, SPR_BLEND_OVER);
+    d.state.write_mask = SPR_WRITE_ALL;
+    for (int k = 0; k < K; k++) {
+        /* S_k in back-to-front order: walk the global order, keep the members */
+        size_t m = 0;
+        if (g) {
+            memset(in_k, 0, n);
+            for (uint32_t e = g->start[k]; e < g->start[k + 1]; e++) in_k[g->members[e]] = 1;
+            for (size_t i = 0; i < n; i++)
+                if (in_k[order[i]]) members[m++] = order[i];
+        } else {
+            memcpy(members, order, n * sizeof *members);
+            m = n;
+        }
+        d.indices = members;
+        d.count = m;
+        if (radius) {
+            for (size_t a = 0; a < m; a++) radius[members[a]] = g->radius_scale[k] * cl->radius[members[a]];
+            d.radius_override = radius;
+        }
+        if ((r = spr__run_draw(run, "geometry", k, I[k], &d))) goto done;
+    }
+    spr_composite_desc c = {SPR_COMP_AVERAGE, I, K, I[K], run->eps_t,
+                            {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
+    if ((r = spr__run_composite(run, "composite", &c))) goto done;
+    run->out->K = K;
+    *final_target = I[K];
+done:
+    free(I);
+    free(order);
+    free(in_k);
+    free(members);
+    free(radius);
+    free(alpha);
+    return r;
+}
