@@ -54,6 +54,22 @@ spr_result spr__run_composite(spr__run *run, const char *name, const spr_composi
     return record(run, name, -1, NULL, c->output, &st, spr_now_ms() - t0);
 }
 
+void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius)
+{
+    for (size_t a = 0; a < m; a++) radius[members[a]] = g->radius_scale[k] * run->cloud->radius[members[a]];
+}
+
+spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target)
+{
+    const float *bg = run->desc->background;
+    spr_composite_desc c = {op, I, K, I[K], run->eps_t, {bg[0], bg[1], bg[2]}};
+    spr_result r = spr__run_composite(run, "composite", &c);
+    if (r) return r;
+    run->out->K = K;
+    *final_target = I[K];
+    return SPR_OK;
+}
+
 spr_result spr__run_target(spr__run *run, unsigned planes, int *target)
 {
     spr_result r = spr_backend_target_create(run->b, planes, target);

@@ -41,18 +41,14 @@ spr_result spr__algo_deferred(spr__run *run, int *final_target)
         /* S_k: the memberships of group k, in submission order */
         d.indices = g ? g->members + g->start[k] : NULL;
         d.count = g ? g->start[k + 1] - g->start[k] : run->cloud->n;
-        if (radius) { /* r̃ = scale_k · r_i, rounded once on the host: both backends get the same bits */
-            for (size_t m = 0; m < d.count; m++) radius[d.indices[m]] = g->radius_scale[k] * run->cloud->radius[d.indices[m]];
+        if (radius) {
+            spr__group_radii(run, g, k, d.indices, d.count, radius);
             d.radius_override = radius;
         }
         if ((r = spr__run_draw(run, "geometry", k, I[k], &d))) { free(radius); goto done; }
     }
     free(radius);
-    spr_composite_desc c = {SPR_COMP_DEFERRED, I, K, I[K], run->eps_t,
-                            {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
-    if ((r = spr__run_composite(run, "composite", &c))) goto done;
-    run->out->K = K;
-    *final_target = I[K];
+    r = spr__run_finish(run, SPR_COMP_DEFERRED, I, K, final_target);
 done:
     free(I);
     return r;

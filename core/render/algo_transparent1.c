@@ -71,7 +71,8 @@ spr_result spr__algo_transparent1(spr__run *run, int *final_target)
     for (size_t i = 0; alpha && i < n; i++) alpha[i] = run->desc->alpha;
     const float bg[4] = {run->desc->background[0], run->desc->background[1], run->desc->background[2], 0.0f};
     for (int k = 0; k < K && !r; k++)
-        if (!(r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k]))) r = spr_backend_clear(run->b, I[k], bg);
+        if (!(r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k])) && (r = spr_backend_clear(run->b, I[k], bg)))
+            spr__fail(run->err, r, "transparent1: %s", run->b->err.msg);
     if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &I[K]);
     if (r) goto done;
     spr_draw_desc d = {.cloud = cl, .alpha_override = alpha};
@@ -99,16 +100,12 @@ spr_result spr__algo_transparent1(spr__run *run, int *final_target)
         d.indices = members;
         d.count = m;
         if (radius) {
-            for (size_t a = 0; a < m; a++) radius[members[a]] = g->radius_scale[k] * cl->radius[members[a]];
+            spr__group_radii(run, g, k, members, m, radius);
             d.radius_override = radius;
         }
         if ((r = spr__run_draw(run, "geometry", k, I[k], &d))) goto done;
     }
-    spr_composite_desc c = {SPR_COMP_AVERAGE, I, K, I[K], run->eps_t,
-                            {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
-    if ((r = spr__run_composite(run, "composite", &c))) goto done;
-    run->out->K = K;
-    *final_target = I[K];
+    r = spr__run_finish(run, SPR_COMP_AVERAGE, I, K, final_target);
 done:
     free(I);
     free(order);

@@ -125,6 +125,13 @@ typedef struct spr__run {
 } spr__run;
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d);
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c);
+/* Enlarged radii of group k ([ZP] §4.4.2): radius[i] = scale_k·r_i for the
+ * m members, rounded once on the host so both backends get the same bits. */
+void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius);
+/* The last pass of a K-group algorithm: composite op over I[0 … K−1] into
+ * I[K] with the background, recorded as "composite"; sets the result's K
+ * and the final target. */
+spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target);
 /* Target of `planes` for the run, failures named after the algorithm. */
 spr_result spr__run_target(spr__run *run, unsigned planes, int *target);
 /* The algorithms of the registry, one file each. */
