@@ -320,6 +320,7 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     const GLint *u = c->cu;
     glBindTextureUnit(0, c->pool[SPR_PLANE_COLOR]);
     glBindTextureUnit(1, c->pool[SPR_PLANE_DEPTH]);
+    glBindTextureUnit(2, c->pool[SPR_PLANE_OPACITY]);
     glUniform1iv(u[GL_CU_LAYER], cd->n_inputs, cd->inputs);
     glUniform1i(u[GL_CU_K], cd->n_inputs);
     glUniform1i(u[GL_CU_OP], (int)cd->op);

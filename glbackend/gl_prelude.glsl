@@ -23,7 +23,9 @@
 
 layout(binding = 0) uniform sampler2DArray u_in_color;
 layout(binding = 1) uniform sampler2DArray u_in_depth;
+layout(binding = 2) uniform sampler2DArray u_in_opacity;
 uniform int u_in_layer[SPR_MAX_INPUTS];
 
 float spr_in_depth(ivec2 px, int k) { return texelFetch(u_in_depth, ivec3(px, u_in_layer[k]), 0).r; }
 float spr_in_color(ivec2 px, int k, int ch) { return texelFetch(u_in_color, ivec3(px, u_in_layer[k]), 0)[ch]; }
+float spr_in_opacity(ivec2 px, int k) { return texelFetch(u_in_opacity, ivec3(px, u_in_layer[k]), 0).r; }

@@ -119,6 +119,42 @@ START_TEST(transparent1_culls_within_a_layer_and_blends_back_to_front)
 }
 END_TEST
 
+/* transparent2 (SPEC §6.2) with α = 1 is `deferred`, bit for bit: α_F =
+ * Σ w·1 / Σ w = 1 exactly, so I = 1·C_F + 0·C_O = C_F, and C_F is the §4.2
+ * composite; the background where nothing is drawn.  Checked on the real
+ * bunny with MGC groups and Voronoi depth.  With α = 0.5 on the hand scene
+ * of two layers (red in front at t = 0.5, blue behind at 0.75, one group):
+ * α_F = 0.5, C_F = red, C_O = blue over black = (0, 0, 0.5), so
+ * I = 0.5·(1, 0, 0) + 0.5·(0, 0, 0.5) = (0.5, 0, 0.25). */
+START_TEST(transparent2_with_opaque_splats_is_deferred)
+{
+    tu_bunny bn;
+    tu_bunny_scene(&bn, 200, 150, 0.4);
+    spr_render_desc d = {.algo = SPR_ALGO_DEFERRED, .voronoi = 1, .groups = &bn.groups};
+    spr_render_result a, b;
+    tu_render(&bn.view, &bn.cloud, &d, 2, &a);
+    d.algo = SPR_ALGO_TRANSPARENT2;
+    d.alpha = 1.0f;
+    tu_render(&bn.view, &bn.cloud, &d, 2, &b);
+    ck_assert_mem_eq(a.rgba, b.rgba, (size_t)a.width * a.height * 4 * sizeof(float));
+    spr_render_result_free(&a);
+    spr_render_result_free(&b);
+    tu_bunny_free(&bn);
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    spr_cloud c;
+    spr_render_result r;
+    two_layers(&c, -0.5);
+    spr_render_desc t = {.algo = SPR_ALGO_TRANSPARENT2, .eps = 0.1, .alpha = 0.5f, .kernel = SPR_KERNEL_CONSTANT};
+    tu_render(&v, &c, &t, 1, &r);
+    const float *q = px(&r, 2, 1);
+    ck_assert_msg(q[0] == 0.5f && q[1] == 0.0f && q[2] == 0.25f && q[3] == 1.0f, "(%g, %g, %g, %g)", q[0], q[1], q[2], q[3]);
+    ck_assert_float_eq(px(&r, 0, 0)[3], 0.0f);
+    spr_render_result_free(&r);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 START_TEST(deferred_composite_inside_and_beyond_eps)
 {
     spr_view v;
@@ -253,6 +289,7 @@ Suite *make_algo_suite(void)
     tcase_add_test(tc, pbr2p1_blends_inside_eps_only);
     tcase_add_test(tc, zbuffer_keeps_the_nearest_splat);
     tcase_add_test(tc, transparent1_culls_within_a_layer_and_blends_back_to_front);
+    tcase_add_test(tc, transparent2_with_opaque_splats_is_deferred);
     tcase_add_test(tc, deferred_composite_inside_and_beyond_eps);
     tcase_add_test(tc, deferred_composite_unequal_weights);
     tcase_add_test(tc, voronoi_nearer_centre_wins_farther_layer_never);

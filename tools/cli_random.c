@@ -198,7 +198,7 @@ static void render_desc(const rscene *s, spr_algo algo, spr_groups *g, spr_rende
     rd->kernel = ai->uses & SPR_USES_KERNEL ? s->kernel : SPR_KERNEL_GAUSS;
     rd->eps = ai->uses & SPR_USES_EPS ? s->eps : 0.0;
     rd->voronoi = (ai->uses & SPR_USES_VORONOI) && s->voronoi;
-    rd->lowres_n = rd->voronoi || ((ai->uses & SPR_USES_LOWRES) && !(ai->uses & SPR_USES_VORONOI)) ? s->lowres_n : 0.0;
+    rd->lowres_n = rd->voronoi || (ai->uses & SPR_USES_LOWRES) ? s->lowres_n : 0.0;
     rd->order = ai->uses & SPR_USES_ORDER ? s->order : SPR_ORDER_BSP;
     rd->alpha = ai->uses & SPR_USES_ALPHA ? s->alpha : 0.0f;
     memcpy(rd->background, s->background, sizeof rd->background);
@@ -274,7 +274,7 @@ static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, 
     if (ai->uses & SPR_USES_KERNEL) printf(" --kernel %s", spr_kernel_name(s->kernel));
     if (ai->uses & SPR_USES_EPS) printf(" --eps %.17g", s->eps);
     if ((ai->uses & SPR_USES_VORONOI) && s->voronoi) printf(" --voronoi");
-    if (((ai->uses & SPR_USES_VORONOI) && s->voronoi) || ((ai->uses & SPR_USES_LOWRES) && !(ai->uses & SPR_USES_VORONOI)))
+    if (((ai->uses & SPR_USES_VORONOI) && s->voronoi) || (ai->uses & SPR_USES_LOWRES))
         if (s->lowres_n > 0.0) printf(" --lowres-n %.17g", s->lowres_n);
     if (ai->uses & SPR_USES_ORDER) printf(" --order %s", s->order == SPR_ORDER_SORT ? "sort" : "bsp");
     if ((ai->uses & SPR_USES_ALPHA) && s->alpha > 0.0f) printf(" --alpha %.9g", s->alpha);

@@ -129,7 +129,7 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
     }
     if ((uses & SPR_USES_EPS) && cli_get_double(a, "eps", &rd->eps, 1e-30, 1e30) < 0) return -1;
     rd->voronoi = (uses & SPR_USES_VORONOI) && cli_flag(a, "voronoi");
-    if ((rd->voronoi || ((uses & SPR_USES_LOWRES) && (s->all_algos || !(spr_algo_info_of(rd->algo)->uses & SPR_USES_VORONOI)))) && cli_get_double(a, "lowres-n", &rd->lowres_n, 1.0, 16777216.0) < 0) return -1;
+    if ((rd->voronoi || (uses & SPR_USES_LOWRES)) && cli_get_double(a, "lowres-n", &rd->lowres_n, 1.0, 16777216.0) < 0) return -1;
     const char *order = uses & SPR_USES_ORDER ? cli_get(a, "order") : NULL;
     if (order && strcmp(order, "bsp") && strcmp(order, "sort")) { cli_error(a, "--order: '%s' is not bsp or sort", order); return -1; }
     rd->order = order && !strcmp(order, "sort") ? SPR_ORDER_SORT : SPR_ORDER_BSP;

@@ -12,16 +12,12 @@
 
 #include <stdlib.h>
 
-spr_result spr__algo_deferred(spr__run *run, int *final_target)
+/* The geometry pass into I[0 … K−1] (created by the caller); `extra`
+ * adds planes to the write mask (transparent2 writes the opacity w·α too). */
+spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra)
 {
     const spr_groups *g = run->desc->groups;
-    int K = g ? g->K : 1;
-    int *I = malloc((size_t)(K + 1) * sizeof(int));
-    if (!I) return spr__fail(run->err, SPR_E_NOMEM, "deferred: out of memory");
-    spr_result r = SPR_OK;
-    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k]);
-    if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &I[K]);
-    if (r) goto done;
+    const int K = g ? g->K : 1;
     spr_draw_desc d = {.cloud = run->cloud};
     spr_pass_state_defaults(&d.state);
     d.state.kernel = run->desc->kernel;
@@ -31,13 +27,17 @@ spr_result spr__algo_deferred(spr__run *run, int *final_target)
     d.state.depth_func = SPR_FUNC_LESS;
     d.state.depth_write = 1;
     spr_pass_state_blend(&d.state, SPR_BLEND_REPLACE);
-    d.state.write_mask = SPR_WRITE_ALL;
+    d.state.write_mask = SPR_WRITE_ALL | extra;
     float *radius = NULL;
-    if (g && g->radius_scale && !(radius = malloc(run->cloud->n * sizeof *radius))) {
-        r = spr__fail(run->err, SPR_E_NOMEM, "deferred: out of memory");
-        goto done;
+    int no_alpha;
+    float *alpha = spr__alpha_override(run, &no_alpha);
+    d.alpha_override = alpha;
+    if (no_alpha || (g && g->radius_scale && !(radius = malloc(run->cloud->n * sizeof *radius)))) {
+        free(alpha);
+        return spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
     }
-    for (int k = 0; k < K; k++) {
+    spr_result r = SPR_OK;
+    for (int k = 0; k < K && !r; k++) {
         /* S_k: the memberships of group k, in submission order */
         d.indices = g ? g->members + g->start[k] : NULL;
         d.count = g ? g->start[k + 1] - g->start[k] : run->cloud->n;
@@ -45,11 +45,24 @@ spr_result spr__algo_deferred(spr__run *run, int *final_target)
             spr__group_radii(run, g, k, d.indices, d.count, radius);
             d.radius_override = radius;
         }
-        if ((r = spr__run_draw(run, "geometry", k, I[k], &d))) { free(radius); goto done; }
+        r = spr__run_draw(run, "geometry", k, I[k], &d);
     }
     free(radius);
-    r = spr__run_finish(run, SPR_COMP_DEFERRED, I, K, final_target);
-done:
+    free(alpha);
+    return r;
+}
+
+spr_result spr__algo_deferred(spr__run *run, int *final_target)
+{
+    const spr_groups *g = run->desc->groups;
+    int K = g ? g->K : 1;
+    int *I = malloc((size_t)(K + 1) * sizeof(int));
+    if (!I) return spr__fail(run->err, SPR_E_NOMEM, "deferred: out of memory");
+    spr_result r = SPR_OK;
+    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k]);
+    if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &I[K]);
+    if (!r) r = spr__deferred_geometry(run, I, 0);
+    if (!r) r = spr__run_finish(run, SPR_COMP_DEFERRED, I, K, final_target);
     free(I);
     return r;
 }

@@ -51,31 +51,31 @@ static spr_result back_to_front(spr__run *run, const spr_view *v, uint32_t *out)
     return SPR_OK;
 }
 
-spr_result spr__algo_transparent1(spr__run *run, int *final_target)
+/* The back-to-front pass into O[0 … K−1] (created by the caller), cleared
+ * here to (background, 0); with mask ≥ 0, fragments within the nearest
+ * layer of target `mask` (d_f ≤ its depth + ε_t) are dropped (SPEC §6.2 step 2). */
+spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
 {
     const spr_cloud *cl = run->cloud;
     const spr_groups *g = run->desc->groups;
     const int K = g ? g->K : 1;
     const size_t n = cl->n;
-    int *I = malloc((size_t)(K + 1) * sizeof *I);
     uint32_t *order = malloc((n ? n : 1) * sizeof *order), *members = malloc((n ? n : 1) * sizeof *members);
     unsigned char *in_k = malloc(n ? n : 1);
     float *radius = g && g->radius_scale ? malloc((n ? n : 1) * sizeof *radius) : NULL;
-    float *alpha = run->desc->alpha > 0.0f ? malloc((n ? n : 1) * sizeof *alpha) : NULL;
+    int no_alpha;
+    float *alpha = spr__alpha_override(run, &no_alpha);
     spr_result r = SPR_OK;
-    if (!I || !order || !in_k || !members || (g && g->radius_scale && !radius) || (run->desc->alpha > 0.0f && !alpha)) {
-        r = spr__fail(run->err, SPR_E_NOMEM, "transparent1: out of memory");
+    if (!order || !in_k || !members || (g && g->radius_scale && !radius) || no_alpha) {
+        r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
         goto done;
     }
     if ((r = back_to_front(run, &run->b->view, order))) goto done;
-    for (size_t i = 0; alpha && i < n; i++) alpha[i] = run->desc->alpha;
     const float bg[4] = {run->desc->background[0], run->desc->background[1], run->desc->background[2], 0.0f};
     for (int k = 0; k < K && !r; k++)
-        if (!(r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k])) && (r = spr_backend_clear(run->b, I[k], bg)))
-            spr__fail(run->err, r, "transparent1: %s", run->b->err.msg);
-    if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &I[K]);
+        if ((r = spr_backend_clear(run->b, O[k], bg))) spr__fail(run->err, r, "%s: %s", spr_algo_name(run->desc->algo), run->b->err.msg);
     if (r) goto done;
-    spr_draw_desc d = {.cloud = cl, .alpha_override = alpha};
+    spr_draw_desc d = {.cloud = cl, .alpha_override = alpha, .depth_mask = mask >= 0, .mask_target = mask};
     spr_pass_state_defaults(&d.state);
     d.state.output = SPR_OUT_ALPHA;
     d.state.depth_value = SPR_DEPTH_LOWRES;
@@ -103,15 +103,28 @@ spr_result spr__algo_transparent1(spr__run *run, int *final_target)
             spr__group_radii(run, g, k, members, m, radius);
             d.radius_override = radius;
         }
-        if ((r = spr__run_draw(run, "geometry", k, I[k], &d))) goto done;
+        if ((r = spr__run_draw(run, mask >= 0 ? "other layers" : "geometry", k, O[k], &d))) goto done;
     }
-    r = spr__run_finish(run, SPR_COMP_AVERAGE, I, K, final_target);
 done:
-    free(I);
     free(order);
     free(in_k);
     free(members);
     free(radius);
     free(alpha);
+    return r;
+}
+
+spr_result spr__algo_transparent1(spr__run *run, int *final_target)
+{
+    const spr_groups *g = run->desc->groups;
+    const int K = g ? g->K : 1;
+    int *I = malloc((size_t)(K + 1) * sizeof *I);
+    if (!I) return spr__fail(run->err, SPR_E_NOMEM, "transparent1: out of memory");
+    spr_result r = SPR_OK;
+    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k]);
+    if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &I[K]);
+    if (!r) r = spr__transparent_geometry(run, I, -1);
+    if (!r) r = spr__run_finish(run, SPR_COMP_AVERAGE, I, K, final_target);
+    free(I);
     return r;
 }

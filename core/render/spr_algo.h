@@ -40,7 +40,10 @@ typedef enum spr_order {
       "standard 2+1-pass splatting: visibility, additive blend, normalise ([ZP] 3.1)")                       \
     X(ZBUFFER, zbuffer, 0, "3.3", "no blending: the nearest splat's colour per pixel (the aliasing baseline)")          \
     X(TRANSPARENT1, transparent1, SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA, "6.1",  \
-      "transparent surfaces, Algorithm-1: per group back to front, `over` with z-tilde culling, average ([ZP] 3.3)")
+      "transparent surfaces, Algorithm-1: per group back to front, `over` with z-tilde culling, average ([ZP] 3.3)")     \
+    X(TRANSPARENT2, transparent2,                                                                                           \
+      SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA, \
+      "6.2", "transparent surfaces, Algorithm-2: nearest layer blended opaque, the others back to front, alpha_F mix ([ZP] 3.3)")
 
 typedef enum spr_algo {
 #define SPR__ALGO_ENUM(e, name, uses, spec, summary) SPR_ALGO_##e,
@@ -128,12 +131,20 @@ spr_result spr__run_composite(spr__run *run, const char *name, const spr_composi
 /* Enlarged radii of group k ([ZP] §4.4.2): radius[i] = scale_k·r_i for the
  * m members, rounded once on the host so both backends get the same bits. */
 void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius);
+/* The opacities of `--alpha` for every splat (malloc'd), or NULL when the
+ * run keeps the cloud's (*failed set on out of memory). */
+float *spr__alpha_override(const spr__run *run, int *failed);
 /* The last pass of a K-group algorithm: composite op over I[0 … K−1] into
  * I[K] with the background, recorded as "composite"; sets the result's K
  * and the final target. */
 spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target);
 /* Target of `planes` for the run, failures named after the algorithm. */
 spr_result spr__run_target(spr__run *run, unsigned planes, int *target);
+/* Passes shared by algorithms: the opaque geometry pass of §4.2 into I[0 … K−1]
+ * (extra: more planes to write), and the back-to-front pass of §6.1 into
+ * O[0 … K−1] (mask ≥ 0: drop fragments within that target's nearest layer). */
+spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra);
+spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask);
 /* The algorithms of the registry, one file each. */
 #define SPR__ALGO_DECL(e, name, uses, spec, summary) spr_result spr__algo_##name(spr__run *run, int *final_target);
 SPR_ALGO_LIST(SPR__ALGO_DECL)

@@ -31,6 +31,7 @@
  * and each backend supplies how inputs are fetched:
  *   spr_in_depth(px, k)      stored depth d_f of input target k
  *   spr_in_color(px, k, ch)  channel ch of input target k's colour plane
+ *   spr_in_opacity(px, k)    input target k's opacity plane
  * Constants (SPR_DEPTH_*, SPR_KERNEL_*, SPR_OUT_*, spr_gauss_coef) come from
  * their C definitions; the GL backend emits them as exact bit patterns.
  */
@@ -233,6 +234,60 @@ SPR_FN void spr_comp_normalize(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3],
     for (int ch = 0; ch < 4; ch++) acc[ch] = spr_in_color(px, 0, ch);
     spr_normalize_rgba(acc, bg, o);
     SPR_SET(d) = spr_in_depth(px, 0);
+}
+
+/* §6.2 step 3, the nearest layer: the §4.2 composite of colour, and α_F =
+ * the same composite of the opacity plane (Σ w·α over Σ w) in the fourth
+ * channel; background and 0 where nothing was drawn. */
+SPR_FN void spr_comp_nearest(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+{
+    float dmin = spr_in_depth(px, 0);
+    for (int k = 1; k < K; k++) {
+        float dk = spr_in_depth(px, k);
+        if (dk < dmin) dmin = dk;
+    }
+    SPR_PRECISE float limit = dmin + eps_t;
+    SPR_PRECISE float acc[4];
+    SPR_PRECISE float op = 0.0f;
+    for (int ch = 0; ch < 4; ch++) acc[ch] = 0.0f;
+    for (int k = 0; k < K; k++) {
+        float dk = spr_in_depth(px, k);
+        if (!(dk <= limit)) continue;
+        for (int ch = 0; ch < 4; ch++) acc[ch] = acc[ch] + spr_in_color(px, k, ch);
+        op = op + spr_in_opacity(px, k);
+    }
+    spr_normalize_rgba(acc, bg, o);
+    if (acc[3] > 0.0f) {
+        SPR_PRECISE float alpha_f = op / acc[3];
+        o[3] = alpha_f;
+    }
+    SPR_SET(d) = dmin;
+}
+
+/* §6.2 step 3, the final image from input 0 = the nearest layer (C_F, α_F)
+ * and input 1 = the average of the other layers (C_O):
+ * I = α_F·C_F + (1 − α_F)·C_O where the nearest layer has a fragment (its
+ * depth below the far plane), the background elsewhere; alpha 1 or 0. */
+SPR_FN void spr_comp_transparent2(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+{
+    float dn = spr_in_depth(px, 0);
+    SPR_SET(d) = dn;
+    if (!(dn < 1.0f)) {
+        o[0] = bg[0];
+        o[1] = bg[1];
+        o[2] = bg[2];
+        o[3] = 0.0f;
+        return;
+    }
+    float a = spr_in_color(px, 0, 3);
+    SPR_PRECISE float oma = 1.0f - a;
+    for (int ch = 0; ch < 3; ch++) {
+        SPR_PRECISE float f = a * spr_in_color(px, 0, ch);
+        SPR_PRECISE float g = oma * spr_in_color(px, 1, ch);
+        SPR_PRECISE float v = f + g;
+        o[ch] = v;
+    }
+    o[3] = 1.0f;
 }
 
 /* §4.2 ([ZP] Fig. 6): d = min_k d_f(k); sum the inputs with d_f(k) ≤ d + ε_t

@@ -29,10 +29,12 @@
 typedef struct spr_pixel_in {
     const float *const *color; /* color[k]: input k's colour plane, 4 per pixel */
     const float *const *depth; /* depth[k]: input k's stored depth plane */
+    const float *const *opacity; /* opacity[k]: input k's opacity plane (ops that read it) */
     size_t i;
 } spr_pixel_in;
 static inline float spr_in_depth(const spr_pixel_in *px, int k) { return px->depth[k][px->i]; }
 static inline float spr_in_color(const spr_pixel_in *px, int k, int ch) { return px->color[k][4 * px->i + (size_t)ch]; }
+static inline float spr_in_opacity(const spr_pixel_in *px, int k) { return px->opacity[k][px->i]; }
 
 #include "spr_arith.h"
 

@@ -170,7 +170,11 @@ typedef struct spr_draw_stats {
     X(DEFERRED, deferred, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD, SPR_PLANES_CD,                                         \
       "eps-composite of the inputs in order, then normalise (SPEC 4.2)")                                                \
     X(AVERAGE, average, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD, SPR_PLANES_CD,                                           \
-      "(1/K) sum of the inputs, every channel; nearest depth (SPEC 6.1)")
+      "(1/K) sum of the inputs, every channel; nearest depth (SPEC 6.1)")                                                \
+    X(NEAREST, nearest, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD | SPR_PLANE_BIT(SPR_PLANE_OPACITY), SPR_PLANES_CD,        \
+      "eps-composite of colour and opacity: (C_F, alpha_F) of the nearest layer (SPEC 6.2)")                             \
+    X(TRANSPARENT2, transparent2, 2, SPR_PLANES_CD, SPR_PLANES_CD,                                                        \
+      "alpha_F*C_F + (1-alpha_F)*C_O over input 0 (nearest) and input 1 (other layers) (SPEC 6.2)")
 
 typedef enum spr_composite_op {
 #define SPR__COMP_ENUM(e, fn, max_in, reads, writes, summary) SPR_COMP_##e,
