@@ -236,16 +236,23 @@ SPR_FN void spr_comp_normalize(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3],
     SPR_SET(d) = spr_in_depth(px, 0);
 }
 
-/* §6.2 step 3, the nearest layer: the §4.2 composite of colour, and α_F =
- * the same composite of the opacity plane (Σ w·α over Σ w) in the fourth
- * channel; background and 0 where nothing was drawn. */
-SPR_FN void spr_comp_nearest(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+/* d = min_k d_f(k) over the K inputs (comparisons only). */
+SPR_FN float spr_nearest_depth(SPR_PIXEL px, int K)
 {
     float dmin = spr_in_depth(px, 0);
     for (int k = 1; k < K; k++) {
         float dk = spr_in_depth(px, k);
         if (dk < dmin) dmin = dk;
     }
+    return dmin;
+}
+
+/* §6.2 step 3, the nearest layer: the §4.2 composite of colour, and α_F =
+ * the same composite of the opacity plane (Σ w·α over Σ w) in the fourth
+ * channel; background and 0 where nothing was drawn. */
+SPR_FN void spr_comp_nearest(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+{
+    float dmin = spr_nearest_depth(px, K);
     SPR_PRECISE float limit = dmin + eps_t;
     SPR_PRECISE float acc[4];
     SPR_PRECISE float op = 0.0f;
@@ -294,11 +301,7 @@ SPR_FN void spr_comp_transparent2(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[
  * in input order; normalise. */
 SPR_FN void spr_comp_deferred(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
 {
-    float dmin = spr_in_depth(px, 0);
-    for (int k = 1; k < K; k++) {
-        float dk = spr_in_depth(px, k);
-        if (dk < dmin) dmin = dk;
-    }
+    float dmin = spr_nearest_depth(px, K);
     SPR_PRECISE float limit = dmin + eps_t;
     SPR_PRECISE float acc[4];
     for (int ch = 0; ch < 4; ch++) acc[ch] = 0.0f;
