@@ -238,7 +238,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
             g->c[k] = cl->color[3 * (size_t)sid + k];
         }
         g->pr[3] = r;
-        g->na[3] = d->alpha_override ? d->alpha_override[sid] : cl->alpha[sid];
+        g->na[3] = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
         g->c[3] = 0.0f;
         g->id = sid;
         m++;

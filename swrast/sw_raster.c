@@ -70,7 +70,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                 if (mask & SPR_WRITE_DEPTH) depth[pix] = t;
                 if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY)) {
                     float src[4];
-                    const float alpha = d->alpha_override ? d->alpha_override[sid] : cl->alpha[sid];
+                    const float alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
                     spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, alpha, src);
                     if (mask & SPR_WRITE_COLOR) sw_blend4(s, src, color + 4 * pix);
                     if (mask & SPR_WRITE_OPACITY) /* replace or add (core refuses over) */

@@ -59,17 +59,6 @@ void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uin
     for (size_t a = 0; a < m; a++) radius[members[a]] = g->radius_scale[k] * run->cloud->radius[members[a]];
 }
 
-float *spr__alpha_override(const spr__run *run, int *failed)
-{
-    *failed = 0;
-    if (!(run->desc->alpha > 0.0f)) return NULL;
-    size_t n = run->cloud->n;
-    float *a = malloc((n ? n : 1) * sizeof *a);
-    if (!a) { *failed = 1; return NULL; }
-    for (size_t i = 0; i < n; i++) a[i] = run->desc->alpha;
-    return a;
-}
-
 spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target)
 {
     const float *bg = run->desc->background;

@@ -28,14 +28,10 @@ spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra)
     d.state.depth_write = 1;
     spr_pass_state_blend(&d.state, SPR_BLEND_REPLACE);
     d.state.write_mask = SPR_WRITE_ALL | extra;
+    d.alpha = run->desc->alpha;
     float *radius = NULL;
-    int no_alpha;
-    float *alpha = spr__alpha_override(run, &no_alpha);
-    d.alpha_override = alpha;
-    if (no_alpha || (g && g->radius_scale && !(radius = malloc(run->cloud->n * sizeof *radius)))) {
-        free(alpha);
+    if (g && g->radius_scale && !(radius = malloc(run->cloud->n * sizeof *radius)))
         return spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
-    }
     spr_result r = SPR_OK;
     for (int k = 0; k < K && !r; k++) {
         /* S_k: the memberships of group k, in submission order */
@@ -48,7 +44,6 @@ spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra)
         r = spr__run_draw(run, "geometry", k, I[k], &d);
     }
     free(radius);
-    free(alpha);
     return r;
 }
 

@@ -63,10 +63,8 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
     uint32_t *order = malloc((n ? n : 1) * sizeof *order), *members = malloc((n ? n : 1) * sizeof *members);
     unsigned char *in_k = malloc(n ? n : 1);
     float *radius = g && g->radius_scale ? malloc((n ? n : 1) * sizeof *radius) : NULL;
-    int no_alpha;
-    float *alpha = spr__alpha_override(run, &no_alpha);
     spr_result r = SPR_OK;
-    if (!order || !in_k || !members || (g && g->radius_scale && !radius) || no_alpha) {
+    if (!order || !in_k || !members || (g && g->radius_scale && !radius)) {
         r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
         goto done;
     }
@@ -75,7 +73,7 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
     for (int k = 0; k < K && !r; k++)
         if ((r = spr_backend_clear(run->b, O[k], bg))) spr__fail(run->err, r, "%s: %s", spr_algo_name(run->desc->algo), run->b->err.msg);
     if (r) goto done;
-    spr_draw_desc d = {.cloud = cl, .alpha_override = alpha, .depth_mask = mask >= 0, .mask_target = mask};
+    spr_draw_desc d = {.cloud = cl, .alpha = run->desc->alpha, .depth_mask = mask >= 0, .mask_target = mask};
     spr_pass_state_defaults(&d.state);
     d.state.output = SPR_OUT_ALPHA;
     d.state.depth_value = SPR_DEPTH_LOWRES;
@@ -110,7 +108,6 @@ done:
     free(in_k);
     free(members);
     free(radius);
-    free(alpha);
     return r;
 }
 

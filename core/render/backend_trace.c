@@ -77,12 +77,13 @@ static spr_result t_draw(spr_backend *b, int target, const spr_draw_desc *d, spr
     spr_result r = pass_on(b, spr_backend_draw(tr(b)->inner, target, d, st));
     FILE *f = tr(b)->out;
     fprintf(f, "draw t%d: %zu splats%s, kernel %s, output %s, test %s %s, depth write %s, blend rgb %s alpha %s, writes ", target,
-            d->indices ? d->count : d->cloud->n, d->radius_override ? (d->alpha_override ? " (radii and opacities overridden)" : " (radii overridden)") : d->alpha_override ? " (opacities overridden)" : "", spr_kernel_name(s->kernel),
+            d->indices ? d->count : d->cloud->n, d->radius_override ? " (radii overridden)" : "", spr_kernel_name(s->kernel),
             outk[s->output], func[s->depth_func], depth[s->depth_value], s->depth_write ? "on" : "off", blend[s->blend],
             blend[s->blend_alpha]);
     planes(f, s->write_mask);
     fprintf(f, ", eps_t %.9g, lowres d_min %.9g d_max %.9g n %.9g%s", s->eps_t, s->lowres.d_min, s->lowres.d_max, s->lowres.n,
             s->cull_backfaces ? ", back faces culled" : "");
+    if (d->alpha > 0.0f) fprintf(f, ", every opacity %.9g", d->alpha);
     if (d->depth_mask) fprintf(f, ", masked by t%d", d->mask_target);
     if (!r) fprintf(f, " -> %llu fragments, %llu passed\n", (unsigned long long)st->generated, (unsigned long long)st->passed);
     else fprintf(f, " -> failed: %s\n", b->err.msg);

@@ -131,9 +131,6 @@ spr_result spr__run_composite(spr__run *run, const char *name, const spr_composi
 /* Enlarged radii of group k ([ZP] §4.4.2): radius[i] = scale_k·r_i for the
  * m members, rounded once on the host so both backends get the same bits. */
 void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius);
-/* The opacities of `--alpha` for every splat (malloc'd), or NULL when the
- * run keeps the cloud's (*failed set on out of memory). */
-float *spr__alpha_override(const spr__run *run, int *failed);
 /* The last pass of a K-group algorithm: composite op over I[0 … K−1] into
  * I[K] with the background, recorded as "composite"; sets the result's K
  * and the final target. */

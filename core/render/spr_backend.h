@@ -132,8 +132,8 @@ void spr_pass_state_blend(spr_pass_state *s, spr_blend b);
 
 /* One draw: splats of `cloud` in the order of `indices` (all splats in input
  * order when NULL), optionally with per-splat radii replacing cloud->radius
- * (indexed by splat id: enlarged radii of [ZP] §4.4.2) and per-splat
- * opacities replacing cloud->alpha (`--alpha`).  With a depth mask,
+ * (indexed by splat id: enlarged radii of [ZP] §4.4.2), and one opacity
+ * replacing cloud->alpha (`--alpha`).  With a depth mask,
  * the draw reads the stored depth z_near of target mask_target (read-only,
  * not the target drawn into) and drops every fragment with
  * d_f ≤ z_near + ε_t (spr_depth_masked, SPEC §6.2 step 2). */
@@ -142,7 +142,7 @@ typedef struct spr_draw_desc {
     const uint32_t *indices;
     size_t count;
     const float *radius_override;
-    const float *alpha_override; /* per splat id, replacing cloud->alpha (NULL = the cloud's) */
+    float alpha;            /* > 0: one opacity for every splat of the draw (`--alpha`); 0 = cloud->alpha */
     int depth_mask;         /* 0 = none */
     int mask_target;
     spr_pass_state state;
