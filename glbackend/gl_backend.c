@@ -103,7 +103,7 @@ static spr_result grow_pool(gl_context *c, int layers)
         glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         for (int l = 0; c->pool[p] && l < c->pool_layers && l < c->base.n_targets; l++)
-            if (c->base.target_live[l] && (c->base.target_planes[l] & SPR_PLANE_BIT(p)))
+            if (c->base.target_planes[l] & SPR_PLANE_BIT(p))
                 glCopyImageSubData(c->pool[p], GL_TEXTURE_2D_ARRAY, 0, 0, 0, l, t, GL_TEXTURE_2D_ARRAY, 0, 0, 0, l, W, H, 1);
         if (c->pool[p]) glDeleteTextures(1, &c->pool[p]);
         c->pool[p] = t;
@@ -111,7 +111,7 @@ static spr_result grow_pool(gl_context *c, int layers)
     c->pool_layers = cap;
     spr_result r = gl__check(&c->base, "target pool");
     for (int l = 0; !r && l < c->base.n_targets; l++)
-        if (c->base.target_live[l] && c->targets[l].fbo) r = attach(c, l);
+        if (c->base.target_planes[l] && c->targets[l].fbo) r = attach(c, l);
     return r;
 }
 
@@ -165,19 +165,17 @@ static spr_result gl_target_create(spr_backend *b, unsigned planes, int *out)
 {
     gl_context *c = gl_ctx(b);
     gl__make_current(c);
-    int t;
-    spr_result r = spr__backend_add_target(b, planes, &t, (void **)&c->targets, &c->cap, sizeof *c->targets);
+    spr_result r = spr__backend_add_target(b, planes, out, (void **)&c->targets, &c->cap, sizeof *c->targets);
     if (r) return r;
+    const int t = *out;
     gl_target *tg = &c->targets[t];
     free_target(tg);
     glCreateFramebuffers(1, &tg->fbo);
     static const float zero[4] = {0, 0, 0, 0};
     if ((r = grow_pool(c, t + 1)) || (r = attach(c, t)) || (r = gl_clear(b, t, zero))) {
-        free_target(tg); /* no framebuffer left behind on any failure */
-        b->target_live[t] = 0;
+        free_target(tg); /* no framebuffer left behind on any failure (core frees the slot) */
         return r;
     }
-    *out = t;
     return SPR_OK;
 }
 

@@ -36,9 +36,9 @@ static spr_result sw_set_view(spr_backend *b, const spr_view *v)
 static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)
 {
     sw_context *c = sw_ctx(b);
-    int t;
-    spr_result r = spr__backend_add_target(b, planes, &t, (void **)&c->targets, &c->cap, sizeof *c->targets);
+    spr_result r = spr__backend_add_target(b, planes, out, (void **)&c->targets, &c->cap, sizeof *c->targets);
     if (r) return r;
+    const int t = *out;
     size_t np = (size_t)b->view.width * (size_t)b->view.height;
     sw_target *tg = &c->targets[t];
     if (tg->pixels != np) free_target(tg); /* else: memory kept from a destroyed target of this size */
@@ -47,11 +47,9 @@ static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)
         if (!(planes & SPR_PLANE_BIT(p)) || tg->plane[p]) continue;
         if (!(tg->plane[p] = malloc(np * (size_t)spr_plane_channels((spr_plane)p) * 4))) {
             free_target(tg);
-            b->target_live[t] = 0;
             return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a target");
         }
     }
-    *out = t;
     static const float zero[4] = {0, 0, 0, 0};
     return b->clear(b, t, zero);
 }

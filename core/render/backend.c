@@ -38,7 +38,7 @@ void spr_pass_state_blend(spr_pass_state *s, spr_blend b) { s->blend = s->blend_
 
 static int live(const spr_backend *b, int t)
 {
-    return t >= 0 && t < b->n_targets && b->target_live[t];
+    return t >= 0 && t < b->n_targets && b->target_planes[t] != 0;
 }
 
 static spr_result bad(spr_backend *b, const char *fmt, int v)
@@ -54,14 +54,11 @@ spr_result spr__backend_add_target(spr_backend *b, unsigned planes, int *out_tar
                                    size_t slot_size)
 {
     int t = 0;
-    while (t < b->n_targets && b->target_live[t]) t++;
+    while (t < b->n_targets && b->target_planes[t]) t++;
     if (t == b->n_targets) {
-        unsigned char *nl = realloc(b->target_live, (size_t)b->n_targets + 1);
-        if (nl) b->target_live = nl;
-        unsigned *np = nl ? realloc(b->target_planes, ((size_t)b->n_targets + 1) * sizeof *np) : NULL;
+        unsigned *np = realloc(b->target_planes, ((size_t)b->n_targets + 1) * sizeof *np);
         if (!np) return spr__fail(&b->err, SPR_E_NOMEM, "%s: out of memory for a target", b->name);
         b->target_planes = np;
-        b->target_live[b->n_targets] = 0;
         b->target_planes[b->n_targets++] = 0;
     }
     if (t >= *cap) {
@@ -72,7 +69,6 @@ spr_result spr__backend_add_target(spr_backend *b, unsigned planes, int *out_tar
         *slots = ns;
         *cap = ncap;
     }
-    b->target_live[t] = 1;
     b->target_planes[t] = planes;
     *out_target = t;
     return SPR_OK;
@@ -83,7 +79,7 @@ spr_result spr_backend_set_view(spr_backend *b, const spr_view *v)
     if (v->width < 1 || v->height < 1 || v->width > SPR_MAX_IMAGE_SIDE || v->height > SPR_MAX_IMAGE_SIDE)
         return bad(b, "view: width %d outside the supported range", v->width);
     for (int t = 0; t < b->n_targets; t++)
-        if (b->target_live[t]) return bad(b, "view: cannot change the view while target %d exists", t);
+        if (b->target_planes[t]) return bad(b, "view: cannot change the view while target %d exists", t);
     b->view = *v;
     return b->set_view(b, v);
 }
@@ -92,14 +88,20 @@ spr_result spr_backend_target_create(spr_backend *b, unsigned planes, int *out_t
 {
     if (b->view.width < 1) return bad(b, "target: no view set (%d)", 0);
     if (!planes || (planes & ~SPR_PLANES_ALL)) return bad(b, "target: plane mask 0x%x names no plane or an unknown one", (int)planes);
-    return b->target_create(b, planes, out_target);
+    *out_target = -1;
+    spr_result r = b->target_create(b, planes, out_target);
+    if (r && *out_target >= 0 && *out_target < b->n_targets) { /* the slot taken is free again */
+        b->target_planes[*out_target] = 0;
+        *out_target = -1;
+    }
+    return r;
 }
 
 void spr_backend_target_destroy(spr_backend *b, int target)
 {
     if (live(b, target)) {
         b->target_destroy(b, target);
-        b->target_live[target] = 0;
+        b->target_planes[target] = 0;
     }
 }
 
@@ -175,10 +177,8 @@ void spr_backend_destroy(spr_backend *b)
 {
     if (!b) return;
     for (int t = 0; t < b->n_targets; t++)
-        if (b->target_live[t]) b->target_destroy(b, t);
-    free(b->target_live);
+        if (b->target_planes[t]) b->target_destroy(b, t);
     free(b->target_planes);
-    b->target_live = NULL;
     b->target_planes = NULL;
     b->n_targets = 0;
     b->destroy(b);

@@ -41,18 +41,17 @@ static spr_result t_set_view(spr_backend *b, const spr_view *v)
 static spr_result t_target_create(spr_backend *b, unsigned mask, int *out)
 {
     trace_backend *t = tr(b);
-    int mine, theirs;
-    spr_result r = spr__backend_add_target(b, mask, &mine, (void **)&t->slots, &t->cap, 1);
+    int theirs;
+    spr_result r = spr__backend_add_target(b, mask, out, (void **)&t->slots, &t->cap, 1);
     if (r) return r;
+    const int mine = *out;
     if ((r = spr_backend_target_create(t->inner, mask, &theirs)) || theirs != mine) {
         if (!r) spr_backend_target_destroy(t->inner, theirs);
-        b->target_live[mine] = 0;
         return r ? pass_on(b, r) : spr__fail(&b->err, SPR_E_BACKEND, "trace: handles out of step (%d vs %d)", mine, theirs);
     }
     fprintf(t->out, "target_create t%d planes ", mine);
     planes(t->out, mask);
     fprintf(t->out, "\n");
-    *out = mine;
     return SPR_OK;
 }
 

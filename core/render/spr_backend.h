@@ -215,8 +215,7 @@ struct spr_backend {
     void (*destroy)(spr_backend *b);
     spr_view view;     /* set by spr_backend_set_view */
     int n_targets;     /* handles are 0 … n_targets−1 (maintained by the backend) */
-    unsigned char *target_live;
-    unsigned *target_planes; /* plane mask of each handle */
+    unsigned *target_planes; /* plane mask of each handle; 0 = no such target (free slot) */
     spr_error err;     /* last failure, one line */
 };
 
@@ -232,9 +231,10 @@ spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c);
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out);
 void spr_backend_destroy(spr_backend *b);
 
-/* Bookkeeping for implementations: take the lowest free handle and make the
- * backend's own per-target array (*slots, *cap entries of slot_size bytes,
- * new entries zeroed) long enough to hold it. */
+/* Bookkeeping for implementations: take the lowest free handle (set in
+ * *out_target at once, so that spr_backend_target_create frees it again if the
+ * backend fails later) and make the backend's own per-target array (*slots,
+ * *cap entries of slot_size bytes, new entries zeroed) long enough to hold it. */
 spr_result spr__backend_add_target(spr_backend *b, unsigned planes, int *out_target, void **slots, int *cap,
                                    size_t slot_size);
 
