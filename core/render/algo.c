@@ -65,7 +65,6 @@ spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int
     spr_composite_desc c = {op, I, K, I[K], run->eps_t, {bg[0], bg[1], bg[2]}};
     spr_result r = spr__run_composite(run, "composite", &c);
     if (r) return r;
-    run->out->K = K;
     *final_target = I[K];
     return SPR_OK;
 }
@@ -96,6 +95,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     out->height = view->height;
     out->eps_t = run.eps_t;
     out->lowres = run.lowres;
+    out->K = (ai->uses & SPR_USES_GROUPS) && desc->groups ? desc->groups->K : 1; /* the groups the algorithm draws */
     int final_target = -1;
     r = ai->run(&run, &final_target);
     if (!r) {

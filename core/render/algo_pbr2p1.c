@@ -36,7 +36,6 @@ spr_result spr__algo_pbr2p1(spr__run *run, int *final_target)
     spr_composite_desc c = {SPR_COMP_NORMALIZE, &acc, 1, out, run->eps_t,
                             {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
     if ((r = spr__run_composite(run, "normalize", &c))) return r;
-    run->out->K = 1;
     *final_target = out;
     return SPR_OK;
 }

@@ -39,7 +39,6 @@ spr_result spr__algo_transparent2(spr__run *run, int *final_target)
     if ((r = spr__run_composite(run, "other layers", &c))) goto done;
     int last[3] = {T[F], T[CO], T[OUT]};
     r = spr__run_finish(run, SPR_COMP_TRANSPARENT2, last, 2, final_target);
-    run->out->K = K;
 done:
     free(T);
     return r;

@@ -23,7 +23,6 @@ spr_result spr__algo_zbuffer(spr__run *run, int *final_target)
     spr_composite_desc c = {SPR_COMP_NORMALIZE, &img, 1, out, 0.0f,
                             {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
     if ((r = spr__run_composite(run, "normalize", &c))) return r;
-    run->out->K = 1;
     *final_target = out;
     return SPR_OK;
 }

@@ -132,8 +132,7 @@ spr_result spr__run_composite(spr__run *run, const char *name, const spr_composi
  * m members, rounded once on the host so both backends get the same bits. */
 void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius);
 /* The last pass of a K-group algorithm: composite op over I[0 … K−1] into
- * I[K] with the background, recorded as "composite"; sets the result's K
- * and the final target. */
+ * I[K] with the background, recorded as "composite"; sets the final target. */
 spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target);
 /* Target of `planes` for the run, failures named after the algorithm. */
 spr_result spr__run_target(spr__run *run, unsigned planes, int *target);
