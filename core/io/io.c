@@ -192,6 +192,23 @@ static spr_result complete(spr_cloud *c, const spr__mesh *mesh, const spr_load_d
     return spr_cloud_validate(c, path, err);
 }
 
+/* Read a file once and run the reader of its extension over it (mesh gets
+ * the faces of OFF and PLY files). */
+static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr__mesh *mesh, spr_error *err)
+{
+    int ply = ieq(ext, "ply"), off = ieq(ext, "off"), xyz = ieq(ext, "xyz") || ieq(ext, "pwn");
+    if (!ply && !off && !xyz)
+        return spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz or .pwn)", path, ext);
+    char *buf;
+    size_t len;
+    spr_result r = spr__read_file(path, &buf, &len, err);
+    if (r) return r;
+    r = ply ? spr__parse_ply(path, buf, len, c, mesh, err) : off ? spr__parse_off(path, buf, len, c, mesh, err)
+                                                               : spr__parse_xyz(path, buf, len, c, err);
+    free(buf);
+    return r;
+}
+
 spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, spr_error *err)
 {
     spr_load_desc d;
@@ -207,11 +224,7 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
     if (strncmp(path, "builtin:", 8) == 0) {
         r = spr__builtin(path + 8, d.points, c, err);
     } else {
-        const char *e = ext_of(path);
-        if (ieq(e, "ply")) r = spr__load_ply(path, c, &mesh, err);
-        else if (ieq(e, "off")) r = spr__load_off(path, c, &mesh, err);
-        else if (ieq(e, "xyz") || ieq(e, "pwn")) r = spr__load_xyz(path, c, err);
-        else r = spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz or .pwn)", path, e);
+        r = load_file(path, ext_of(path), c, &mesh, err);
     }
     spr_progress_report(&d.progress, "reading", 1, 1);
     if (r) return r;
@@ -234,9 +247,8 @@ spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_
     spr_cloud m;
     spr__mesh mesh;
     const char *e = ext_of(path);
-    spr_result r = ieq(e, "off") ? spr__load_off(path, &m, &mesh, err)
-                   : ieq(e, "ply") ? spr__load_ply(path, &m, &mesh, err)
-                                   : spr__fail(err, SPR_E_FORMAT, "%s: sampling needs a mesh (.off or .ply with faces)", path);
+    spr_result r = ieq(e, "off") || ieq(e, "ply") ? load_file(path, e, &m, &mesh, err)
+                                                  : spr__fail(err, SPR_E_FORMAT, "%s: sampling needs a mesh (.off or .ply with faces)", path);
     if (r) return r;
     if (!mesh.nt) { spr_cloud_free(&m); return spr__fail(err, SPR_E_FORMAT, "%s: mesh has no faces to sample", path); }
     double *cum = malloc(mesh.nt * sizeof(double));

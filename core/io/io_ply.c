@@ -196,17 +196,6 @@ static spr_result parse_header(const char *path, const char *buf, size_t len, in
     return spr__fail(err, SPR_E_TRUNCATED, "%s: header has no end_header line", path);
 }
 
-spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err)
-{
-    char *buf;
-    size_t len;
-    spr_result r = spr__read_file(path, &buf, &len, err);
-    if (r) return r;
-    r = spr__parse_ply(path, buf, len, c, mesh, err);
-    free(buf);
-    return r;
-}
-
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err)
 {
     spr_result r;

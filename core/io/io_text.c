@@ -119,19 +119,6 @@ static spr_result check_point(const lexer *lx, const double *xyz, size_t i, spr_
     return SPR_OK;
 }
 
-spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err)
-{
-    char *buf;
-    size_t len;
-    memset(c, 0, sizeof *c);
-    memset(mesh, 0, sizeof *mesh);
-    spr_result r = spr__read_file(path, &buf, &len, err);
-    if (r) return r;
-    r = spr__parse_off(path, buf, len, c, mesh, err);
-    free(buf);
-    return r;
-}
-
 spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err)
 {
     spr_result r;
@@ -216,18 +203,6 @@ spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_clo
 fail:
     spr_cloud_free(c);
     spr__mesh_free(mesh);
-    return r;
-}
-
-spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err)
-{
-    char *buf;
-    size_t len;
-    memset(c, 0, sizeof *c);
-    spr_result r = spr__read_file(path, &buf, &len, err);
-    if (r) return r;
-    r = spr__parse_xyz(path, buf, len, c, err);
-    free(buf);
     return r;
 }
 

@@ -55,11 +55,9 @@ spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *
 spr_result spr__check_text(const char *path, const char *buf, size_t from, size_t len, spr_error *err);
 /* 1 when v is finite as a float too (1e300 is a finite double but not a float). */
 static inline int spr__finite_float(double v) { return isfinite(v) && isfinite((float)v); }
-spr_result spr__load_ply(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err);
-spr_result spr__load_off(const char *path, spr_cloud *c, spr__mesh *mesh, spr_error *err);
-spr_result spr__load_xyz(const char *path, spr_cloud *c, spr_error *err);
-/* The same readers over a buffer already in memory (`path` only names it in
- * messages): what the fuzz harnesses of tests/fuzz/ drive. */
+/* The readers, over the file's bytes in memory (`path` only names it in
+ * messages): spr_load and spr_sample_mesh read the file once and call them,
+ * the fuzz harnesses of tests/fuzz/ drive them directly. */
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err);
