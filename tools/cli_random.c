@@ -28,10 +28,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static uint64_t mix(uint64_t *s) { return spr__splitmix64(s); }
-static double uni(uint64_t *s) { return spr__uniform01(s); }
-static int pick(uint64_t *s, int n) { return (int)(mix(s) % (uint64_t)n); }
-static int chance(uint64_t *s, double p) { return uni(s) < p; }
+static int pick(uint64_t *s, int n) { return (int)(spr__splitmix64(s) % (uint64_t)n); }
+static int chance(uint64_t *s, double p) { return spr__uniform01(s) < p; }
 
 typedef struct rscene {
     spr_camera_desc cam;
@@ -60,11 +58,9 @@ static void feature(rscene *s, const char *f)
     snprintf(s->features + o, sizeof s->features - o, "%s%s", o ? "," : "", f);
 }
 
-/* World position of pixel coordinate (px, py) at ray parameter t, from P·V in double. */
-static void unproject(const spr_view *v, double px, double py, double t, double out[3])
+/* World position of pixel coordinate (px, py) at ray parameter t; inv = (P·V)⁻¹ in double. */
+static void unproject(const spr_view *v, const double inv[16], double px, double py, double t, double out[3])
 {
-    double inv[16];
-    spr__mat4_inverse(v->PV, inv);
     double nx = px * 2.0 / v->width - 1.0, ny = py * 2.0 / v->height - 1.0, a[3], b[3];
     for (int side = 0; side < 2; side++) {
         double z = side ? 1.0 : -1.0, h[4];
@@ -85,35 +81,36 @@ static int generate(uint64_t seed, int i, const char *tmp_ply, rscene *s, spr_er
 {
     memset(s, 0, sizeof *s);
     uint64_t st = seed * 0x100000001b3ull ^ (uint64_t)i * 0x9e3779b97f4a7c15ull;
-    mix(&st);
+    spr__splitmix64(&st);
     const double scale = chance(&st, 0.08) ? 1e-18 : chance(&st, 0.05) ? 1e12 : 1.0;
     if (scale != 1.0) feature(s, scale < 1.0 ? "denormal-scale" : "huge-scale");
     spr_camera_desc *c = &s->cam;
     spr_camera_defaults(c);
     c->width = 8 + pick(&st, 88);
     c->height = 8 + pick(&st, 88);
-    double dir[3] = {uni(&st) - 0.5, uni(&st) - 0.5, uni(&st) - 0.5};
+    double dir[3] = {spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5};
     unit(dir);
-    double dist = 3.0 + 3.0 * uni(&st);
+    double dist = 3.0 + 3.0 * spr__uniform01(&st);
     for (int k = 0; k < 3; k++) {
         c->eye[k] = dir[k] * dist * scale;
-        c->target[k] = (uni(&st) - 0.5) * 0.2 * scale;
+        c->target[k] = (spr__uniform01(&st) - 0.5) * 0.2 * scale;
     }
     c->have_eye = c->have_target = 1;
-    double up[3] = {uni(&st) - 0.5, uni(&st) - 0.5, uni(&st) - 0.5};
+    double up[3] = {spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5};
     memcpy(c->up, up, sizeof up);
     int cross_near = chance(&st, 0.15);
     if (chance(&st, 0.3)) {
-        c->ortho_height = (2.0 + 2.0 * uni(&st)) * scale;
+        c->ortho_height = (2.0 + 2.0 * spr__uniform01(&st)) * scale;
         c->fov_deg = 0.0;
         feature(s, "ortho");
     } else {
-        c->fov_deg = 20.0 + 50.0 * uni(&st);
+        c->fov_deg = 20.0 + 50.0 * spr__uniform01(&st);
     }
     c->near_plane = (cross_near ? dist - 0.6 : dist - 2.0) * scale;
     c->far_plane = (dist + 2.0) * scale;
     if (cross_near) feature(s, "near-plane");
-    if (spr_view_make(c, &s->view, err)) return -1;
+    double inv[16]; /* once per scene, for the centres placed on pixels */
+    if (spr_view_make(c, &s->view, err) || spr__mat4_inverse(s->view.PV, inv)) return -1;
 
     size_t n = 1 + (size_t)pick(&st, chance(&st, 0.2) ? 2000 : 300);
     if (spr_cloud_alloc(&s->cloud, n)) return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1;
@@ -127,18 +124,18 @@ static int generate(uint64_t seed, int i, const char *tmp_ply, rscene *s, spr_er
     if (tiny) feature(s, "tiny-radii");
     if (huge) feature(s, "huge-radii");
     if (grazing) feature(s, "grazing");
-    s->eps = (0.002 + 0.3 * uni(&st)) * scale;
-    double plane_n[3] = {uni(&st) - 0.5, uni(&st) - 0.5, uni(&st) - 0.5}, depth_t = 0.2 + 0.6 * uni(&st);
+    s->eps = (0.002 + 0.3 * spr__uniform01(&st)) * scale;
+    double plane_n[3] = {spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5}, depth_t = 0.2 + 0.6 * spr__uniform01(&st);
     unit(plane_n);
     double view_dir[3] = {-dir[0], -dir[1], -dir[2]};
     for (size_t k = 0; k < n; k++) {
-        double p[3], nv[3] = {uni(&st) - 0.5, uni(&st) - 0.5, uni(&st) - 0.5};
-        for (int a = 0; a < 3; a++) p[a] = (uni(&st) - 0.5) * 2.0 * scale;
+        double p[3], nv[3] = {spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5};
+        for (int a = 0; a < 3; a++) p[a] = (spr__uniform01(&st) - 0.5) * 2.0 * scale;
         if (on_pixels && chance(&st, 0.7)) { /* a pixel centre, or a pixel edge or corner */
             double px = pick(&st, c->width) + (chance(&st, 0.5) ? 0.5 : 0.0), py = pick(&st, c->height) + (chance(&st, 0.5) ? 0.5 : 0.0);
-            unproject(&s->view, px, py, equal_depth ? depth_t : 0.05 + 0.9 * uni(&st), p);
+            unproject(&s->view, inv, px, py, equal_depth ? depth_t : 0.05 + 0.9 * spr__uniform01(&st), p);
         } else if (equal_depth && chance(&st, 0.6)) { /* same ray parameter, different pixels */
-            unproject(&s->view, uni(&st) * c->width, uni(&st) * c->height, depth_t, p);
+            unproject(&s->view, inv, spr__uniform01(&st) * c->width, spr__uniform01(&st) * c->height, depth_t, p);
         }
         if (coplanar && chance(&st, 0.6)) { /* onto the plane through the origin with normal plane_n */
             double d = p[0] * plane_n[0] + p[1] * plane_n[1] + p[2] * plane_n[2];
@@ -153,9 +150,9 @@ static int generate(uint64_t seed, int i, const char *tmp_ply, rscene *s, spr_er
         }
         if (!(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2] > 1e-12)) nv[2] = 1.0;
         unit(nv);
-        double r = (0.02 + 0.3 * uni(&st)) * scale;
-        if (tiny && chance(&st, 0.5)) r = 1e-4 * scale * uni(&st) + 1e-30;
-        if (huge && chance(&st, 0.2)) r = (5.0 + 20.0 * uni(&st)) * scale;
+        double r = (0.02 + 0.3 * spr__uniform01(&st)) * scale;
+        if (tiny && chance(&st, 0.5)) r = 1e-4 * scale * spr__uniform01(&st) + 1e-30;
+        if (huge && chance(&st, 0.2)) r = (5.0 + 20.0 * spr__uniform01(&st)) * scale;
         if (coincident && k > 0 && chance(&st, 0.3)) { /* an exact copy of an earlier splat */
             size_t j = (size_t)pick(&st, (int)k);
             for (int a = 0; a < 3; a++) { p[a] = s->cloud.pos[3 * j + a]; nv[a] = s->cloud.nrm[3 * j + a]; }
