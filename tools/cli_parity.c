@@ -31,7 +31,7 @@ const char *cli_cpu_flags(void)
 }
 
 typedef struct report_ref {
-    const char *tmp, *dir;  /* heatmaps are written under tmp, named under dir */
+    const char *dir;        /* the report's directory once it is complete */
     const cli_scene *s;
     const char *renderer;
     int n;
@@ -82,9 +82,7 @@ static cJSON *report_json(const report_ref *r)
                 cJSON_AddNumberToObject(f, "cpu", d->first_ref);
                 cJSON_AddNumberToObject(f, "gl", d->first_test);
                 char hm[1300];
-                size_t tl = strlen(r->tmp);
-                if (tl && !strncmp(d->heatmap, r->tmp, tl)) snprintf(hm, sizeof hm, "%s%s", r->dir, d->heatmap + tl);
-                else snprintf(hm, sizeof hm, "%s", d->heatmap);
+                snprintf(hm, sizeof hm, "%s/%s", r->dir, d->heatmap); /* where it ends up, not the temporary directory */
                 cJSON_AddStringToObject(q, "heatmap", hm);
             }
             cJSON_AddItemToArray(planes, q);
@@ -144,7 +142,7 @@ int cmd_parity(int argc, char **argv)
     if (!(gl = cli_backend(&a, "gl", s.threads, gl_device)) || !(cpu = cli_backend(&a, "cpu", s.threads, -1))) goto done;
     printf("parity: cpu reference vs gl [%s], %s, %zu splats, %dx%d\n", spr_gl_renderer(gl), s.model, s.cloud.n, s.view.width,
            s.view.height);
-    report_ref rr = {report_tmp, dir, &s, spr_gl_renderer(gl), 0, {0}, {0}};
+    report_ref rr = {dir, &s, spr_gl_renderer(gl), 0, {0}, {0}};
     int all_exact = 1;
     for (int algo = 0; algo < SPR_ALGO__COUNT; algo++) { /* the registry, in its order */
         if (!s.all_algos && (spr_algo)algo != rd.algo) continue;

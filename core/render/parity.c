@@ -148,12 +148,14 @@ static void compare_plane(compare_ctx *cc, int pass, const char *pname, int grou
             }
             const char *plane_name = plane == SPR_PLANE_FINAL ? "final" : spr_plane_name((spr_plane)plane);
             if (group >= 0)
-                snprintf(d.heatmap, sizeof d.heatmap, "%s/%s_%03d_%s_k%03d_%s.png", cc->dir, cc->label, pass, pname, group, plane_name);
+                snprintf(d.heatmap, sizeof d.heatmap, "%s_%03d_%s_k%03d_%s.png", cc->label, pass, pname, group, plane_name);
             else if (pass >= 0)
-                snprintf(d.heatmap, sizeof d.heatmap, "%s/%s_%03d_%s_%s.png", cc->dir, cc->label, pass, pname, plane_name);
+                snprintf(d.heatmap, sizeof d.heatmap, "%s_%03d_%s_%s.png", cc->label, pass, pname, plane_name);
             else
-                snprintf(d.heatmap, sizeof d.heatmap, "%s/%s_final.png", cc->dir, cc->label);
-            if (spr_write_png(d.heatmap, rgb, W, H, 3, &cc->err)) cc->failed = 1;
+                snprintf(d.heatmap, sizeof d.heatmap, "%s_final.png", cc->label);
+            char path[1024];
+            snprintf(path, sizeof path, "%s/%s", cc->dir, d.heatmap);
+            if (spr_write_png(path, rgb, W, H, 3, &cc->err)) cc->failed = 1;
             free(rgb);
         }
         free(heat);

@@ -24,7 +24,7 @@ typedef struct spr_plane_diff {
     double max_abs;
     int first_x, first_y, first_channel;  /* first differing pixel, row 0 = bottom; −1 if none */
     double first_ref, first_test;
-    char heatmap[256];     /* PNG written for a differing plane, "" otherwise */
+    char heatmap[256];     /* file name (in heatmap_dir) of the PNG written for a differing plane, "" otherwise */
 } spr_plane_diff;
 
 typedef struct spr_parity_report {
