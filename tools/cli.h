@@ -63,6 +63,11 @@ typedef struct cli_scene {
     int all_algos;          /* parity/reference: --algo all (the default there) */
     double load_ms;
 } cli_scene;
+/* The model options of CLI_MODEL_OPTS (model, points for built-ins only,
+ * radius rule, threads, quiet) into s->model, s->threads and ld. */
+int cli_model_opts(cli_args *a, cli_scene *s, spr_load_desc *ld);
+/* Load s->model, time it, and frame s->cam on it.  0 or −1 after one line. */
+int cli_load_model(cli_args *a, cli_scene *s, const spr_load_desc *ld);
 /* Read the grouping options (method from `method_opt`: "groups" or
  * "method"), only those the method uses.  0, or −1 after one line. */
 int cli_parse_group_opts(cli_args *a, const char *method_opt, spr_grouping_desc *gd, const char **hash_near);

@@ -69,27 +69,16 @@ int cmd_group(int argc, char **argv)
     spr_grouping_desc gd;
     const char *hash_near = NULL;
     spr_load_desc ld;
-    spr_load_defaults(&ld);
     spr_camera_defaults(&s.cam);
-    const char *model = cli_get(&a, "model") ? cli_get(&a, "model") : "builtin:torus";
-    if ((!strncmp(model, "builtin:", 8) && cli_get_size(&a, "points", &ld.points, 16, SPR_MAX_SPLATS) < 0) ||
-        cli_get_int(&a, "radius-k", &ld.radius_k, 1, 256) < 0 || cli_get_double(&a, "radius-scale", &ld.radius_rho, 1e-6, 1e6) < 0 ||
-        cli_get_int(&a, "threads", &s.threads, 0, 1024) < 0 || cli_parse_group_opts(&a, "method", &gd, &hash_near) ||
+    if (cli_model_opts(&a, &s, &ld) || cli_parse_group_opts(&a, "method", &gd, &hash_near) ||
         (hash_near && cli_get_vec3(&a, "eye", s.cam.eye) < 0) ||
         (cli_get(&a, "out"), cli_get(&a, "stats"), cli_get(&a, "quiet"), cli_reject_unused(&a)))
         goto done;
     if (gd.method == SPR_GROUP_FILE) { cli_error(&a, "--groups-file: nothing to group"); goto done; }
     s.cam.have_eye = hash_near && cli_get(&a, "eye");
     gd.keep_graph = 1; /* WGC's overlap graph serves the metrics below */
-    gd.progress = cli_progress(cli_flag(&a, "quiet"));
-    ld.threads = s.threads;
-    ld.progress = gd.progress;
-    spr_error lerr = {0};
-    snprintf(s.model, sizeof s.model, "%s", model);
-    if (spr_load(model, &ld, &s.cloud, &lerr)) { fprintf(stderr, "splatref group: %s\n", lerr.msg); goto done; }
-    spr_bounds bd;
-    spr_cloud_bounds(&s.cloud, &bd);
-    spr_camera_frame(&s.cam, &bd); /* the eye of hash mode 3 when none is given */
+    gd.progress = ld.progress;
+    if (cli_load_model(&a, &s, &ld)) goto done; /* framing gives hash mode 3 its eye when none is given */
     if (cli_make_groups(&a, &s, &gd, hash_near)) goto done;
     /* metrics on the overlap graph (|p_i − p_j| < r_i + r_j, areas A_ij) */
     group_report rep = {&s, 0, 0, 0, 0, 0};

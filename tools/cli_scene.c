@@ -85,26 +85,48 @@ int cli_make_groups(cli_args *a, cli_scene *s, spr_grouping_desc *gd, const char
     return 0;
 }
 
+int cli_model_opts(cli_args *a, cli_scene *s, spr_load_desc *ld)
+{
+    spr_load_defaults(ld);
+    const char *model = cli_get(a, "model") ? cli_get(a, "model") : "builtin:torus";
+    snprintf(s->model, sizeof s->model, "%s", model);
+    if ((!strncmp(model, "builtin:", 8) && cli_get_size(a, "points", &ld->points, 16, SPR_MAX_SPLATS) < 0) ||
+        cli_get_int(a, "radius-k", &ld->radius_k, 1, 256) < 0 || cli_get_double(a, "radius-scale", &ld->radius_rho, 1e-6, 1e6) < 0 ||
+        cli_get_int(a, "threads", &s->threads, 0, 1024) < 0)
+        return -1;
+    ld->threads = s->threads;
+    ld->progress = cli_progress(cli_flag(a, "quiet"));
+    return 0;
+}
+
+int cli_load_model(cli_args *a, cli_scene *s, const spr_load_desc *ld)
+{
+    spr_error err = {0};
+    double t0 = spr_now_ms();
+    if (spr_load(s->model, ld, &s->cloud, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
+    s->load_ms = spr_now_ms() - t0;
+    spr_bounds bd;
+    spr_cloud_bounds(&s->cloud, &bd);
+    spr_camera_frame(&s->cam, &bd);
+    return 0;
+}
+
 int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_all)
 {
     memset(s, 0, sizeof *s);
     memset(rd, 0, sizeof *rd);
     spr_error err = {0};
     spr_load_desc ld;
-    spr_load_defaults(&ld);
     spr_camera_defaults(&s->cam);
     double bg[3] = {0, 0, 0};
     int quiet = cli_flag(a, "quiet");
-    const char *model = cli_get(a, "model") ? cli_get(a, "model") : "builtin:torus";
     const char *aname = cli_get(a, "algo");
     /* Read and check every option the scene uses before any work. */
-    if ((!strncmp(model, "builtin:", 8) && cli_get_size(a, "points", &ld.points, 16, SPR_MAX_SPLATS) < 0) ||
-        cli_get_int(a, "radius-k", &ld.radius_k, 1, 256) < 0 || cli_get_double(a, "radius-scale", &ld.radius_rho, 1e-6, 1e6) < 0 ||
-        cli_get_vec3(a, "eye", s->cam.eye) < 0 || cli_get_vec3(a, "target", s->cam.target) < 0 ||
+    if (cli_model_opts(a, s, &ld) || cli_get_vec3(a, "eye", s->cam.eye) < 0 || cli_get_vec3(a, "target", s->cam.target) < 0 ||
         cli_get_vec3(a, "up", s->cam.up) < 0 || cli_get_double(a, "fov", &s->cam.fov_deg, 1e-3, 179.0) < 0 ||
         cli_get_double(a, "ortho", &s->cam.ortho_height, 1e-12, 1e30) < 0 || cli_get_double(a, "near", &s->cam.near_plane, 0.0, 1e30) < 0 ||
         cli_get_double(a, "far", &s->cam.far_plane, 0.0, 1e30) < 0 || cli_get_wh(a, "size", &s->cam.width, &s->cam.height) < 0 ||
-        cli_get_vec3(a, "background", bg) < 0 || cli_get_int(a, "threads", &s->threads, 0, 1024) < 0)
+        cli_get_vec3(a, "background", bg) < 0)
         return -1;
     s->cam.have_eye = cli_get(a, "eye") != NULL;
     s->cam.have_target = cli_get(a, "target") != NULL;
@@ -139,17 +161,7 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
     spr_grouping_desc gd;
     const char *hash_near = NULL;
     if ((uses & SPR_USES_GROUPS) && cli_parse_group_opts(a, "groups", &gd, &hash_near)) return -1;
-    if (cli_reject_unused(a)) return -1;
-    ld.threads = s->threads;
-    ld.progress = cli_progress(quiet);
-
-    double t0 = spr_now_ms();
-    snprintf(s->model, sizeof s->model, "%s", model);
-    if (spr_load(model, &ld, &s->cloud, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
-    s->load_ms = spr_now_ms() - t0;
-    spr_bounds bd;
-    spr_cloud_bounds(&s->cloud, &bd);
-    spr_camera_frame(&s->cam, &bd);
+    if (cli_reject_unused(a) || cli_load_model(a, s, &ld)) return -1;
     if (spr_view_make(&s->cam, &s->view, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
     if (uses & SPR_USES_GROUPS) {
         gd.progress = cli_progress(quiet);
