@@ -284,6 +284,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
         const spr_plane_type type = spr_plane_info_of((spr_plane)p)->type;
         if (p == SPR_PLANE_COLOR) set_blend((GLuint)a, s->blend, s->blend_alpha);
         else if (p == SPR_PLANE_OPACITY) set_blend((GLuint)a, s->blend_alpha, s->blend_alpha);
+        else if (p == SPR_PLANE_NORMAL) set_blend((GLuint)a, s->blend, s->blend);
         else if (type == SPR_PLANE_COUNTER) set_blend((GLuint)a, SPR_BLEND_ADD, SPR_BLEND_ADD);
         else set_blend((GLuint)a, SPR_BLEND_REPLACE, SPR_BLEND_REPLACE);
     }
@@ -319,6 +320,20 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     glBindTextureUnit(0, c->pool[SPR_PLANE_COLOR]);
     glBindTextureUnit(1, c->pool[SPR_PLANE_DEPTH]);
     glBindTextureUnit(2, c->pool[SPR_PLANE_OPACITY]);
+    glBindTextureUnit(3, c->pool[SPR_PLANE_NORMAL]);
+    static const float no_params[SPR_PRM_COUNT];
+    const float *prm = cd->params ? cd->params : no_params;
+    if (prm[SPR_PRM_ENV] != 0.0f) { /* the cube map as a six-layer array, fetched by texel (gl_prelude.glsl) */
+        if (c->env) glDeleteTextures(1, &c->env);
+        const int S = cd->env->size;
+        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &c->env);
+        glTextureStorage3D(c->env, 1, GL_RGBA32F, S, S, 6);
+        glTextureSubImage3D(c->env, 0, 0, 0, 0, S, S, 6, GL_RGBA, GL_FLOAT, cd->env->texels);
+        glTextureParameteri(c->env, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(c->env, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glBindTextureUnit(4, c->env);
+    }
+    glUniform1fv(u[GL_CU_PRM], SPR_PRM_COUNT, prm);
     glUniform1iv(u[GL_CU_LAYER], cd->n_inputs, cd->inputs);
     glUniform1i(u[GL_CU_K], cd->n_inputs);
     glUniform1i(u[GL_CU_OP], (int)cd->op);
@@ -330,7 +345,7 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         int a = gl__plane_attachment((spr_plane)p);
         if (a < 0) continue;
-        GLboolean on = (spr_composite_info_of(cd->op)->writes & SPR_PLANE_BIT(p)) != 0;
+        GLboolean on = ((spr_composite_info_of(cd->op)->writes | SPR_PLANE_BIT(SPR_PLANE_NORMAL)) & SPR_PLANE_BIT(p)) != 0;
         glColorMaski((GLuint)a, on, on, on, on);
         glDisablei(GL_BLEND, (GLuint)a);
     }
@@ -377,6 +392,7 @@ static void gl_destroy(spr_backend *b)
         gl__make_current(c);
         for (int t = 0; t < c->cap; t++) free_target(&c->targets[t]);
         drop_pool(c);
+        if (c->env) glDeleteTextures(1, &c->env);
         glDeleteBuffers(1, &c->instances);
         glDeleteBuffers(1, &c->counters);
         glDeleteVertexArrays(1, &c->vao);

@@ -4,15 +4,19 @@
 uniform int u_K, u_op;
 uniform float u_eps;
 uniform float u_bg[3];
+uniform float u_prm[SPR_PRM_COUNT];
 layout(location = SPR_LOC_COLOR) out vec4 o_color;
 layout(location = SPR_LOC_DEPTH) out float o_depth;
+layout(location = SPR_LOC_NORMAL) out vec4 o_normal;
 void main()
 {
     ivec2 px = ivec2(gl_FragCoord.xy);
     float o[4];
+    float on[4];
     float d;
-    SPR_COMP_CALL(u_op, px, u_K, u_eps, u_bg, o, d)
+    SPR_COMP_CALL(u_op, px, u_K, u_eps, u_bg, u_prm, o, on, d)
     o_color = vec4(o[0], o[1], o[2], o[3]);
+    o_normal = vec4(on[0], on[1], on[2], on[3]);
     o_depth = d;
     gl_FragDepth = d;
 }

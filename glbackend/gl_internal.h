@@ -24,7 +24,7 @@ typedef struct gl_target {
     X(M, "u_M") X(SIZE, "u_size") X(SX, "u_sx") X(SY, "u_sy") X(EPS, "u_eps") X(DMIN, "u_dmin") X(DMAX, "u_dmax") \
     X(N, "u_n") X(INVN, "u_invn") X(KERNEL, "u_kernel") X(DEPTH, "u_depth") X(OUTPUT, "u_output") X(CULL, "u_cull") \
     X(MASK, "u_mask") X(LAYER, "u_in_layer")
-#define GL_COMP_UNIFORMS(X) X(K, "u_K") X(OP, "u_op") X(EPS, "u_eps") X(BG, "u_bg") X(LAYER, "u_in_layer")
+#define GL_COMP_UNIFORMS(X) X(K, "u_K") X(OP, "u_op") X(EPS, "u_eps") X(BG, "u_bg") X(LAYER, "u_in_layer") X(PRM, "u_prm")
 enum {
 #define GL__E(e, name) GL_SU_##e,
     GL_SPLAT_UNIFORMS(GL__E)
@@ -51,6 +51,7 @@ typedef struct gl_context {
     int pool_layers, pool_w, pool_h;
     gl_target *targets;
     int cap;
+    GLuint env;  /* the cube map of the last composite with environment effects: six layers */
 } gl_context;
 
 static inline gl_context *gl_ctx(spr_backend *b) { return (gl_context *)b; }

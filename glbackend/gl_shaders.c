@@ -67,8 +67,14 @@ static void add_constants(strbuf *b)
         memcpy(&u, &spr_gauss_coef[i], 4);
         sb_add(b, "%suintBitsToFloat(0x%08xu)", i ? ", " : "", u);
     }
-    sb_add(b, ");\n#define SPR_COMP_CALL(op, px, K, eps, bg, o, d)");
-#define GL__COMP(e, fn, max_in, reads, writes, summary) sb_add(b, " if (op == %d) spr_comp_" #fn "(px, K, eps, bg, o, d); else", SPR_COMP_##e);
+    sb_add(b, ");\n");
+    /* offsets of the shading parameters (SPR_PARAM_LIST) */
+#define GL__PRM(name, n) sb_add(b, "#define SPR_PRM_%s %d\n", #name, SPR_PRM_##name);
+    SPR_PARAM_LIST(GL__PRM)
+#undef GL__PRM
+    sb_add(b, "#define SPR_PRM_COUNT %d\n", SPR_PRM_COUNT);
+    sb_add(b, "#define SPR_COMP_CALL(op, px, K, eps, bg, prm, o, on, d)");
+#define GL__COMP(e, fn, max_in, reads, writes, summary) sb_add(b, " if (op == %d) spr_comp_" #fn "(px, K, eps, bg, prm, o, on, d); else", SPR_COMP_##e);
     SPR_COMPOSITE_LIST(GL__COMP)
 #undef GL__COMP
     sb_add(b, " {}\n");

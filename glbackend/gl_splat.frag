@@ -15,6 +15,7 @@ layout(location = SPR_LOC_DEPTH) out float o_depth;
 layout(location = SPR_LOC_ID) out uint o_id;
 layout(location = SPR_LOC_COUNT) out float o_count;
 layout(location = SPR_LOC_OPACITY) out float o_opacity;
+layout(location = SPR_LOC_NORMAL) out vec4 o_normal;
 void main()
 {
     float o0[3];
@@ -35,6 +36,9 @@ void main()
     spr_fragment_color(u_output, u_kernel, rho2, rho, c, v_na.w, src);
     o_color = vec4(src[0], src[1], src[2], src[3]);
     o_opacity = spr_fragment_opacity(u_output, src, v_na.w);
+    float nw[4];
+    spr_fragment_normal(src, n, nw);
+    o_normal = vec4(nw[0], nw[1], nw[2], nw[3]);
     o_depth = t;
     o_id = v_id;
     o_count = 1.0;

@@ -8,21 +8,30 @@
 #include "spr_fragment.h"
 
 /* One pixel loop per op of the table, so each op's function is inlined. */
-#define SW__COMP_LOOP(e, fn, max_in, reads, writes, summary)                                                                     \
-    static void comp_##fn(const spr_composite_desc *cd, long np, int threads, const float *const *color,          \
-                          const float *const *depth, const float *const *opac, float *ocolor, float *odepth,        \
-                          float *otest)                                                                             \
+typedef struct sw_comp_io {
+    const spr_composite_desc *cd;
+    const float *prm;
+    const float *const *color, *const *depth, *const *opac, *const *normal;
+    float *ocolor, *odepth, *otest, *onormal;
+    int W;
+} sw_comp_io;
+#define SW__COMP_LOOP(e, fn, max_in, reads, writes, summary)                                                       \
+    static void comp_##fn(const sw_comp_io *io, long np, int threads)                                               \
     {                                                                                                             \
         _Pragma("omp parallel num_threads(threads)")                                                              \
         {                                                                                                         \
             unsigned fp = sw_fp_enter();                                                                          \
             _Pragma("omp for schedule(static)")                                                                   \
             for (long i = 0; i < np; i++) {                                                                       \
-                spr_pixel_in px = {color, depth, opac, (size_t)i};                                                \
-                float d;                                                                                          \
-                spr_comp_##fn(&px, cd->n_inputs, cd->eps_t, cd->background, ocolor + 4 * i, &d);                  \
-                odepth[i] = d;                                                                                    \
-                if (otest) otest[i] = d;                                                                          \
+                spr_pixel_in px = {io->color, io->depth, io->opac, io->normal, io->cd->env, (size_t)i,            \
+                                   (int)(i % io->W), (int)(i / io->W)};                                           \
+                float d, on[4];                                                                                   \
+                spr_comp_##fn(&px, io->cd->n_inputs, io->cd->eps_t, io->cd->background, io->prm,                   \
+                              io->ocolor + 4 * i, on, &d);                                                        \
+                io->odepth[i] = d;                                                                                \
+                if (io->otest) io->otest[i] = d;                                                                  \
+                if (io->onormal)                                                                                  \
+                    for (int ch = 0; ch < 4; ch++) io->onormal[4 * i + ch] = on[ch];                              \
             }                                                                                                     \
             sw_fp_leave(fp);                                                                                      \
         }                                                                                                         \
@@ -30,8 +39,7 @@
 SPR_COMPOSITE_LIST(SW__COMP_LOOP)
 #undef SW__COMP_LOOP
 
-typedef void (*sw_comp_loop)(const spr_composite_desc *, long, int, const float *const *, const float *const *,
-                             const float *const *, float *, float *, float *);
+typedef void (*sw_comp_loop)(const sw_comp_io *, long, int);
 static const sw_comp_loop comp_loops[SPR_COMP__COUNT] = {
 #define SW__COMP_FN(e, fn, max_in, reads, writes, summary) comp_##fn,
     SPR_COMPOSITE_LIST(SW__COMP_FN)
@@ -45,11 +53,17 @@ spr_result sw__composite(spr_backend *b, const spr_composite_desc *cd)
     const long np = (long)b->view.width * b->view.height;
     const int K = cd->n_inputs;
     const float *color[SPR_MAX_COMPOSITE_INPUTS], *depth[SPR_MAX_COMPOSITE_INPUTS], *opac[SPR_MAX_COMPOSITE_INPUTS];
+    const float *normal[SPR_MAX_COMPOSITE_INPUTS];
     for (int k = 0; k < K; k++) {
-        color[k] = SW_F(&c->targets[cd->inputs[k]], COLOR);
-        depth[k] = SW_F(&c->targets[cd->inputs[k]], DEPTH);
-        opac[k] = SW_F(&c->targets[cd->inputs[k]], OPACITY); /* NULL where absent: read only by ops whose row says so */
+        sw_target *in = &c->targets[cd->inputs[k]];
+        color[k] = SW_F(in, COLOR);
+        depth[k] = SW_F(in, DEPTH);
+        opac[k] = SW_F(in, OPACITY);   /* NULL where absent: read only by ops whose row says so */
+        normal[k] = SW_F(in, NORMAL);  /* NULL where absent: read only when the parameters ask */
     }
-    comp_loops[cd->op](cd, np, c->threads, color, depth, opac, SW_F(out, COLOR), SW_F(out, DEPTH), SW_F(out, TEST));
+    static const float no_params[SPR_PRM_COUNT];
+    sw_comp_io io = {cd, cd->params ? cd->params : no_params, color, depth, opac, normal,
+                     SW_F(out, COLOR), SW_F(out, DEPTH), SW_F(out, TEST), SW_F(out, NORMAL), b->view.width};
+    comp_loops[cd->op](&io, np, c->threads);
     return SPR_OK;
 }

@@ -61,6 +61,7 @@ typedef struct cli_scene {
     char model[1024];
     int threads;
     int all_algos;          /* parity/reference: --algo all (the default there) */
+    spr_envmap env;         /* --env's cube map (texels NULL: none) */
     double load_ms;
 } cli_scene;
 /* The model options of CLI_MODEL_OPTS (model, points for built-ins only,

@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "spr_glbackend.h"
 #include "spr_swrast.h"
+#include "spr_envmap.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -15,6 +16,62 @@ void cli_scene_free(cli_scene *s)
 {
     spr_cloud_free(&s->cloud);
     spr_grouping_free(&s->g);
+    spr_envmap_free(&s->env);
+}
+
+/* --shade, --light, --material (SPR_USES_SHADE) and --env, --env-size, --eta,
+ * --env-layers (SPR_USES_ENV) into rd->shade; the cube map into s->env. */
+static int shading_opts(cli_args *a, cli_scene *s, unsigned uses, spr_render_desc *rd)
+{
+    spr_shading *sh = &rd->shade;
+    spr_shading_defaults(sh);
+    const char *model = uses & SPR_USES_SHADE ? cli_get(a, "shade") : NULL;
+    if (model && strcmp(model, "none") && strcmp(model, "phong")) { cli_error(a, "--shade: '%s' is not none or phong", model); return -1; }
+    sh->model = model && !strcmp(model, "phong") ? SPR_SHADE_PHONG : SPR_SHADE_NONE;
+    if (sh->model == SPR_SHADE_PHONG || (uses & SPR_USES_ENV && cli_get(a, "env"))) {
+        const char *mat = cli_get(a, "material");
+        if (cli_get_vec3(a, "light", sh->light_eye) < 0) return -1;
+        if (sh->light_eye[0] == 0.0 && sh->light_eye[1] == 0.0 && sh->light_eye[2] == 0.0) { cli_error(a, "--light: the direction is zero"); return -1; }
+        if (mat) {
+            double ka, kd, ks;
+            int e;
+            char tail;
+            if (sscanf(mat, "%lf,%lf,%lf,%d%c", &ka, &kd, &ks, &e, &tail) != 4 || !(ka >= 0 && ka <= 16) || !(kd >= 0 && kd <= 16) ||
+                !(ks >= 0 && ks <= 16) || e < 1 || e > 1024) {
+                cli_error(a, "--material: '%s' is not KA,KD,KS,EXP with coefficients in [0,16] and a whole exponent 1..1024", mat);
+                return -1;
+            }
+            sh->ka = ka, sh->kd = kd, sh->ks = ks, sh->exponent = e;
+        }
+    }
+    const char *env = uses & SPR_USES_ENV ? cli_get(a, "env") : NULL;
+    if (env && strcmp(env, "none")) {
+        int size = 256;
+        const char *eta = cli_get(a, "eta"), *layers = cli_get(a, "env-layers");
+        if (cli_get_int(a, "env-size", &size, 1, 4096) < 0) return -1;
+        if (eta) {
+            double e[3];
+            char tail;
+            int n = sscanf(eta, "%lf,%lf,%lf%c", &e[0], &e[1], &e[2], &tail);
+            if (n == 1) e[1] = e[2] = e[0];
+            if ((n != 1 && n != 3) || !(e[0] > 0 && e[0] <= 4) || !(e[1] > 0 && e[1] <= 4) || !(e[2] > 0 && e[2] <= 4)) {
+                cli_error(a, "--eta: '%s' is not one or three ratios in (0,4]", eta);
+                return -1;
+            }
+            memcpy(sh->eta, e, sizeof e);
+        }
+        if (layers && strcmp(layers, "multi") && strcmp(layers, "single")) { cli_error(a, "--env-layers: '%s' is not multi or single", layers); return -1; }
+        sh->multilayer = !layers || !strcmp(layers, "multi");
+        spr_error err = {0};
+        const int builtin = !strcmp(env, "sky") || !strcmp(env, "checker");
+        if ((builtin ? spr_envmap_builtin(env, size, &s->env, &err) : spr_envmap_load(env, &s->env, &err))) {
+            fprintf(stderr, "splatref %s: --env: %s\n", a->cmd, err.msg);
+            return -1;
+        }
+        sh->env = &s->env;
+    }
+    if ((uses & SPR_USES_LAYERS) && cli_get_int(a, "layers", &rd->layers, 1, 64) < 0) return -1;
+    return 0;
 }
 
 /* An enum option from a list of names; −1 after an error line. */
@@ -158,6 +215,7 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
     double alpha = 0.0;
     if ((uses & SPR_USES_ALPHA) && cli_get_double(a, "alpha", &alpha, 1e-6, 1.0) < 0) return -1;
     rd->alpha = (float)alpha;
+    if (shading_opts(a, s, uses, rd)) return -1;
     spr_grouping_desc gd;
     const char *hash_near = NULL;
     if ((uses & SPR_USES_GROUPS) && cli_parse_group_opts(a, "groups", &gd, &hash_near)) return -1;

@@ -33,7 +33,15 @@
     {"voronoi", NULL, "deferred: Voronoi depth [ZP] Eq. 14"}, \
     {"lowres-n", "N", "quantisation steps n of the low-precision depth (default from eps)"}, \
     {"order", "HOW", "transparent: back-to-front order by bsp (default) or sort"}, \
-    {"alpha", "A", "transparent: opacity in (0,1] for every splat (default: the file's, else 1)"}
+    {"alpha", "A", "transparent: opacity in (0,1] for every splat (default: the file's, else 1)"}, \
+    {"shade", "MODEL", "deferred shading none | phong (default none; SPEC 4.3)"}, \
+    {"light", "X,Y,Z", "phong: direction towards the light, eye space (default -0.4,0.5,1)"}, \
+    {"material", "KA,KD,KS,EXP", "phong: ambient, diffuse, specular and whole exponent 1..1024 (default 0.2,0.8,0.4,32)"}, \
+    {"env", "MAP", "transparent2: environment effects with cube map sky | checker | DIR (DIR/px,nx,py,ny,pz,nz.png)"}, \
+    {"env-size", "S", "env: texels a side of a built-in cube map (default 256)"}, \
+    {"eta", "E|R,G,B", "env: refraction ratio outside/inside, one, or three for dispersion (default 0.6711,0.6667,0.6579)"}, \
+    {"env-layers", "HOW", "env: multi (sin T = eta^(l+1) sin I, default) | single (one interface)"}, \
+    {"layers", "L", "depthpeel: layers peeled, 1..64 (default 8; 3 = the front-three variant)"}
 
 /* Grouping parameters; the method itself is render's --groups or group's --method. */
 #define CLI_GROUP_OPTS \

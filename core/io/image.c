@@ -6,6 +6,7 @@
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 uint8_t spr_to_u8(float v)
 {
@@ -115,4 +116,130 @@ uint64_t spr_hash64(const void *data, size_t n)
         h *= 0x100000001b3ull;
     }
     return h;
+}
+
+/* PNG through libpng's classic interface, so 16-bit samples keep their
+ * bits (the simplified interface would treat them as linear light and
+ * convert): palette and low-bit grey expanded, tRNS to alpha, grey to RGB. */
+typedef struct png_in { FILE *f; png_structp png; png_infop info; png_bytep *rows; float *img; } png_in;
+
+static void png_in_free(png_in *s)
+{
+    png_destroy_read_struct(&s->png, &s->info, NULL);
+    if (s->f) fclose(s->f);
+    free(s->rows ? s->rows[0] : NULL);
+    free(s->rows);
+}
+
+spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *channels, spr_error *err)
+{
+    *img = NULL;
+    png_in s = {0};
+    unsigned char sig[8];
+    if (!(s.f = fopen(path, "rb"))) return spr__fail(err, SPR_E_IO, "%s: cannot open", path);
+    if (fread(sig, 1, 8, s.f) != 8 || png_sig_cmp(sig, 0, 8)) {
+        fclose(s.f);
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte 0: not a PNG signature", path);
+    }
+    s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    s.info = s.png ? png_create_info_struct(s.png) : NULL;
+    if (!s.png || !s.info) { png_in_free(&s); return spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); }
+    if (setjmp(png_jmpbuf(s.png))) {
+        free(s.img);
+        png_in_free(&s);
+        return spr__fail(err, SPR_E_FORMAT, "%s: malformed or truncated PNG data", path);
+    }
+    png_init_io(s.png, s.f);
+    png_set_sig_bytes(s.png, 8);
+    png_read_info(s.png, s.info);
+    png_uint_32 W = png_get_image_width(s.png, s.info), H = png_get_image_height(s.png, s.info);
+    int type = png_get_color_type(s.png, s.info), depth = png_get_bit_depth(s.png, s.info);
+    if (W < 1 || H < 1 || W > 65536 || H > 65536) {
+        png_in_free(&s);
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte 16: image size %ux%u outside 1..65536", path, (unsigned)W, (unsigned)H);
+    }
+    if (type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(s.png);
+    if (type == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(s.png);
+    if (png_get_valid(s.png, s.info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(s.png);
+    if (type == PNG_COLOR_TYPE_GRAY || type == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(s.png);
+    png_read_update_info(s.png, s.info);
+    const int ch = png_get_channels(s.png, s.info), bits = png_get_bit_depth(s.png, s.info);
+    const size_t rowbytes = png_get_rowbytes(s.png, s.info);
+    s.rows = malloc(H * sizeof *s.rows);
+    unsigned char *data = s.rows ? malloc(rowbytes * H) : NULL;
+    s.img = malloc((size_t)W * H * (size_t)ch * sizeof(float));
+    if (!s.rows || !data || !s.img) {
+        free(data);
+        free(s.img);
+        if (s.rows) s.rows[0] = NULL;
+        png_in_free(&s);
+        return spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path);
+    }
+    for (png_uint_32 y = 0; y < H; y++) s.rows[y] = data + y * rowbytes;
+    png_read_image(s.png, s.rows);
+    png_read_end(s.png, NULL);
+    const float scale = bits == 16 ? 1.0f / 65535.0f : 1.0f / 255.0f;
+    for (png_uint_32 y = 0; y < H; y++) { /* row 0 of the image = the bottom row, as every plane */
+        const unsigned char *src = s.rows[H - 1 - y];
+        float *dst = s.img + (size_t)y * W * ch;
+        for (size_t i = 0; i < (size_t)W * ch; i++)
+            dst[i] = (float)(bits == 16 ? (unsigned)(src[2 * i] << 8 | src[2 * i + 1]) : src[i]) * scale;
+    }
+    *img = s.img;
+    *w = (int)W;
+    *h = (int)H;
+    *channels = ch;
+    s.img = NULL;
+    png_in_free(&s);
+    return SPR_OK;
+}
+
+spr_result spr_read_image(const char *path, float **img, int *w, int *h, int *channels, spr_error *err)
+{
+    size_t n = strlen(path);
+    if (n >= 4 && !strcasecmp(path + n - 4, ".png")) return spr_read_png(path, img, w, h, channels, err);
+    if (n >= 4 && !strcasecmp(path + n - 4, ".pfm")) return spr_read_pfm(path, img, w, h, channels, err);
+    *img = NULL;
+    return spr__fail(err, SPR_E_ARG, "%s: unknown image type (expected .png or .pfm)", path);
+}
+
+/* 8-bit value of channel c of pixel p (grey images repeat their channel). */
+static int u8_at(const float *im, int ch, size_t p, int c)
+{
+    return spr_to_u8(im[p * (size_t)ch + (size_t)(ch < 3 ? 0 : c)]);
+}
+
+spr_result spr_image_diff(const float *a, int ch_a, const float *b, int ch_b, int w, int h, spr_image_diff_stats *st,
+                          float *heat)
+{
+    memset(st, 0, sizeof *st);
+    const size_t np = (size_t)w * h;
+    uint64_t total = 0;
+    for (size_t p = 0; p < np; p++) {
+        int sum = 0;
+        for (int c = 0; c < 3; c++) {
+            int d = abs(u8_at(a, ch_a, p, c) - u8_at(b, ch_b, p, c));
+            sum += d;
+            if (d > st->max_abs) st->max_abs = d;
+        }
+        total += (uint64_t)sum;
+        st->differing += sum != 0;
+        if (heat) heat[p] = (float)sum;
+    }
+    st->pixels = np;
+    st->zp_eps = np ? (double)total / (double)np : 0.0;
+    st->mean_abs = np ? (double)total / (3.0 * (double)np) : 0.0;
+    if (heat) { /* sum of |Δ| mapped through black → red → yellow → white over 0 … max (≥ 1) */
+        double hi = 1.0;
+        for (size_t p = 0; p < np; p++)
+            if (heat[p] > hi) hi = heat[p];
+        for (size_t q = np; q-- > 0;) {
+            double t = heat[q] / hi;
+            float *o = heat + 3 * q; /* in place from the end: 3 floats per pixel, fits the caller's 3·W·H */
+            o[0] = (float)(t < 1.0 / 3 ? 3 * t : 1.0);
+            o[1] = (float)(t < 1.0 / 3 ? 0.0 : t < 2.0 / 3 ? 3 * t - 1 : 1.0);
+            o[2] = (float)(t < 2.0 / 3 ? 0.0 : 3 * t - 2);
+        }
+    }
+    return SPR_OK;
 }

@@ -22,6 +22,27 @@ spr_result spr_write_pfm(const char *path, const float *img, int w, int h, int c
 spr_result spr_read_pfm(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
 
 /* FNV-1a 64 of a byte buffer: the hash of a float image in the reference manifest. */
+/* 8- or 16-bit PNG (grey, RGB, with or without alpha, palette) as floats in
+ * [0, 1], 3 or 4 channels, row 0 = the bottom row. */
+spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
+/* .png or .pfm by the name's ending. */
+spr_result spr_read_image(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
+
+/* Differences of two images of one size on their 8-bit values (spr_to_u8),
+ * RGB (a grey image repeats its channel): [ZP] §6.3's
+ * ε = Σ_pixels (|ΔR| + |ΔG| + |ΔB|) / numPixel over every pixel. */
+typedef struct spr_image_diff_stats {
+    size_t pixels;      /* W·H */
+    size_t differing;   /* pixels with any channel different */
+    int max_abs;        /* largest |Δ| of one channel, 0 … 255 */
+    double mean_abs;    /* mean |Δ| per channel */
+    double zp_eps;      /* [ZP]'s ε */
+} spr_image_diff_stats;
+/* heat: NULL, or 3·W·H floats that receive an RGB heat map of the
+ * per-pixel Σ|Δ| (black = equal, white = the largest). */
+spr_result spr_image_diff(const float *a, int ch_a, const float *b, int ch_b, int w, int h, spr_image_diff_stats *st,
+                          float *heat);
+
 uint64_t spr_hash64(const void *data, size_t n);
 
 #endif

@@ -2,6 +2,7 @@
 #include "spr_util.h"
 #include "spr_algo.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -59,10 +60,89 @@ void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uin
     for (size_t a = 0; a < m; a++) radius[members[a]] = g->radius_scale[k] * run->cloud->radius[members[a]];
 }
 
-spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target)
+spr_composite_desc spr__run_comp(const spr__run *run, spr_composite_op op, const int *inputs, int n, int output)
 {
     const float *bg = run->desc->background;
-    spr_composite_desc c = {op, I, K, I[K], run->eps_t, {bg[0], bg[1], bg[2]}};
+    spr_composite_desc c = {op, inputs, n, output, run->eps_t, {bg[0], bg[1], bg[2]}, NULL, NULL};
+    if (run->use_prm) {
+        c.params = run->prm;
+        c.env = run->desc->shade.env;
+    }
+    return c;
+}
+
+unsigned spr__run_normal_planes(const spr__run *run)
+{
+    return run->use_prm ? SPR_PLANE_BIT(SPR_PLANE_NORMAL) : 0u;
+}
+
+void spr_shading_defaults(spr_shading *s)
+{
+    memset(s, 0, sizeof *s);
+    s->model = SPR_SHADE_NONE;
+    s->light_eye[0] = -0.4;
+    s->light_eye[1] = 0.5;
+    s->light_eye[2] = 1.0;
+    s->ka = 0.2;
+    s->kd = 0.8;
+    s->ks = 0.4;
+    s->exponent = 32;
+    s->eta[0] = 1.0 / 1.49;
+    s->eta[1] = 1.0 / 1.50;
+    s->eta[2] = 1.0 / 1.52;
+    s->multilayer = 1;
+}
+
+/* The parameter array of SPR_PARAM_LIST from the view and desc->shade,
+ * every value rounded to float once here (SPEC §4.3, §6.3). */
+static spr_result make_params(spr__run *run, const spr_view *v)
+{
+    const spr_render_desc *desc = run->desc;
+    const spr_shading *sh = &desc->shade;
+    const unsigned uses = spr_algo_info_of(desc->algo)->uses;
+    const int shade = (uses & SPR_USES_SHADE) && sh->model == SPR_SHADE_PHONG;
+    const int env = (uses & SPR_USES_ENV) && sh->env != NULL;
+    memset(run->prm, 0, sizeof run->prm);
+    run->use_prm = shade || env;
+    if (!run->use_prm) return SPR_OK;
+    float *q = run->prm;
+    for (int i = 0; i < 16; i++) q[SPR_PRM_M + i] = v->M[i];
+    q[SPR_PRM_SX] = v->ndc_sx;
+    q[SPR_PRM_SY] = v->ndc_sy;
+    q[SPR_PRM_SHADE] = shade ? 1.0f : 0.0f;
+    /* the eye-space light into world space: Vᵀ·L (V's 3×3 part is a rotation) */
+    const double *L = sh->light_eye;
+    double l2 = L[0] * L[0] + L[1] * L[1] + L[2] * L[2];
+    if (shade && !(l2 > 0.0)) return spr__fail(run->err, SPR_E_ARG, "render: the light direction is zero");
+    double w[3], wl = 0.0;
+    for (int c = 0; c < 3; c++) {
+        w[c] = v->V[c] * L[0] + v->V[4 + c] * L[1] + v->V[8 + c] * L[2];
+        wl += w[c] * w[c];
+    }
+    for (int c = 0; c < 3 && wl > 0.0; c++) q[SPR_PRM_LIGHT + c] = (float)(w[c] / sqrt(wl));
+    q[SPR_PRM_KA] = (float)sh->ka;
+    q[SPR_PRM_KD] = (float)sh->kd;
+    q[SPR_PRM_KS] = (float)sh->ks;
+    q[SPR_PRM_EXP] = (float)(sh->exponent >= 1 ? sh->exponent : 1);
+    if (env) {
+        q[SPR_PRM_ENV] = 1.0f;
+        q[SPR_PRM_ENV_SIZE] = (float)sh->env->size;
+        for (int c = 0; c < 3; c++) q[SPR_PRM_ETA + c] = (float)sh->eta[c];
+        q[SPR_PRM_MULTI] = sh->multilayer ? 1.0f : 0.0f;
+        /* material opacity for l = round(α_total/α): --alpha, else the mean of the cloud's */
+        double a = desc->alpha > 0.0f ? desc->alpha : 0.0;
+        if (!(a > 0.0)) {
+            for (size_t i = 0; i < run->cloud->n; i++) a += run->cloud->alpha[i];
+            a = run->cloud->n ? a / (double)run->cloud->n : 1.0;
+        }
+        q[SPR_PRM_ALPHA] = (float)(a > 0.0 ? a : 1.0);
+    }
+    return SPR_OK;
+}
+
+spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target)
+{
+    spr_composite_desc c = spr__run_comp(run, op, I, K, I[K]);
     spr_result r = spr__run_composite(run, "composite", &c);
     if (r) return r;
     *final_target = I[K];
@@ -89,7 +169,8 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     spr_bounds bd;
     spr_cloud_bounds(cloud, &bd);
     double eps = desc->eps > 0.0 ? desc->eps : spr_cloud_default_eps(cloud);
-    spr__run run = {b, cloud, desc, out, err, spr_view_eps_t(view, eps), {0, 0, 0, 0}, 0};
+    spr__run run = {b, cloud, desc, out, err, spr_view_eps_t(view, eps), {0, 0, 0, 0}, 0, {0}, 0};
+    if ((r = make_params(&run, view))) return r;
     spr_lowres_make(view, &bd, run.eps_t, desc->lowres_n, &run.lowres);
     out->width = view->width;
     out->height = view->height;

@@ -7,6 +7,8 @@
  *       (with enlarged radii r̃ = scale_k·r_i when the groups carry them, [ZP] §4.4.2)
  *   compositing pass (one full-screen operation over I_0 … I_{K−1}):
  *       d = min_k d_f(k); sum the I_k with d_f(k) ≤ d + ε_t; normalise
+ *   with deferred shading (SPEC §4.3) the geometry pass also writes (w·n, w)
+ *   to a normal plane, composited like colour, and the composite shades.
  */
 #include "spr_algo.h"
 
@@ -27,7 +29,7 @@ spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra)
     d.state.depth_func = SPR_FUNC_LESS;
     d.state.depth_write = 1;
     spr_pass_state_blend(&d.state, SPR_BLEND_REPLACE);
-    d.state.write_mask = SPR_WRITE_ALL | extra;
+    d.state.write_mask = SPR_WRITE_ALL | extra | spr__run_normal_planes(run);
     d.alpha = run->desc->alpha;
     float *radius = NULL;
     if (g && g->radius_scale && !(radius = malloc(run->cloud->n * sizeof *radius)))
@@ -54,7 +56,7 @@ spr_result spr__algo_deferred(spr__run *run, int *final_target)
     int *I = malloc((size_t)(K + 1) * sizeof(int));
     if (!I) return spr__fail(run->err, SPR_E_NOMEM, "deferred: out of memory");
     spr_result r = SPR_OK;
-    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE, &I[k]);
+    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE | spr__run_normal_planes(run), &I[k]);
     if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &I[K]);
     if (!r) r = spr__deferred_geometry(run, I, 0);
     if (!r) r = spr__run_finish(run, SPR_COMP_DEFERRED, I, K, final_target);

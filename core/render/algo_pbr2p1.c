@@ -5,14 +5,16 @@
  *   pass 2 "blend":      all splats, z = d_f, LEQUAL against Z, no depth
  *                        write, add (w·c, w)
  *   pass 3 "normalize":  c = rgb / a where a > 0, else background
+ *   with deferred shading (SPEC §4.3) pass 2 adds (w·n, w) to a normal plane
+ *   too and pass 3 shades.
  */
 #include "spr_algo.h"
 
 spr_result spr__algo_pbr2p1(spr__run *run, int *final_target)
 {
-        int acc, out;
+    int acc, out;
     spr_result r;
-    if ((r = spr__run_target(run, SPR_PLANES_OPAQUE, &acc)) ||
+    if ((r = spr__run_target(run, SPR_PLANES_OPAQUE | spr__run_normal_planes(run), &acc)) ||
         (r = spr__run_target(run, SPR_PLANES_IMAGE, &out)))
         return r;
     spr_draw_desc d = {.cloud = run->cloud};
@@ -30,11 +32,10 @@ spr_result spr__algo_pbr2p1(spr__run *run, int *final_target)
     d.state.depth_func = SPR_FUNC_LEQUAL;
     d.state.depth_write = 0;
     spr_pass_state_blend(&d.state, SPR_BLEND_ADD);
-    d.state.write_mask = SPR_WRITE_COLOR | SPR_WRITE_COUNT;
+    d.state.write_mask = SPR_WRITE_COLOR | SPR_WRITE_COUNT | spr__run_normal_planes(run);
     if ((r = spr__run_draw(run, "blend", -1, acc, &d))) return r;
 
-    spr_composite_desc c = {SPR_COMP_NORMALIZE, &acc, 1, out, run->eps_t,
-                            {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
+    spr_composite_desc c = spr__run_comp(run, SPR_COMP_NORMALIZE, &acc, 1, out);
     if ((r = spr__run_composite(run, "normalize", &c))) return r;
     *final_target = out;
     return SPR_OK;

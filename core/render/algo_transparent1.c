@@ -53,7 +53,10 @@ static spr_result back_to_front(spr__run *run, const spr_view *v, uint32_t *out)
 
 /* The back-to-front pass into O[0 … K−1] (created by the caller), cleared
  * here to (background, 0); with mask ≥ 0, fragments within the nearest
- * layer of target `mask` (d_f ≤ its depth + ε_t) are dropped (SPEC §6.2 step 2). */
+ * layer of target `mask` (d_f ≤ its depth + ε_t) are dropped (SPEC §6.2
+ * step 2), the alpha channel adds (α_total, SPEC §6.3) and, with
+ * environment effects, the colour starts from 0 instead of the background
+ * (the environment seen through the layers is added by the composite). */
 spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
 {
     const spr_cloud *cl = run->cloud;
@@ -69,7 +72,9 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
         goto done;
     }
     if ((r = back_to_front(run, &run->b->view, order))) goto done;
-    const float bg[4] = {run->desc->background[0], run->desc->background[1], run->desc->background[2], 0.0f};
+    const int zero_bg = mask >= 0 && run->prm[SPR_PRM_ENV] != 0.0f;
+    const float bg[4] = {zero_bg ? 0.0f : run->desc->background[0], zero_bg ? 0.0f : run->desc->background[1],
+                         zero_bg ? 0.0f : run->desc->background[2], 0.0f};
     for (int k = 0; k < K && !r; k++)
         if ((r = spr_backend_clear(run->b, O[k], bg))) spr__fail(run->err, r, "%s: %s", spr_algo_name(run->desc->algo), run->b->err.msg);
     if (r) goto done;
@@ -82,6 +87,7 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
     d.state.depth_func = SPR_FUNC_LESS;
     d.state.depth_write = 1;
     spr_pass_state_blend(&d.state, SPR_BLEND_OVER);
+    if (mask >= 0) d.state.blend_alpha = SPR_BLEND_ADD;
     d.state.write_mask = SPR_WRITE_ALL;
     for (int k = 0; k < K; k++) {
         /* S_k in back-to-front order: walk the global order, keep the members */

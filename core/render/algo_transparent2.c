@@ -9,6 +9,10 @@
  *      fragments with d_f ≤ Z, Z = depth(F) + ε_t (the depth mask)
  *      C_O = average(O_0 … O_{K−1})
  *   3. I = α_F·C_F + (1 − α_F)·C_O where F has a fragment, background elsewhere
+ * The other layers' alpha channel adds (SPEC §6.3): C_O's fourth channel is
+ * the mean α_total, from which the final composite counts the layers for
+ * the environment effects.  With deferred shading or environment effects
+ * the nearest layer carries (w·n, w) in a normal plane, composited into F.
  */
 #include "spr_algo.h"
 
@@ -24,18 +28,18 @@ spr_result spr__algo_transparent2(spr__run *run, int *final_target)
     int *I = T, *O = T + K + 1;
     const int F = K, CO = 2 * K + 1, OUT = 2 * K + 2;
     spr_result r = SPR_OK;
-    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE | SPR_PLANE_BIT(SPR_PLANE_OPACITY), &I[k]);
+    const unsigned nrm = spr__run_normal_planes(run);
+    for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE | SPR_PLANE_BIT(SPR_PLANE_OPACITY) | nrm, &I[k]);
     for (int k = 0; k < K && !r; k++) r = spr__run_target(run, SPR_PLANES_OPAQUE, &O[k]);
-    if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &T[F]);
+    if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE | nrm, &T[F]);
     if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &T[CO]);
     if (!r) r = spr__run_target(run, SPR_PLANES_IMAGE, &T[OUT]);
     if (r) goto done;
     if ((r = spr__deferred_geometry(run, I, SPR_WRITE_OPACITY))) goto done;
-    const float *bg = run->desc->background;
-    spr_composite_desc c = {SPR_COMP_NEAREST, I, K, T[F], run->eps_t, {bg[0], bg[1], bg[2]}};
+    spr_composite_desc c = spr__run_comp(run, SPR_COMP_NEAREST, I, K, T[F]);
     if ((r = spr__run_composite(run, "nearest layer", &c))) goto done;
     if ((r = spr__transparent_geometry(run, O, T[F]))) goto done;
-    c = (spr_composite_desc){SPR_COMP_AVERAGE, O, K, T[CO], run->eps_t, {bg[0], bg[1], bg[2]}};
+    c = spr__run_comp(run, SPR_COMP_AVERAGE, O, K, T[CO]);
     if ((r = spr__run_composite(run, "other layers", &c))) goto done;
     int last[3] = {T[F], T[CO], T[OUT]};
     r = spr__run_finish(run, SPR_COMP_TRANSPARENT2, last, 2, final_target);

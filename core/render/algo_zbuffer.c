@@ -20,8 +20,8 @@ spr_result spr__algo_zbuffer(spr__run *run, int *final_target)
     d.state.depth_func = SPR_FUNC_LESS;
     d.state.depth_write = 1;
     if ((r = spr__run_draw(run, "geometry", -1, img, &d))) return r;
-    spr_composite_desc c = {SPR_COMP_NORMALIZE, &img, 1, out, 0.0f,
-                            {run->desc->background[0], run->desc->background[1], run->desc->background[2]}};
+    spr_composite_desc c = spr__run_comp(run, SPR_COMP_NORMALIZE, &img, 1, out);
+    c.eps_t = 0.0f;
     if ((r = spr__run_composite(run, "normalize", &c))) return r;
     *final_target = out;
     return SPR_OK;

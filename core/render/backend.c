@@ -2,6 +2,7 @@
 #include "spr_backend.h"
 
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 
 static const spr_plane_info plane_table[SPR_PLANE__COUNT] = {
@@ -124,6 +125,8 @@ spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, 
     if (!has(b, target, SPR_PLANE_TEST)) return bad(b, "draw: target %d has no test plane", target);
     if ((s->write_mask & SPR_WRITE_OPACITY) && s->blend_alpha == SPR_BLEND_OVER)
         return bad(b, "draw: the opacity plane is replaced or added, not blended `over` (%d)", 0);
+    if ((s->write_mask & SPR_WRITE_NORMAL) && (s->blend == SPR_BLEND_OVER || s->output != SPR_OUT_WEIGHTED))
+        return bad(b, "draw: the normal plane takes weighted output, replaced or added (%d)", 0);
     for (int p = 0; p < SPR_PLANE__COUNT; p++)
         if ((s->write_mask & SPR_PLANE_BIT(p)) && p != SPR_PLANE_TEST && !has(b, target, (spr_plane)p))
             return spr__fail(&b->err, SPR_E_ARG, "draw: writes plane %s, which target %d does not have", spr_plane_name((spr_plane)p), target);
@@ -145,6 +148,18 @@ spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, 
     return b->draw_splats(b, target, d, st ? st : &dummy);
 }
 
+unsigned spr_composite_extra_reads(spr_composite_op op, const float *params, int input)
+{
+    if (!params || (params[SPR_PRM_SHADE] == 0.0f && params[SPR_PRM_ENV] == 0.0f)) return 0;
+    switch (op) {
+    case SPR_COMP_NORMALIZE:
+    case SPR_COMP_DEFERRED:
+    case SPR_COMP_NEAREST: return SPR_PLANE_BIT(SPR_PLANE_NORMAL);
+    case SPR_COMP_TRANSPARENT2: return input == 0 ? SPR_PLANE_BIT(SPR_PLANE_NORMAL) : 0;
+    default: return 0;
+    }
+}
+
 spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c)
 {
     if ((unsigned)c->op >= SPR_COMP__COUNT) return bad(b, "composite: op %d unknown", (int)c->op);
@@ -153,10 +168,24 @@ spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c)
     const spr_composite_info *ci = spr_composite_info_of(c->op);
     if (c->n_inputs > ci->max_inputs)
         return spr__fail(&b->err, SPR_E_ARG, "composite: %s takes at most %d input(s), got %d", ci->name, ci->max_inputs, c->n_inputs);
+    if (c->params) {
+        const float *q = c->params;
+        if (!(q[SPR_PRM_SHADE] == 0.0f || q[SPR_PRM_SHADE] == 1.0f) || !(q[SPR_PRM_ENV] == 0.0f || q[SPR_PRM_ENV] == 1.0f))
+            return bad(b, "composite: shading parameters out of range (%d)", 0);
+        if (!(q[SPR_PRM_EXP] >= 1.0f && q[SPR_PRM_EXP] <= 1024.0f) || q[SPR_PRM_EXP] != floorf(q[SPR_PRM_EXP]))
+            return bad(b, "composite: specular exponent must be an integer in 1..1024 (%d)", 0);
+        if (q[SPR_PRM_ENV] != 0.0f) {
+            if (!c->env || !c->env->texels || c->env->size < 1 || (float)c->env->size != q[SPR_PRM_ENV_SIZE])
+                return bad(b, "composite: environment effects need a cube map of the given size (%d)", 0);
+            if (!(q[SPR_PRM_ALPHA] > 0.0f && q[SPR_PRM_ALPHA] <= 1.0f))
+                return bad(b, "composite: material opacity must lie in (0, 1] (%d)", 0);
+        }
+    }
     for (int i = 0; i < c->n_inputs; i++) {
         if (!live(b, c->inputs[i])) return bad(b, "composite: no input target %d", c->inputs[i]);
         if (c->inputs[i] == c->output) return bad(b, "composite: target %d is both input and output", c->output);
-        if ((b->target_planes[c->inputs[i]] & ci->reads) != ci->reads)
+        unsigned reads = ci->reads | spr_composite_extra_reads(c->op, c->params, i);
+        if ((b->target_planes[c->inputs[i]] & reads) != reads)
             return spr__fail(&b->err, SPR_E_ARG, "composite: %s reads planes input target %d lacks", ci->name, c->inputs[i]);
     }
     if (!live(b, c->output)) return bad(b, "composite: no output target %d", c->output);

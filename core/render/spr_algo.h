@@ -22,7 +22,10 @@ enum {
     SPR_USES_VORONOI = 1u << 3,  /* voronoi, and lowres_n with it */
     SPR_USES_LOWRES  = 1u << 4,  /* lowres_n without Voronoi (low-precision depth culling) */
     SPR_USES_ORDER   = 1u << 5,  /* order: back to front by BSP or by sorting */
-    SPR_USES_ALPHA   = 1u << 6   /* alpha: one opacity for every splat */
+    SPR_USES_ALPHA   = 1u << 6,  /* alpha: one opacity for every splat */
+    SPR_USES_SHADE   = 1u << 7,  /* shade: deferred Phong shading (SPEC 4.3) */
+    SPR_USES_ENV     = 1u << 8,  /* shade.env: environment effects (SPEC 6.3) */
+    SPR_USES_LAYERS  = 1u << 9   /* layers: depth-peeling layers (SPEC 6.4) */
 };
 
 /* Back-to-front order of the transparent algorithms (SPEC §6.1). */
@@ -34,16 +37,19 @@ typedef enum spr_order {
 /* The registry: X(ENUM, name, uses, SPEC section, summary).  Row order is
  * the order parity, bench and reference run them; row 0 is the default. */
 #define SPR_ALGO_LIST(X)                                                                                      \
-    X(DEFERRED, deferred, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI, "4.2",         \
+    X(DEFERRED, deferred, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI | SPR_USES_SHADE, "4.2", \
       "1+1-pass deferred blending: one target per group, then the eps-composite ([ZP] 3.2)")                  \
-    X(PBR2P1, pbr2p1, SPR_USES_KERNEL | SPR_USES_EPS, "4.1",                                                    \
+    X(PBR2P1, pbr2p1, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_SHADE, "4.1",                                   \
       "standard 2+1-pass splatting: visibility, additive blend, normalise ([ZP] 3.1)")                       \
     X(ZBUFFER, zbuffer, 0, "3.3", "no blending: the nearest splat's colour per pixel (the aliasing baseline)")          \
     X(TRANSPARENT1, transparent1, SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA, "6.1",  \
       "transparent surfaces, Algorithm-1: per group back to front, `over` with z-tilde culling, average ([ZP] 3.3)")     \
     X(TRANSPARENT2, transparent2,                                                                                           \
-      SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA, \
-      "6.2", "transparent surfaces, Algorithm-2: nearest layer blended opaque, the others back to front, alpha_F mix ([ZP] 3.3)")
+      SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA | \
+          SPR_USES_SHADE | SPR_USES_ENV,                                                                                    \
+      "6.2", "transparent surfaces, Algorithm-2: nearest layer blended opaque, the others back to front, alpha_F mix ([ZP] 3.3)") \
+    X(DEPTHPEEL, depthpeel, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_ALPHA | SPR_USES_LAYERS, "6.4",                      \
+      "depth peeling, the transparency reference: L pbr2p1 layers, each beyond the last, blended back to front ([ZP] 6.3)")
 
 typedef enum spr_algo {
 #define SPR__ALGO_ENUM(e, name, uses, spec, summary) SPR_ALGO_##e,
@@ -79,6 +85,22 @@ typedef struct spr_pass_info {
 } spr_pass_info;
 typedef void (*spr_pass_hook)(void *user, spr_backend *b, const spr_pass_info *info);
 
+/* Deferred shading and environment effects (SPEC §4.3, §6.3). */
+typedef enum spr_shade_model { SPR_SHADE_NONE = 0, SPR_SHADE_PHONG } spr_shade_model;
+typedef struct spr_shading {
+    spr_shade_model model;
+    double light_eye[3];       /* direction towards the light, eye space (normalised on use); 0 = default */
+    double ka, kd, ks;         /* material coefficients */
+    int exponent;              /* specular exponent, 1 … 1024 */
+    const spr_envmap *env;     /* environment cube map; NULL = no environment effects */
+    double eta[3];             /* refraction ratio per channel (outside/inside) */
+    int multilayer;            /* 1: eta^(l+1) (Eq. 16), 0: one interface */
+} spr_shading;
+/* The defaults: no shading, light from the upper left in front, ka 0.2,
+ * kd 0.8, ks 0.4, exponent 32, glass-like eta (1/1.49, 1/1.50, 1/1.52),
+ * multi-layer on. */
+void spr_shading_defaults(spr_shading *s);
+
 typedef struct spr_render_desc {
     spr_algo algo;
     spr_kernel kernel;
@@ -89,6 +111,8 @@ typedef struct spr_render_desc {
     const spr_groups *groups;    /* deferred, transparent1; NULL = one group */
     spr_order order;             /* transparent1: back-to-front order */
     float alpha;                 /* transparent1: > 0 replaces every splat's opacity */
+    spr_shading shade;           /* SPEC 4.3, 6.3 (zero: none) */
+    int layers;                  /* depthpeel: L ≥ 1 (0 = 8) */
     spr_pass_hook hook;
     void *hook_user;
 } spr_render_desc;
@@ -125,6 +149,8 @@ typedef struct spr__run {
     float eps_t;
     spr_lowres lowres;
     int pass_cap;
+    float prm[SPR_PRM_COUNT];  /* shading parameters (SPR_PARAM_LIST) */
+    int use_prm;               /* composites get prm (shading or environment asked for) */
 } spr__run;
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d);
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c);
@@ -134,6 +160,11 @@ void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uin
 /* The last pass of a K-group algorithm: composite op over I[0 … K−1] into
  * I[K] with the background, recorded as "composite"; sets the final target. */
 spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target);
+/* A composite desc of op over inputs into output, with the run's ε_t,
+ * background, shading parameters and cube map. */
+spr_composite_desc spr__run_comp(const spr__run *run, spr_composite_op op, const int *inputs, int n, int output);
+/* Planes the geometry passes write beyond colour: the normal plane when shading. */
+unsigned spr__run_normal_planes(const spr__run *run);
 /* Target of `planes` for the run, failures named after the algorithm. */
 spr_result spr__run_target(spr__run *run, unsigned planes, int *target);
 /* Passes shared by algorithms: the opaque geometry pass of §4.2 into I[0 … K−1]

@@ -23,15 +23,20 @@
  *   SPR_PRECISE    (nothing)                   precise
  *   SPR_CARR       const float                 float       read-only array parameter
  *   SPR_OARR       float                       out float   array the function fills
+ *   SPR_IOARR      float                       inout float array the function reads and updates
  *   SPR_OUT        float *                     out float   scalar the function sets
  *   SPR_SET(x)     (*(x))                      x           the scalar behind SPR_OUT
  *   SPR_REF(x)     &(x)                        x           pass a local as SPR_OUT
  *   SPR_FLOAT(i)   ((float)(i))                float(i)    int to float (exact below 2^24)
+ *   SPR_INT(x)     ((int)(x))                  int(x)      float to int, truncating (small whole values)
  *   SPR_PIXEL      const spr_pixel_in *        ivec2       where a pixel's inputs live
  * and each backend supplies how inputs are fetched:
  *   spr_in_depth(px, k)      stored depth d_f of input target k
  *   spr_in_color(px, k, ch)  channel ch of input target k's colour plane
  *   spr_in_opacity(px, k)    input target k's opacity plane
+ *   spr_in_normal(px, k, ch) channel ch of input target k's normal plane
+ *   spr_px_cx(px), spr_px_cy(px)  the pixel centre x + 0.5, y + 0.5 (exact)
+ *   spr_in_env(px, f, i, j, ch)   channel ch of texel (i, j) of cube face f
  * Constants (SPR_DEPTH_*, SPR_KERNEL_*, SPR_OUT_*, spr_gauss_coef) come from
  * their C definitions; the GL backend emits them as exact bit patterns.
  */
@@ -204,9 +209,207 @@ SPR_FN float spr_fragment_opacity(int out_kind, SPR_CARR src[4], float alpha)
     return wa;
 }
 
-/* ---- composite operations (SPEC §4.1 step 3, §4.2), one per row of
- * SPR_COMPOSITE_LIST (spr_backend.h).  Each fills the output colour o and
- * the output depth d of one pixel from K input targets. ---- */
+/* What a fragment offers the normal plane (SPEC §4.3): (w·n, w), with
+ * src[3] = w of spr_fragment_color's weighted output. */
+SPR_FN void spr_fragment_normal(SPR_CARR src[4], SPR_CARR n[3], SPR_OARR o[4])
+{
+    SPR_PRECISE float x = src[3] * n[0];
+    SPR_PRECISE float y = src[3] * n[1];
+    SPR_PRECISE float z = src[3] * n[2];
+    o[0] = x;
+    o[1] = y;
+    o[2] = z;
+    o[3] = src[3];
+}
+
+/* ---- deferred shading and environment effects (SPEC §4.3, §6.3) ----
+ * prm is the parameter array of SPR_PARAM_LIST (spr_backend.h). */
+
+/* x^e for a whole e ≥ 0 by repeated squaring (SPEC §4.3 [decision]). */
+SPR_FN float spr_ipow(float x, int e)
+{
+    SPR_PRECISE float r = 1.0f;
+    SPR_PRECISE float b = x;
+    int k = e;
+    while (k > 0) {
+        if (k % 2 == 1) r = r * b;
+        k = k / 2;
+        if (k > 0) b = b * b;
+    }
+    return r;
+}
+
+/* u = a/|a| with the correctly rounded sqrt; 0 when a is zero. */
+SPR_FN int spr_normalize3(SPR_CARR a[3], SPR_OARR u[3])
+{
+    SPR_PRECISE float l2 = (a[0] * a[0] + a[1] * a[1]) + a[2] * a[2];
+    if (!(l2 > 0.0f)) return 0;
+    SPR_PRECISE float l = spr_sqrt(l2);
+    SPR_PRECISE float x = a[0] / l;
+    SPR_PRECISE float y = a[1] / l;
+    SPR_PRECISE float z = a[2] / l;
+    u[0] = x;
+    u[1] = y;
+    u[2] = z;
+    return 1;
+}
+
+/* Unit direction v of the ray through pixel centre (cx, cy) (SPEC §2). */
+SPR_FN void spr_view_dir(SPR_CARR prm[SPR_PRM_COUNT], float cx, float cy, SPR_OARR v[3])
+{
+    float M[16];
+    for (int i = 0; i < 16; i++) M[i] = prm[SPR_PRM_M + i];
+    float o0[3];
+    float d[3];
+    spr_ray_of_pixel(M, prm[SPR_PRM_SX], prm[SPR_PRM_SY], cx, cy, o0, d);
+    float u[3];
+    u[0] = 0.0f;
+    u[1] = 0.0f;
+    u[2] = 1.0f;
+    if (spr_normalize3(d, u) == 0) {
+        u[0] = 0.0f;
+        u[1] = 0.0f;
+        u[2] = 1.0f;
+    }
+    v[0] = u[0];
+    v[1] = u[1];
+    v[2] = u[2];
+}
+
+/* The composited normal acc (Σ w·n) made unit and turned towards the
+ * viewer (n·v ≤ 0: point surfaces are two-sided); 0 when there is none. */
+SPR_FN int spr_facing_normal(SPR_CARR acc[3], SPR_CARR v[3], SPR_OARR n[3])
+{
+    float u[3];
+    if (spr_normalize3(acc, u) == 0) return 0;
+    SPR_PRECISE float nv = (u[0] * v[0] + u[1] * v[1]) + u[2] * v[2];
+    for (int i = 0; i < 3; i++) {
+        n[i] = u[i];
+        if (nv > 0.0f) n[i] = -u[i];
+    }
+    return 1;
+}
+
+/* Phong with one directional light (SPEC §4.3): for unit n facing the
+ * viewer, view ray v, L = prm LIGHT, V = −v, R = 2(n·L)·n − L:
+ * o = c·(ka + kd·max(n·L, 0)) + ks·max(R·V, 0)^e, no specular where n·L ≤ 0. */
+SPR_FN void spr_phong(SPR_CARR prm[SPR_PRM_COUNT], SPR_CARR c[3], SPR_CARR n[3], SPR_CARR v[3], SPR_OARR o[3])
+{
+    float L[3];
+    for (int i = 0; i < 3; i++) L[i] = prm[SPR_PRM_LIGHT + i];
+    SPR_PRECISE float ndl = (n[0] * L[0] + n[1] * L[1]) + n[2] * L[2];
+    SPR_PRECISE float diff = 0.0f;
+    SPR_PRECISE float spec = 0.0f;
+    if (ndl > 0.0f) {
+        diff = ndl;
+        SPR_PRECISE float two = ndl * 2.0f;
+        SPR_PRECISE float r0 = two * n[0] - L[0];
+        SPR_PRECISE float r1 = two * n[1] - L[1];
+        SPR_PRECISE float r2 = two * n[2] - L[2];
+        SPR_PRECISE float rv = (r0 * v[0] + r1 * v[1]) + r2 * v[2];
+        SPR_PRECISE float rdv = -rv;
+        if (rdv > 0.0f) spec = spr_ipow(rdv, SPR_INT(prm[SPR_PRM_EXP]));
+    }
+    SPR_PRECISE float kdd = prm[SPR_PRM_KD] * diff;
+    SPR_PRECISE float lit = prm[SPR_PRM_KA] + kdd;
+    SPR_PRECISE float s = prm[SPR_PRM_KS] * spec;
+    for (int ch = 0; ch < 3; ch++) {
+        SPR_PRECISE float cl = c[ch] * lit;
+        SPR_PRECISE float x = cl + s;
+        o[ch] = x;
+    }
+}
+
+/* Shade the normalised colour o of a pixel in place when prm asks for Phong
+ * and the pixel has a fragment (o[3] = 1) and a normal (nacc = Σ w·n). */
+SPR_FN void spr_shade_pixel(SPR_PIXEL px, SPR_CARR prm[SPR_PRM_COUNT], SPR_CARR nacc[3], SPR_IOARR o[4])
+{
+    if (prm[SPR_PRM_SHADE] == 0.0f || o[3] == 0.0f) return;
+    float v[3];
+    spr_view_dir(prm, spr_px_cx(px), spr_px_cy(px), v);
+    float n[3];
+    if (spr_facing_normal(nacc, v, n) == 0) return;
+    float c[3];
+    for (int ch = 0; ch < 3; ch++) c[ch] = o[ch];
+    float s[3];
+    spr_phong(prm, c, n, v, s);
+    for (int ch = 0; ch < 3; ch++) o[ch] = s[ch];
+}
+
+/* Channel ch of the cube map's nearest texel in direction dir (SPEC §6.3):
+ * the major axis picks the face (GL's table: +x, −x, +y, −y, +z, −z), the
+ * other two coordinates divided by it give (s, t) in [−1, 1], texel
+ * floor((s + 1)·½·size) clamped to the face; no trigonometry. */
+SPR_FN float spr_env_texel(SPR_PIXEL px, float size, SPR_CARR dir[3], int ch)
+{
+    float x = dir[0];
+    float y = dir[1];
+    float z = dir[2];
+    float ax = x;
+    float ay = y;
+    float az = z;
+    if (x < 0.0f) ax = -x;
+    if (y < 0.0f) ay = -y;
+    if (z < 0.0f) az = -z;
+    int face = 0;
+    float ma = ax;
+    float sc = -z;
+    float tc = -y;
+    if (ax >= ay && ax >= az) {
+        if (!(x > 0.0f)) {
+            face = 1;
+            sc = z;
+        }
+    } else if (ay >= az) {
+        face = 2;
+        ma = ay;
+        sc = x;
+        tc = z;
+        if (!(y > 0.0f)) {
+            face = 3;
+            tc = -z;
+        }
+    } else {
+        face = 4;
+        ma = az;
+        sc = x;
+        tc = -y;
+        if (!(z > 0.0f)) {
+            face = 5;
+            sc = -x;
+        }
+    }
+    if (!(ma > 0.0f)) return 0.0f;
+    SPR_PRECISE float qs = sc / ma;
+    SPR_PRECISE float qt = tc / ma;
+    SPR_PRECISE float us = (qs + 1.0f) * 0.5f;
+    SPR_PRECISE float ut = (qt + 1.0f) * 0.5f;
+    SPR_PRECISE float fi = spr_floor(us * size);
+    SPR_PRECISE float fj = spr_floor(ut * size);
+    SPR_PRECISE float last = size - 1.0f;
+    if (!(fi >= 0.0f)) fi = 0.0f;
+    if (!(fj >= 0.0f)) fj = 0.0f;
+    if (fi > last) fi = last;
+    if (fj > last) fj = last;
+    return spr_in_env(px, face, SPR_INT(fi), SPR_INT(fj), ch);
+}
+
+/* ---- composite operations (SPEC §4.1 step 3, §4.2, §6), one per row of
+ * SPR_COMPOSITE_LIST (spr_backend.h).  Each fills the output colour o, the
+ * output normal on (Σ w·n, Σ w; zero where the op has none) and the output
+ * depth d of one pixel from K input targets, under the parameters prm. ---- */
+
+SPR_FN void spr_zero4(SPR_OARR o[4])
+{
+    for (int ch = 0; ch < 4; ch++) o[ch] = 0.0f;
+}
+
+/* Does prm ask for the inputs' normals (shading or environment effects)? */
+SPR_FN int spr_wants_normal(SPR_CARR prm[SPR_PRM_COUNT])
+{
+    if (prm[SPR_PRM_SHADE] != 0.0f || prm[SPR_PRM_ENV] != 0.0f) return 1;
+    return 0;
+}
 
 /* a > 0 ? (rgb/a, 1) : (background, 0) — shared by every normalising op. */
 SPR_FN void spr_normalize_rgba(SPR_CARR acc[4], SPR_CARR bg[3], SPR_OARR o[4])
@@ -227,12 +430,20 @@ SPR_FN void spr_normalize_rgba(SPR_CARR acc[4], SPR_CARR bg[3], SPR_OARR o[4])
     }
 }
 
-/* §4.1 step 3: normalise input 0; depth copied. */
-SPR_FN void spr_comp_normalize(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+/* §4.1 step 3: normalise input 0, Phong when prm asks (§4.3); depth copied. */
+SPR_FN void spr_comp_normalize(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                               SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
 {
     float acc[4];
     for (int ch = 0; ch < 4; ch++) acc[ch] = spr_in_color(px, 0, ch);
     spr_normalize_rgba(acc, bg, o);
+    spr_zero4(on);
+    if (spr_wants_normal(prm) != 0) {
+        float nacc[3];
+        for (int ch = 0; ch < 3; ch++) nacc[ch] = spr_in_normal(px, 0, ch);
+        for (int ch = 0; ch < 4; ch++) on[ch] = spr_in_normal(px, 0, ch);
+        spr_shade_pixel(px, prm, nacc, o);
+    }
     SPR_SET(d) = spr_in_depth(px, 0);
 }
 
@@ -247,75 +458,220 @@ SPR_FN float spr_nearest_depth(SPR_PIXEL px, int K)
     return dmin;
 }
 
-/* §6.2 step 3, the nearest layer: the §4.2 composite of colour, and α_F =
- * the same composite of the opacity plane (Σ w·α over Σ w) in the fourth
- * channel; background and 0 where nothing was drawn. */
-SPR_FN void spr_comp_nearest(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+/* The §4.2 ε-composite of colour (acc), opacity (op) and, when prm wants
+ * normals, the normal plane (nacc) over the inputs with d_f(k) ≤ d + ε_t,
+ * in input order; gives d = min_k d_f(k). */
+SPR_FN float spr_eps_composite(SPR_PIXEL px, int K, float eps_t, SPR_CARR prm[SPR_PRM_COUNT], int with_opacity,
+                               SPR_OARR acc[4], SPR_OARR nacc[4], SPR_OUT op)
 {
     float dmin = spr_nearest_depth(px, K);
     SPR_PRECISE float limit = dmin + eps_t;
-    SPR_PRECISE float acc[4];
-    SPR_PRECISE float op = 0.0f;
-    for (int ch = 0; ch < 4; ch++) acc[ch] = 0.0f;
+    int wn = spr_wants_normal(prm);
+    SPR_PRECISE float a[4];
+    SPR_PRECISE float na[4];
+    SPR_PRECISE float sop = 0.0f;
+    for (int ch = 0; ch < 4; ch++) {
+        a[ch] = 0.0f;
+        na[ch] = 0.0f;
+    }
     for (int k = 0; k < K; k++) {
         float dk = spr_in_depth(px, k);
         if (!(dk <= limit)) continue;
-        for (int ch = 0; ch < 4; ch++) acc[ch] = acc[ch] + spr_in_color(px, k, ch);
-        op = op + spr_in_opacity(px, k);
+        for (int ch = 0; ch < 4; ch++) a[ch] = a[ch] + spr_in_color(px, k, ch);
+        if (with_opacity != 0) sop = sop + spr_in_opacity(px, k);
+        if (wn != 0)
+            for (int ch = 0; ch < 4; ch++) na[ch] = na[ch] + spr_in_normal(px, k, ch);
     }
+    for (int ch = 0; ch < 4; ch++) {
+        acc[ch] = a[ch];
+        nacc[ch] = na[ch];
+    }
+    SPR_SET(op) = sop;
+    return dmin;
+}
+
+/* §4.2 ([ZP] Fig. 6): the ε-composite, normalised; Phong when prm asks (§4.3). */
+SPR_FN void spr_comp_deferred(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                              SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
+{
+    float acc[4];
+    float nacc[4];
+    float op;
+    float dmin = spr_eps_composite(px, K, eps_t, prm, 0, acc, nacc, SPR_REF(op));
+    spr_normalize_rgba(acc, bg, o);
+    for (int ch = 0; ch < 4; ch++) on[ch] = nacc[ch];
+    float n3[3];
+    for (int ch = 0; ch < 3; ch++) n3[ch] = nacc[ch];
+    spr_shade_pixel(px, prm, n3, o);
+    SPR_SET(d) = dmin;
+}
+
+/* §6.2 step 3, the nearest layer: the ε-composite of colour (C_F), of the
+ * opacity (α_F = Σ w·α over Σ w, in the fourth channel) and of the normal;
+ * background and 0 where nothing was drawn.  Not shaded here: the final
+ * transparent2 op shades C_F. */
+SPR_FN void spr_comp_nearest(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                             SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
+{
+    float acc[4];
+    float nacc[4];
+    float op;
+    float dmin = spr_eps_composite(px, K, eps_t, prm, 1, acc, nacc, SPR_REF(op));
     spr_normalize_rgba(acc, bg, o);
     if (acc[3] > 0.0f) {
         SPR_PRECISE float alpha_f = op / acc[3];
         o[3] = alpha_f;
     }
+    for (int ch = 0; ch < 4; ch++) on[ch] = nacc[ch];
     SPR_SET(d) = dmin;
 }
 
-/* §6.2 step 3, the final image from input 0 = the nearest layer (C_F, α_F)
- * and input 1 = the average of the other layers (C_O):
+/* §6.3: the environment seen through the nearest layer, channel ch, for
+ * unit normal n facing the viewer, view ray v, cos θ_I = −n·v: refraction
+ * ratio e = η_ch^m (m = l + 1 layers when prm MULTI, else 1, Eq. 16),
+ * sin²θ_T = e²·sin²θ_I; the refracted ray t = e·v + (e·cos θ_I − cos θ_T)·n,
+ * or the reflected colour R under total internal reflection. */
+SPR_FN float spr_env_refracted(SPR_PIXEL px, SPR_CARR prm[SPR_PRM_COUNT], SPR_CARR n[3], SPR_CARR v[3], float cos_i,
+                               int m, float R, int ch)
+{
+    SPR_PRECISE float e = spr_ipow(prm[SPR_PRM_ETA + ch], m);
+    SPR_PRECISE float c2 = cos_i * cos_i;
+    SPR_PRECISE float sin2_i = 1.0f - c2;
+    if (sin2_i < 0.0f) sin2_i = 0.0f;
+    SPR_PRECISE float e2 = e * e;
+    SPR_PRECISE float sin2_t = e2 * sin2_i;
+    if (!(sin2_t < 1.0f)) return R;
+    SPR_PRECISE float omt = 1.0f - sin2_t;
+    SPR_PRECISE float cos_t = spr_sqrt(omt);
+    SPR_PRECISE float eci = e * cos_i;
+    SPR_PRECISE float coef = eci - cos_t;
+    float t[3];
+    for (int i = 0; i < 3; i++) {
+        SPR_PRECISE float ev = e * v[i];
+        SPR_PRECISE float cn = coef * n[i];
+        SPR_PRECISE float ti = ev + cn;
+        t[i] = ti;
+    }
+    return spr_env_texel(px, prm[SPR_PRM_ENV_SIZE], t, ch);
+}
+
+/* §6.2 step 3, the final image from input 0 = the nearest layer (C_F, α_F,
+ * n_F) and input 1 = the average of the other layers (C_O, α_total):
  * I = α_F·C_F + (1 − α_F)·C_O where the nearest layer has a fragment (its
- * depth below the far plane), the background elsewhere; alpha 1 or 0. */
-SPR_FN void spr_comp_transparent2(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+ * depth below the far plane), the background elsewhere; alpha 1 or 0.
+ * C_F is Phong-shaded when prm asks (§4.3).  With environment effects
+ * (§6.3; the other layers were drawn over a zero background):
+ *   l = round(α_total/α), absorption A = (1 − α)^l (Eq. 15),
+ *   F = F0 + (1 − F0)(1 − cos θ_I)^5 (Schlick), F0 = ((1 − η)/(1 + η))²,
+ *   behind = C_O + A·T (T: the refracted environment, spr_env_refracted),
+ *   I = F·R + (1 − F)·(α_F·C_F + (1 − α_F)·behind), R = env(reflected ray),
+ * per channel (three η: dispersion); env(v) where nothing was drawn. */
+SPR_FN void spr_comp_transparent2(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                                  SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
 {
     float dn = spr_in_depth(px, 0);
     SPR_SET(d) = dn;
+    spr_zero4(on);
+    int env = 0;
+    if (prm[SPR_PRM_ENV] != 0.0f) env = 1;
+    float v[3];
+    v[0] = 0.0f;
+    v[1] = 0.0f;
+    v[2] = 1.0f;
+    if (spr_wants_normal(prm) != 0) spr_view_dir(prm, spr_px_cx(px), spr_px_cy(px), v);
     if (!(dn < 1.0f)) {
-        o[0] = bg[0];
-        o[1] = bg[1];
-        o[2] = bg[2];
+        for (int ch = 0; ch < 3; ch++) {
+            o[ch] = bg[ch];
+            if (env != 0) o[ch] = spr_env_texel(px, prm[SPR_PRM_ENV_SIZE], v, ch);
+        }
         o[3] = 0.0f;
         return;
     }
     float a = spr_in_color(px, 0, 3);
     SPR_PRECISE float oma = 1.0f - a;
+    float cf[3];
+    for (int ch = 0; ch < 3; ch++) cf[ch] = spr_in_color(px, 0, ch);
+    float n[3];
+    int have_n = 0;
+    if (spr_wants_normal(prm) != 0) {
+        float nacc[3];
+        for (int ch = 0; ch < 3; ch++) nacc[ch] = spr_in_normal(px, 0, ch);
+        have_n = spr_facing_normal(nacc, v, n);
+        if (have_n != 0) {
+            on[0] = n[0];
+            on[1] = n[1];
+            on[2] = n[2];
+            on[3] = 1.0f;
+        }
+    }
+    if (have_n != 0 && prm[SPR_PRM_SHADE] != 0.0f) {
+        float sh[3];
+        spr_phong(prm, cf, n, v, sh);
+        for (int ch = 0; ch < 3; ch++) cf[ch] = sh[ch];
+    }
+    if (env == 0) {
+        for (int ch = 0; ch < 3; ch++) {
+            SPR_PRECISE float f = a * cf[ch];
+            SPR_PRECISE float g = oma * spr_in_color(px, 1, ch);
+            SPR_PRECISE float x = f + g;
+            o[ch] = x;
+        }
+        o[3] = 1.0f;
+        return;
+    }
+    if (have_n == 0) {
+        n[0] = -v[0];
+        n[1] = -v[1];
+        n[2] = -v[2];
+    }
+    SPR_PRECISE float nv = (n[0] * v[0] + n[1] * v[1]) + n[2] * v[2];
+    SPR_PRECISE float cos_i = -nv;
+    SPR_PRECISE float lq = spr_in_color(px, 1, 3) / prm[SPR_PRM_ALPHA];
+    SPR_PRECISE float lr = spr_floor(lq + 0.5f);
+    if (!(lr >= 0.0f)) lr = 0.0f;
+    if (lr > 64.0f) lr = 64.0f;
+    int l = SPR_INT(lr);
+    int m = 1;
+    if (prm[SPR_PRM_MULTI] != 0.0f) m = l + 1;
+    SPR_PRECISE float oml = 1.0f - prm[SPR_PRM_ALPHA];
+    SPR_PRECISE float absorb = spr_ipow(oml, l);
+    SPR_PRECISE float two_c = cos_i * 2.0f;
+    float r[3];
+    for (int i = 0; i < 3; i++) {
+        SPR_PRECISE float tn = two_c * n[i];
+        SPR_PRECISE float ri = v[i] + tn;
+        r[i] = ri;
+    }
+    SPR_PRECISE float omc = 1.0f - cos_i;
+    SPR_PRECISE float omc5 = spr_ipow(omc, 5);
     for (int ch = 0; ch < 3; ch++) {
-        SPR_PRECISE float f = a * spr_in_color(px, 0, ch);
-        SPR_PRECISE float g = oma * spr_in_color(px, 1, ch);
-        SPR_PRECISE float v = f + g;
-        o[ch] = v;
+        float R = spr_env_texel(px, prm[SPR_PRM_ENV_SIZE], r, ch);
+        float T = spr_env_refracted(px, prm, n, v, cos_i, m, R, ch);
+        SPR_PRECISE float eta = prm[SPR_PRM_ETA + ch];
+        SPR_PRECISE float f0n = 1.0f - eta;
+        SPR_PRECISE float f0d = 1.0f + eta;
+        SPR_PRECISE float f0q = f0n / f0d;
+        SPR_PRECISE float f0 = f0q * f0q;
+        SPR_PRECISE float omf0 = 1.0f - f0;
+        SPR_PRECISE float fr = omf0 * omc5;
+        SPR_PRECISE float F = f0 + fr;
+        SPR_PRECISE float at = absorb * T;
+        SPR_PRECISE float behind = spr_in_color(px, 1, ch) + at;
+        SPR_PRECISE float fc = a * cf[ch];
+        SPR_PRECISE float gb = oma * behind;
+        SPR_PRECISE float trans = fc + gb;
+        SPR_PRECISE float fR = F * R;
+        SPR_PRECISE float omF = 1.0f - F;
+        SPR_PRECISE float ft = omF * trans;
+        SPR_PRECISE float x = fR + ft;
+        o[ch] = x;
     }
     o[3] = 1.0f;
 }
 
-/* §4.2 ([ZP] Fig. 6): d = min_k d_f(k); sum the inputs with d_f(k) ≤ d + ε_t
- * in input order; normalise. */
-SPR_FN void spr_comp_deferred(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
-{
-    float dmin = spr_nearest_depth(px, K);
-    SPR_PRECISE float limit = dmin + eps_t;
-    SPR_PRECISE float acc[4];
-    for (int ch = 0; ch < 4; ch++) acc[ch] = 0.0f;
-    for (int k = 0; k < K; k++) {
-        float dk = spr_in_depth(px, k);
-        if (!(dk <= limit)) continue;
-        for (int ch = 0; ch < 4; ch++) acc[ch] = acc[ch] + spr_in_color(px, k, ch);
-    }
-    spr_normalize_rgba(acc, bg, o);
-    SPR_SET(d) = dmin;
-}
-
 /* §6.1 ([ZP] §3.3): I = (1/K) Σ_k I_k, every channel; depth = min_k d_f(k). */
-SPR_FN void spr_comp_average(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_OARR o[4], SPR_OUT d)
+SPR_FN void spr_comp_average(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                             SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
 {
     float dmin = spr_in_depth(px, 0);
     SPR_PRECISE float acc[4];
@@ -330,5 +686,34 @@ SPR_FN void spr_comp_average(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], S
         SPR_PRECISE float v = acc[ch] * inv_K;
         o[ch] = v;
     }
+    spr_zero4(on);
     SPR_SET(d) = dmin;
+}
+
+/* §6.4: depth-peeled layers, input j = layer j (0 nearest), each (c, α)
+ * where its depth is below the far plane: blended back to front over the
+ * background, c = α·c_j + (1 − α)·c; alpha 1 where any layer has a
+ * fragment, else 0; depth of layer 0. */
+SPR_FN void spr_comp_peel(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                          SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
+{
+    SPR_PRECISE float acc[3];
+    for (int ch = 0; ch < 3; ch++) acc[ch] = bg[ch];
+    float covered = 0.0f;
+    for (int j = K - 1; j >= 0; j--) {
+        float dj = spr_in_depth(px, j);
+        if (!(dj < 1.0f)) continue;
+        covered = 1.0f;
+        float a = spr_in_color(px, j, 3);
+        SPR_PRECISE float oma = 1.0f - a;
+        for (int ch = 0; ch < 3; ch++) {
+            SPR_PRECISE float f = a * spr_in_color(px, j, ch);
+            SPR_PRECISE float g = oma * acc[ch];
+            acc[ch] = f + g;
+        }
+    }
+    for (int ch = 0; ch < 3; ch++) o[ch] = acc[ch];
+    o[3] = covered;
+    spr_zero4(on);
+    SPR_SET(d) = spr_in_depth(px, 0);
 }

@@ -17,10 +17,12 @@
 #define SPR_PRECISE
 #define SPR_CARR const float
 #define SPR_OARR float
+#define SPR_IOARR float
 #define SPR_OUT float *
 #define SPR_SET(x) (*(x))
 #define SPR_REF(x) (&(x))
 #define SPR_FLOAT(i) ((float)(i))
+#define SPR_INT(x) ((int)(x))
 #define SPR_PIXEL const spr_pixel_in *
 #define spr_floor floorf
 #define spr_sqrt sqrtf
@@ -30,11 +32,22 @@ typedef struct spr_pixel_in {
     const float *const *color; /* color[k]: input k's colour plane, 4 per pixel */
     const float *const *depth; /* depth[k]: input k's stored depth plane */
     const float *const *opacity; /* opacity[k]: input k's opacity plane (ops that read it) */
+    const float *const *normal; /* normal[k]: input k's normal plane, 4 per pixel (when shading) */
+    const spr_envmap *env;     /* the cube map (environment effects) */
     size_t i;
+    int x, y;                  /* the pixel: i = y·W + x */
 } spr_pixel_in;
 static inline float spr_in_depth(const spr_pixel_in *px, int k) { return px->depth[k][px->i]; }
 static inline float spr_in_color(const spr_pixel_in *px, int k, int ch) { return px->color[k][4 * px->i + (size_t)ch]; }
 static inline float spr_in_opacity(const spr_pixel_in *px, int k) { return px->opacity[k][px->i]; }
+static inline float spr_in_normal(const spr_pixel_in *px, int k, int ch) { return px->normal[k][4 * px->i + (size_t)ch]; }
+static inline float spr_px_cx(const spr_pixel_in *px) { return (float)px->x + 0.5f; }
+static inline float spr_px_cy(const spr_pixel_in *px) { return (float)px->y + 0.5f; }
+static inline float spr_in_env(const spr_pixel_in *px, int face, int i, int j, int ch)
+{
+    const size_t S = (size_t)px->env->size;
+    return px->env->texels[(((size_t)face * S + (size_t)j) * S + (size_t)i) * 4 + (size_t)ch];
+}
 
 #include "spr_arith.h"
 

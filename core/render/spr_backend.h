@@ -41,7 +41,8 @@ typedef enum spr_plane_type {
     X(TEST, "test", 1, SPR_PLANE_ZTEST, 1.0)      /* test depth z */                             \
     X(ID, "id", 1, SPR_PLANE_U32, 4294967295.0)   /* splat id of the last write, ~0 = none */    \
     X(COUNT, "count", 1, SPR_PLANE_COUNTER, 0.0)  /* fragments that passed the depth test */   \
-    X(OPACITY, "opacity", 1, SPR_PLANE_F32, 0.0)  /* w·α or α (SPEC 6.2): replace or add */
+    X(OPACITY, "opacity", 1, SPR_PLANE_F32, 0.0)  /* w·α or α (SPEC 6.2): replace or add */     \
+    X(NORMAL, "normal", 4, SPR_PLANE_F32, 0.0)    /* Σ w·n and Σ w (SPEC 4.3): under the rgb blend */
 
 typedef enum spr_plane {
 #define SPR__PLANE_ENUM(e, name, ch, type, clear) SPR_PLANE_##e,
@@ -107,6 +108,7 @@ enum {
     SPR_WRITE_ID    = SPR_PLANE_BIT(SPR_PLANE_ID),
     SPR_WRITE_COUNT = SPR_PLANE_BIT(SPR_PLANE_COUNT),
     SPR_WRITE_OPACITY = SPR_PLANE_BIT(SPR_PLANE_OPACITY), /* under blend_alpha: replace or add (not over) */
+    SPR_WRITE_NORMAL = SPR_PLANE_BIT(SPR_PLANE_NORMAL),   /* (w·n, w) under blend: replace or add (not over) */
     SPR_WRITE_ALL   = SPR_PLANES_OPAQUE & ~SPR_PLANE_BIT(SPR_PLANE_TEST)  /* the opaque planes */
 };
 
@@ -157,24 +159,29 @@ typedef struct spr_draw_stats {
 /* The composite table: X(ENUM, function, most inputs, planes read from each
  * input, planes written, summary).  Each op is one per-pixel function
  * spr_comp_<function> of spr_arith.h; it reads its inputs through
- * spr_in_color/spr_in_depth and gives the output colour and depth (a test
- * plane, when the output has one, receives the depth too, as gl_FragDepth
- * does).  The CPU backend loops it over pixels, the GL backend runs it as a
- * full-screen pass.  A new op is one function and one row
- * (docs/architecture.md, "add a composite op"). */
+ * spr_in_color/spr_in_depth/spr_in_opacity/spr_in_normal and gives the
+ * output colour, depth and normal (a test plane, when the output has one,
+ * receives the depth too, as gl_FragDepth does; a normal plane, when the
+ * output has one, receives the normal).  Ops read the normal plane of their
+ * inputs only when the shading parameters ask for it (spr_shade_reads).  The
+ * CPU backend loops it over pixels, the GL backend runs it as a full-screen
+ * pass.  A new op is one function and one row (docs/architecture.md, "add a
+ * composite op"). */
 #define SPR_MAX_COMPOSITE_INPUTS SPR_MAX_GROUPS
 #define SPR_PLANES_CD (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH))
 #define SPR_COMPOSITE_LIST(X)                                                                                           \
     X(NORMALIZE, normalize, 1, SPR_PLANES_CD, SPR_PLANES_CD,                                                              \
-      "c = rgb/a where a > 0, else background; depth copied (SPEC 4.1 step 3)")                                         \
+      "c = rgb/a where a > 0, else background; depth copied; Phong when shading (SPEC 4.1 step 3, 4.3)")               \
     X(DEFERRED, deferred, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD, SPR_PLANES_CD,                                         \
-      "eps-composite of the inputs in order, then normalise (SPEC 4.2)")                                                \
+      "eps-composite of the inputs in order, then normalise; Phong when shading (SPEC 4.2, 4.3)")                      \
     X(AVERAGE, average, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD, SPR_PLANES_CD,                                           \
       "(1/K) sum of the inputs, every channel; nearest depth (SPEC 6.1)")                                                \
     X(NEAREST, nearest, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD | SPR_PLANE_BIT(SPR_PLANE_OPACITY), SPR_PLANES_CD,        \
-      "eps-composite of colour and opacity: (C_F, alpha_F) of the nearest layer (SPEC 6.2)")                             \
+      "eps-composite of colour, opacity and normal: (C_F, alpha_F, n_F) of the nearest layer (SPEC 6.2)")               \
     X(TRANSPARENT2, transparent2, 2, SPR_PLANES_CD, SPR_PLANES_CD,                                                        \
-      "alpha_F*C_F + (1-alpha_F)*C_O over input 0 (nearest) and input 1 (other layers) (SPEC 6.2)")
+      "alpha_F*C_F + (1-alpha_F)*C_O, with shading and environment effects when asked (SPEC 6.2, 6.3)")                 \
+    X(PEEL, peel, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD, SPR_PLANES_CD,                                                 \
+      "layers (c, alpha) blended back to front over the background, input 0 nearest (SPEC 6.4)")
 
 typedef enum spr_composite_op {
 #define SPR__COMP_ENUM(e, fn, max_in, reads, writes, summary) SPR_COMP_##e,
@@ -191,6 +198,43 @@ typedef struct spr_composite_info {
 } spr_composite_info;
 const spr_composite_info *spr_composite_info_of(spr_composite_op op);
 
+/* Parameters of the shading and environment effects (SPEC §4.3, §6.3), one
+ * float array filled on the host (core/render/shade.c) and given unchanged
+ * to both backends: X(NAME, floats).  Index SPR_PRM_<NAME> is the offset of
+ * the first float; the GL backend emits the same offsets into its programs. */
+#define SPR_PARAM_LIST(X)                                                                                     \
+    X(M, 16)        /* inverse of P·V, as spr_view.M: the pixel's ray */                                    \
+    X(SX, 1) X(SY, 1) /* 2/W and 2/H */                                                                     \
+    X(SHADE, 1)     /* 0: none; 1: Phong with the composited normal */                                      \
+    X(LIGHT, 3)     /* unit vector towards the light, world space */                                          \
+    X(KA, 1) X(KD, 1) X(KS, 1) /* ambient, diffuse, specular coefficients */                                \
+    X(EXP, 1)       /* integer specular exponent, 1 … 1024 */                                               \
+    X(ENV, 1)       /* 0: none; 1: environment cube map (reflection, refraction, Fresnel) */                 \
+    X(ENV_SIZE, 1)  /* texels per cube face side */                                                          \
+    X(ETA, 3)       /* refraction ratio n_outside/n_inside per channel (three: dispersion) */                \
+    X(MULTI, 1)     /* 1: multi-layer refraction eta^(l+1); 0: one interface */                              \
+    X(ALPHA, 1)     /* material opacity for the layer count l = round(alpha_total/alpha) */
+
+enum {
+#define SPR__PRM_SIZE(name, n) SPR_PRM__SIZE_##name = (n),
+    SPR_PARAM_LIST(SPR__PRM_SIZE)
+#undef SPR__PRM_SIZE
+};
+enum {
+#define SPR__PRM_OFF(name, n) SPR_PRM_##name, SPR_PRM__END_##name = SPR_PRM_##name + (n) - 1,
+    SPR_PARAM_LIST(SPR__PRM_OFF)
+#undef SPR__PRM_OFF
+    SPR_PRM_COUNT
+};
+
+/* An environment cube map: six square faces of size·size RGBA float texels
+ * in GL's face order +x, −x, +y, −y, +z, −z, each face row by row from its
+ * top row (the GL cube map convention), looked up by nearest texel. */
+typedef struct spr_envmap {
+    int size;
+    float *texels;   /* 6·size·size·4 */
+} spr_envmap;
+
 typedef struct spr_composite_desc {
     spr_composite_op op;
     const int *inputs;
@@ -198,7 +242,13 @@ typedef struct spr_composite_desc {
     int output;
     float eps_t;
     float background[3];
+    const float *params;     /* SPR_PRM_COUNT floats, or NULL: no shading, no environment */
+    const spr_envmap *env;   /* required when params[SPR_PRM_ENV] != 0 */
 } spr_composite_desc;
+
+/* Planes input `input` of op must have beyond the table's `reads` under these
+ * parameters: the normal plane where shading or environment effects use it. */
+unsigned spr_composite_extra_reads(spr_composite_op op, const float *params, int input);
 
 typedef struct spr_backend spr_backend;
 struct spr_backend {
