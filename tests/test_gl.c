@@ -8,6 +8,7 @@
 #include <string.h>
 #include "spr_glbackend.h"
 #include "spr_parity.h"
+#include "spr_envmap.h"
 #include "test_util.h"
 
 static spr_backend *cpu, *gl;
@@ -57,13 +58,28 @@ typedef struct config {
     spr_algo algo;
     int groups; /* 0: none, 1: MGC, 2: hash K = 8 */
     int voronoi;
+    float alpha;  /* > 0: --alpha */
+    int shade;    /* Phong (SPEC 4.3) */
+    int env;      /* environment effects (SPEC 6.3) with the sky cube map; 2: single layer, dispersion */
+    int layers;   /* depthpeel */
 } config;
 
 static const config configs[] = {
-    {"pbr2p1", SPR_ALGO_PBR2P1, 0, 0},       {"deferred-mgc", SPR_ALGO_DEFERRED, 1, 0},
-    {"deferred-mgc-voronoi", SPR_ALGO_DEFERRED, 1, 1}, {"deferred-hash8", SPR_ALGO_DEFERRED, 2, 0},
-    {"deferred-hash8-voronoi", SPR_ALGO_DEFERRED, 2, 1}};
+    {"pbr2p1", SPR_ALGO_PBR2P1, 0, 0, 0, 0, 0, 0},
+    {"deferred-mgc", SPR_ALGO_DEFERRED, 1, 0, 0, 0, 0, 0},
+    {"deferred-mgc-voronoi", SPR_ALGO_DEFERRED, 1, 1, 0, 0, 0, 0},
+    {"deferred-hash8", SPR_ALGO_DEFERRED, 2, 0, 0, 0, 0, 0},
+    {"deferred-hash8-voronoi", SPR_ALGO_DEFERRED, 2, 1, 0, 0, 0, 0},
+    {"pbr2p1-phong", SPR_ALGO_PBR2P1, 0, 0, 0, 1, 0, 0},
+    {"deferred-mgc-phong", SPR_ALGO_DEFERRED, 1, 0, 0, 1, 0, 0},
+    {"transparent1-hash8", SPR_ALGO_TRANSPARENT1, 2, 0, 0.5f, 0, 0, 0},
+    {"transparent2-mgc-phong", SPR_ALGO_TRANSPARENT2, 1, 0, 0.5f, 1, 0, 0},
+    {"transparent2-hash8-env", SPR_ALGO_TRANSPARENT2, 2, 0, 0.4f, 1, 1, 0},
+    {"transparent2-mgc-env-single", SPR_ALGO_TRANSPARENT2, 1, 1, 0.6f, 0, 2, 0},
+    {"depthpeel-3", SPR_ALGO_DEPTHPEEL, 0, 0, 0.5f, 0, 0, 3}};
+static spr_envmap test_sky;
 #define N_CONFIGS (int)(sizeof configs / sizeof configs[0])
+#define N_OPAQUE_CONFIGS 5 /* the first rows: the other bunny views run only these */
 
 typedef struct model_groups {
     spr_groups mgc, hash;
@@ -92,15 +108,33 @@ static void free_groups(model_groups *mg)
     spr_groups_free(&mg->hash);
 }
 
-static void all_configs(const char *scene, const spr_view *v, const spr_cloud *c, const model_groups *mg, spr_kernel kernel)
+static void some_configs(const char *scene, const spr_view *v, const spr_cloud *c, const model_groups *mg, spr_kernel kernel, int n)
 {
-    for (int i = 0; i < N_CONFIGS; i++) {
-        spr_render_desc d = {.algo = configs[i].algo, .voronoi = configs[i].voronoi, .kernel = kernel};
-        d.groups = configs[i].groups == 1 ? &mg->mgc : configs[i].groups == 2 ? &mg->hash : NULL;
+    for (int i = 0; i < n; i++) {
+        const config *cf = &configs[i];
+        spr_render_desc d = {.algo = cf->algo, .voronoi = cf->voronoi, .kernel = kernel, .alpha = cf->alpha, .layers = cf->layers};
+        d.groups = cf->groups == 1 ? &mg->mgc : cf->groups == 2 ? &mg->hash : NULL;
+        spr_shading_defaults(&d.shade);
+        if (cf->shade) d.shade.model = SPR_SHADE_PHONG;
+        if (cf->env) {
+            if (!test_sky.texels) {
+                spr_error err;
+                ck_assert_int_eq(spr_envmap_builtin("sky", 32, &test_sky, &err), SPR_OK);
+            }
+            d.shade.env = &test_sky;
+            d.shade.multilayer = cf->env == 1;
+            if (cf->env == 2) d.shade.eta[0] = 0.9, d.shade.eta[1] = 0.7, d.shade.eta[2] = 0.5;
+        }
         char label[160];
         snprintf(label, sizeof label, "%s/%s/%s", scene, configs[i].name, spr_kernel_name(kernel));
         expect_exact(label, v, c, &d);
     }
+}
+
+/* Every configuration: the opaque five and the transparency/shading rows. */
+static void all_configs(const char *scene, const spr_view *v, const spr_cloud *c, const model_groups *mg, spr_kernel kernel)
+{
+    some_configs(scene, v, c, mg, kernel, N_CONFIGS);
 }
 
 static void view_for(const spr_cloud *c, spr_camera_desc *cam, spr_view *v)
@@ -202,7 +236,7 @@ START_TEST(bunny_six_views)
         view_for(&c, &cam, &v);
         char scene[64];
         snprintf(scene, sizeof scene, "bunny-%s", views[i].name);
-        all_configs(scene, &v, &c, &mg, (spr_kernel)(i % SPR_KERNEL__COUNT));
+        some_configs(scene, &v, &c, &mg, (spr_kernel)(i % SPR_KERNEL__COUNT), i == 0 ? N_CONFIGS : N_OPAQUE_CONFIGS);
     }
     free_groups(&mg);
     spr_cloud_free(&c);
@@ -211,8 +245,8 @@ END_TEST
 
 START_TEST(builtin_models)
 {
-    static const char *names[] = {"builtin:sphere", "builtin:torus", "builtin:octahedron", "builtin:cube"};
-    for (int m = 0; m < 4; m++) {
+    static const char *names[] = {"builtin:sphere", "builtin:torus", "builtin:octahedron", "builtin:cube", "builtin:spheres"};
+    for (int m = 0; m < 5; m++) {
         spr_cloud c = tu_builtin(names[m], 8000);
         model_groups mg;
         make_groups(&c, 1.0, &mg);
@@ -543,12 +577,14 @@ END_TEST
 
 /* Every case above ran (a loop that silently ran nothing would pass them):
  * 9 blend pairs × 3 functions × 2 outputs = 54 raw draws, 1 masked draw, one
- * raw composite per op of the table, and the 85 algorithm scenes of
- * expect_exact (bunny views × configurations, built-ins, adversarial scenes). */
+ * raw composite per op of the table, and the algorithm scenes of
+ * expect_exact (bunny views × configurations, built-ins, adversarial
+ * scenes: bunny 12 + 5·5, built-ins 5·12, adversarial 6·12 = 169 since the
+ * transparency and shading rows). */
 START_TEST(summary)
 {
     printf("gl: %s — %d parity cases, %d planes compared, all bit-exact\n", spr_gl_renderer(gl), cases, planes_checked);
-    ck_assert_int_ge(cases, 140 + SPR_COMP__COUNT);
+    ck_assert_int_ge(cases, 55 + 169 + SPR_COMP__COUNT);
     ck_assert_int_gt(planes_checked, 1000);
 }
 END_TEST

@@ -94,57 +94,82 @@ int cmd_sample(int argc, char **argv)
 }
 
 static const cli_opt compare_opts[] = {
-    {"background", "R,G,B", "background colour: pixels equal to it in both images are not covered (default 0,0,0)"},
+    {"metric", "NAME", "covered (default: mean and max over pixels not background in both) | zp-eps ([ZP] 6.3's eps over all pixels)"},
+    {"background", "R,G,B", "covered: pixels equal to it in both images are not covered (default 0,0,0)"},
+    {"heatmap", "FILE.png", "write the per-pixel sum of |dR|+|dG|+|dB| as a heat map (black equal, white the largest)"},
     {NULL, NULL, NULL}};
 
+/* `splatref compare A B`: two images (.png 8/16-bit or .pfm) of one size,
+ * compared on their 8-bit values (spr_to_u8). */
 int cmd_compare(int argc, char **argv)
 {
     cli_args a;
-    int pr = cli_parse(&a, "compare", compare_opts, "A.pfm B.pfm [--background R,G,B]", 2, argc, argv);
+    int pr = cli_parse(&a, "compare", compare_opts, "A.png|A.pfm B.png|B.pfm [--metric covered|zp-eps] [--heatmap H.png]", 2, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    if (a.n_positional != 2) { cli_error(&a, "two PFM files are required"); return 2; }
+    if (a.n_positional != 2) { cli_error(&a, "two images (.png or .pfm) are required"); return 2; }
+    const char *metric = cli_get(&a, "metric"), *heatmap = cli_get(&a, "heatmap");
+    if (metric && strcmp(metric, "covered") && strcmp(metric, "zp-eps")) { cli_error(&a, "--metric: '%s' is not covered or zp-eps", metric); return 2; }
+    const int zp = metric && !strcmp(metric, "zp-eps");
     double bg[3] = {0, 0, 0};
-    if (cli_get_vec3(&a, "background", bg) < 0 || cli_reject_unused(&a)) return 2;
+    if ((!zp && cli_get_vec3(&a, "background", bg) < 0) || cli_reject_unused(&a)) return 2;
     float *im[2] = {NULL, NULL};
     int w[2], h[2], ch[2];
     spr_error err = {0};
     for (int i = 0; i < 2; i++)
-        if (spr_read_pfm(a.positional[i], &im[i], &w[i], &h[i], &ch[i], &err)) {
+        if (spr_read_image(a.positional[i], &im[i], &w[i], &h[i], &ch[i], &err)) {
             fprintf(stderr, "splatref compare: %s\n", err.msg);
             free(im[0]);
             return 2;
         }
-    if (w[0] != w[1] || h[0] != h[1] || ch[0] != ch[1]) {
-        cli_error(&a, "%s is %dx%d, %s is %dx%d", a.positional[0], w[0], h[0], a.positional[1], w[1], h[1]);
-        free(im[0]);
-        free(im[1]);
-        return 2;
+    int rc = 0;
+    if (w[0] != w[1] || h[0] != h[1] || (ch[0] == 1) != (ch[1] == 1)) {
+        cli_error(&a, "%s is %dx%d with %d channel(s), %s is %dx%d with %d", a.positional[0], w[0], h[0], ch[0], a.positional[1],
+                  w[1], h[1], ch[1]);
+        rc = 2;
+        goto done;
     }
-    size_t covered = 0, differing = 0, np = (size_t)w[0] * h[0];
-    double sum = 0.0, maxd = 0.0;
-    for (size_t p = 0; p < np; p++) {
-        int bg0 = 1, bg1 = 1;
-        for (int c = 0; c < ch[0]; c++) {
-            bg0 &= im[0][p * ch[0] + c] == (float)bg[c];
-            bg1 &= im[1][p * ch[0] + c] == (float)bg[c];
+    const size_t np = (size_t)w[0] * h[0];
+    float *heat = heatmap ? malloc(np * 3 * sizeof *heat) : NULL;
+    if (heatmap && !heat) { cli_error(&a, "out of memory for the heat map"); rc = 2; goto done; }
+    spr_image_diff_stats st;
+    spr_image_diff(im[0], ch[0], im[1], ch[1], w[0], h[0], &st, heat);
+    if (zp) {
+        printf("compare: zp-eps %.4f (sum of |dR|+|dG|+|dB| in 8 bits over %zu pixels / %zu), max abs %d/255, mean abs %.4f/255, "
+               "%zu pixels differ\n", st.zp_eps, st.pixels, st.pixels, st.max_abs, st.mean_abs, st.differing);
+    } else {
+        const int c0 = ch[0] < 3 ? 1 : 3;
+        size_t covered = 0, differing = 0;
+        double sum = 0.0, maxd = 0.0;
+        for (size_t p = 0; p < np; p++) {
+            int bg0 = 1, bg1 = 1;
+            for (int c = 0; c < c0; c++) {
+                bg0 &= im[0][p * ch[0] + c] == (float)bg[c];
+                bg1 &= im[1][p * ch[1] + c] == (float)bg[c];
+            }
+            if (bg0 && bg1) continue;
+            covered++;
+            int diff = 0;
+            for (int c = 0; c < c0; c++) {
+                double d = fabs((double)spr_to_u8(im[0][p * ch[0] + c]) - (double)spr_to_u8(im[1][p * ch[1] + c]));
+                sum += d;
+                if (d > maxd) maxd = d;
+                diff |= d != 0.0;
+            }
+            differing += diff;
         }
-        if (bg0 && bg1) continue;
-        covered++;
-        int diff = 0;
-        for (int c = 0; c < ch[0]; c++) {
-            double d = fabs((double)spr_to_u8(im[0][p * ch[0] + c]) - (double)spr_to_u8(im[1][p * ch[0] + c]));
-            sum += d;
-            if (d > maxd) maxd = d;
-            diff |= d != 0.0;
-        }
-        differing += diff;
+        double mean = covered ? sum / ((double)covered * c0) : 0.0;
+        printf("compare: %zu covered pixels, %zu differ in 8 bits, mean |diff| %.4f/255 per channel, max %.0f/255\n", covered,
+               differing, mean, maxd);
     }
-    double mean = covered ? sum / ((double)covered * ch[0]) : 0.0;
-    printf("compare: %zu covered pixels, %zu differ in 8 bits, mean |diff| %.4f/255 per channel, max %.0f/255\n", covered,
-           differing, mean, maxd);
+    if (heat) {
+        if (spr_write_png(heatmap, heat, w[0], h[0], 3, &err)) { fprintf(stderr, "splatref compare: %s\n", err.msg); rc = 2; }
+        else printf("compare: heat map -> %s\n", heatmap);
+        free(heat);
+    }
+done:
     free(im[0]);
     free(im[1]);
-    return 0;
+    return rc;
 }
 
 static const cli_opt show_opts[] = {

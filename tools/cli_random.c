@@ -15,6 +15,7 @@
  * minimal scene that still differs, written beside it.
  */
 #include "cli.h"
+#include "spr_envmap.h"
 #include "spr_glbackend.h"
 #include "spr_parity.h"
 #include "spr_swrast.h"
@@ -42,12 +43,17 @@ typedef struct rscene {
     spr_order order;
     float alpha;
     float background[3];
+    spr_shading shade;       /* Phong, light, material; environment effects with env below */
+    spr_envmap env;
+    const char *env_name;
+    int layers;              /* depthpeel */
     char features[256];
 } rscene;
 
 static void rscene_free(rscene *s)
 {
     spr_cloud_free(&s->cloud);
+    spr_envmap_free(&s->env);
     free(s->labels);
     memset(s, 0, sizeof *s);
 }
@@ -176,6 +182,29 @@ static int generate(uint64_t seed, int i, const char *tmp_ply, rscene *s, spr_er
     s->order = chance(&st, 0.5) ? SPR_ORDER_SORT : SPR_ORDER_BSP;
     s->alpha = chance(&st, 0.3) ? (float)(1 + pick(&st, 255)) / 256.0f : 0.0f;
     for (int k = 0; k < 3; k++) s->background[k] = (float)pick(&st, 256) / 255.0f;
+    /* shading and environment effects (SPEC 4.3, 6.3), values exact in decimal for the replay line */
+    spr_shading_defaults(&s->shade);
+    if (chance(&st, 0.4)) {
+        s->shade.model = SPR_SHADE_PHONG;
+        do {
+            for (int k = 0; k < 3; k++) s->shade.light_eye[k] = (double)(pick(&st, 17) - 8) / 8.0;
+        } while (s->shade.light_eye[0] == 0.0 && s->shade.light_eye[1] == 0.0 && s->shade.light_eye[2] == 0.0);
+        s->shade.ka = pick(&st, 17) / 16.0;
+        s->shade.kd = pick(&st, 17) / 16.0;
+        s->shade.ks = pick(&st, 17) / 16.0;
+        s->shade.exponent = 1 + pick(&st, chance(&st, 0.5) ? 8 : 1024);
+        feature(s, "phong");
+    }
+    if (chance(&st, 0.4)) {
+        s->env_name = chance(&st, 0.5) ? "sky" : "checker";
+        if (spr_envmap_builtin(s->env_name, 1 + pick(&st, 48), &s->env, err)) return -1;
+        s->shade.env = &s->env;
+        for (int k = 0; k < 3; k++) s->shade.eta[k] = (double)(32 + pick(&st, 480)) / 256.0;
+        if (chance(&st, 0.3)) s->shade.eta[1] = s->shade.eta[2] = s->shade.eta[0];
+        s->shade.multilayer = chance(&st, 0.7);
+        feature(s, "env");
+    }
+    s->layers = 1 + pick(&st, 8);
     int K = 1 + pick(&st, 8);
     if (!(s->labels = malloc(n * sizeof *s->labels))) return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1;
     for (size_t k = 0; k < n; k++) s->labels[k] = pick(&st, K);
@@ -198,6 +227,8 @@ static void render_desc(const rscene *s, spr_algo algo, spr_groups *g, spr_rende
     rd->lowres_n = rd->voronoi || (ai->uses & SPR_USES_LOWRES) ? s->lowres_n : 0.0;
     rd->order = ai->uses & SPR_USES_ORDER ? s->order : SPR_ORDER_BSP;
     rd->alpha = ai->uses & SPR_USES_ALPHA ? s->alpha : 0.0f;
+    rd->shade = s->shade; /* the registry's uses decide what an algorithm reads (spr_render) */
+    rd->layers = ai->uses & SPR_USES_LAYERS ? s->layers : 0;
     memcpy(rd->background, s->background, sizeof rd->background);
     rd->groups = ai->uses & SPR_USES_GROUPS ? g : NULL;
 }
@@ -275,6 +306,15 @@ static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, 
         if (s->lowres_n > 0.0) printf(" --lowres-n %.17g", s->lowres_n);
     if (ai->uses & SPR_USES_ORDER) printf(" --order %s", s->order == SPR_ORDER_SORT ? "sort" : "bsp");
     if ((ai->uses & SPR_USES_ALPHA) && s->alpha > 0.0f) printf(" --alpha %.9g", s->alpha);
+    const spr_shading *sh = &s->shade;
+    const int phong = (ai->uses & SPR_USES_SHADE) && sh->model == SPR_SHADE_PHONG, env = (ai->uses & SPR_USES_ENV) && sh->env;
+    if (phong)
+        printf(" --shade phong --light %.17g,%.17g,%.17g --material %.17g,%.17g,%.17g,%d", sh->light_eye[0], sh->light_eye[1], sh->light_eye[2],
+               sh->ka, sh->kd, sh->ks, sh->exponent);
+    if (env)
+        printf(" --env %s --env-size %d --eta %.17g,%.17g,%.17g --env-layers %s", s->env_name, sh->env->size, sh->eta[0], sh->eta[1],
+               sh->eta[2], sh->multilayer ? "multi" : "single");
+    if (ai->uses & SPR_USES_LAYERS) printf(" --layers %d", s->layers);
     printf("\n");
     return 0;
 }

@@ -28,7 +28,7 @@ static int shading_opts(cli_args *a, cli_scene *s, unsigned uses, spr_render_des
     const char *model = uses & SPR_USES_SHADE ? cli_get(a, "shade") : NULL;
     if (model && strcmp(model, "none") && strcmp(model, "phong")) { cli_error(a, "--shade: '%s' is not none or phong", model); return -1; }
     sh->model = model && !strcmp(model, "phong") ? SPR_SHADE_PHONG : SPR_SHADE_NONE;
-    if (sh->model == SPR_SHADE_PHONG || (uses & SPR_USES_ENV && cli_get(a, "env"))) {
+    if (sh->model == SPR_SHADE_PHONG) {
         const char *mat = cli_get(a, "material");
         if (cli_get_vec3(a, "light", sh->light_eye) < 0) return -1;
         if (sh->light_eye[0] == 0.0 && sh->light_eye[1] == 0.0 && sh->light_eye[2] == 0.0) { cli_error(a, "--light: the direction is zero"); return -1; }
@@ -149,7 +149,8 @@ int cli_model_opts(cli_args *a, cli_scene *s, spr_load_desc *ld)
     snprintf(s->model, sizeof s->model, "%s", model);
     if ((!strncmp(model, "builtin:", 8) && cli_get_size(a, "points", &ld->points, 16, SPR_MAX_SPLATS) < 0) ||
         cli_get_int(a, "radius-k", &ld->radius_k, 1, 256) < 0 || cli_get_double(a, "radius-scale", &ld->radius_rho, 1e-6, 1e6) < 0 ||
-        cli_get_int(a, "threads", &s->threads, 0, 1024) < 0)
+        cli_get_int(a, "threads", &s->threads, 0, 1024) < 0 || cli_get_double(a, "opacity", &ld->opacity, 1e-6, 1.0) < 0 ||
+        cli_get_int(a, "balls", &ld->balls, 1, 64) < 0)
         return -1;
     ld->threads = s->threads;
     ld->progress = cli_progress(cli_flag(a, "quiet"));

@@ -6,11 +6,13 @@
 
 /* Loading a model. */
 #define CLI_MODEL_OPTS \
-    {"model", "PATH|builtin:NAME", "model file (.ply .off .xyz .pwn) or builtin:sphere|torus|octahedron|planes|cube (default builtin:torus)"}, \
+    {"model", "PATH|builtin:NAME", "model file (.ply .off .xyz .pwn) or builtin:sphere|torus|octahedron|planes|cube|spheres (default builtin:torus)"}, \
     {"points", "N", "size of a built-in model (default 20000)"}, \
     {"radius-k", "K", "k of the radius rule r = rho*d_k when the file has no radii (default 8)"}, \
     {"radius-scale", "RHO", "rho of the radius rule (default 1.0)"}, \
     {"threads", "N", "CPU threads (default: all cores)"}, \
+    {"opacity", "A", "set every splat's opacity in (0,1] as loaded, before --balls (default: the file's, else 1)"}, \
+    {"balls", "N", "add N small opaque balls inside the closed model, 1..64 (the scenes of [ZP] Fig. 17-19)"}, \
     {"quiet", NULL, "no progress on stderr"}
 
 /* The camera and the image. */

@@ -10,7 +10,7 @@ static const struct { const char *name; int (*fn)(int, char **); const char *hel
     {"info", cmd_info, "counts, bounds, radius statistics and attribute sources of a model"},
     {"sample", cmd_sample, "resample a mesh to N uniformly distributed points (PLY out)"},
     {"show", cmd_show, "turn a dumped plane (PFM) into a PNG to look at"},
-    {"compare", cmd_compare, "mean and largest difference of two PFM images over covered pixels"},
+    {"compare", cmd_compare, "differences of two images (.png/.pfm): covered-pixel means, [ZP]'s eps, a heat map"},
     {"parity", cmd_parity, "compare the CPU reference and the GL backend, every plane of every pass"},
     {"reference", cmd_reference, "check (or --update) the reference images of reference_images/"},
     {"bench", cmd_bench, "benchmark the CPU reference on fixed scenes, 1 vs 2 threads"},

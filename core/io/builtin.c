@@ -7,14 +7,18 @@
  *               (so the default +z view sees the hole), coloured by normal
  *   octahedron  |x|+|y|+|z| = 1, m² sub-triangle centroids per face, a colour per face ([R] §1.4)
  *   planes      two parallel 2×2 squares at z = 0 (red) and z = −0.5 (blue), α = 0.5
+ *   spheres     two nested spheres, radius 1 (⅔ of the points, pale blue) and 0.5
+ *               (⅓, orange), α = 0.5: four transparent layers through the middle
  *   cube        [−1,1]³, m×m cell centres per face, a colour per face
  */
 #include "spr_io.h"
 
+#include "spr_util.h"
+
 #include <math.h>
 #include <string.h>
 
-const char *const spr_builtin_names[] = {"sphere", "torus", "octahedron", "planes", "cube", NULL};
+const char *const spr_builtin_names[] = {"sphere", "torus", "octahedron", "planes", "cube", "spheres", NULL};
 
 static const float face_colors[8][3] = {
     {0.90f, 0.30f, 0.25f}, {0.25f, 0.70f, 0.30f}, {0.25f, 0.45f, 0.90f}, {0.95f, 0.80f, 0.25f},
@@ -28,6 +32,18 @@ static void put(spr_cloud *c, size_t i, double x, double y, double z, double nx,
     if (col) memcpy(c->color + 3 * i, col, 3 * sizeof(float));
 }
 
+/* m points of a Fibonacci lattice on the sphere (centre (x, y, z), radius
+ * R) into splats first … first + m − 1, normals outward. */
+static void fibonacci_sphere(spr_cloud *c, size_t first, size_t m, double x, double y, double z, double R, const float *col)
+{
+    const double ga = M_PI * (3.0 - sqrt(5.0));
+    for (size_t i = 0; i < m; i++) {
+        double v = 1.0 - 2.0 * (i + 0.5) / m, rr = sqrt(1.0 - v * v), th = ga * i;
+        double nx = rr * cos(th), nz = rr * sin(th);
+        put(c, first + i, x + R * nx, y + R * v, z + R * nz, nx, v, nz, col);
+    }
+}
+
 spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err)
 {
     if (n < 16 || n > SPR_MAX_SPLATS)
@@ -35,12 +51,15 @@ spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err
     spr_result r;
     if (!strcmp(name, "sphere")) {
         if ((r = spr_cloud_alloc(c, n))) return spr__fail(err, r, "builtin:sphere: out of memory");
-        double ga = M_PI * (3.0 - sqrt(5.0));
-        for (size_t i = 0; i < n; i++) {
-            double y = 1.0 - 2.0 * (i + 0.5) / n, rr = sqrt(1.0 - y * y), th = ga * i;
-            put(c, i, rr * cos(th), y, rr * sin(th), rr * cos(th), y, rr * sin(th), NULL);
-        }
+        fibonacci_sphere(c, 0, n, 0.0, 0.0, 0.0, 1.0, NULL);
         spr_cloud_color_by_normal(c);
+    } else if (!strcmp(name, "spheres")) {
+        if ((r = spr_cloud_alloc(c, n))) return spr__fail(err, r, "builtin:spheres: out of memory");
+        static const float pale[3] = {0.55f, 0.75f, 0.95f}, orange[3] = {0.95f, 0.55f, 0.15f};
+        size_t outer = 2 * n / 3; /* equal density on both: area ratio 4 : 1, so ⅔ : ⅓ is a little denser inside */
+        fibonacci_sphere(c, 0, outer, 0.0, 0.0, 0.0, 1.0, pale);
+        fibonacci_sphere(c, outer, n - outer, 0.0, 0.0, 0.0, 0.5, orange);
+        for (size_t i = 0; i < n; i++) c->alpha[i] = 0.5f;
     } else if (!strcmp(name, "torus")) {
         const double R = 1.0, rt = 0.35;
         size_t nv = (size_t)floor(sqrt(n * rt / R)), nu;
@@ -105,8 +124,74 @@ spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err
                 }
         }
     } else {
-        return spr__fail(err, SPR_E_ARG, "builtin:%s: unknown model (sphere, torus, octahedron, planes, cube)", name);
+        return spr__fail(err, SPR_E_ARG, "builtin:%s: unknown model (sphere, torus, octahedron, planes, cube, spheres)", name);
     }
     c->flags = SPR_SRC_NORMALS | SPR_SRC_COLORS | SPR_SRC_ALPHA;
+    return SPR_OK;
+}
+
+/* Small opaque balls inside a closed model (SPEC §6, [ZP] Fig. 17–19): ball
+ * radius 2.5% of the box diagonal; candidate centres q = p − 2.5·r_b·n_p
+ * below surface points p taken in a fixed pseudo-random order; q is kept
+ * when the nearest surface point m lies at least 1.5·r_b away and q is on
+ * its inner side ((q − m)·n_m < 0: normals point outward) and q is 6·r_b
+ * from every ball kept.  Each ball: 400 splats on a Fibonacci lattice, one
+ * colour per ball, α = 1. */
+spr_result spr__add_balls(spr_cloud *c, int nballs, spr_error *err)
+{
+    if (nballs <= 0) return SPR_OK;
+    if (nballs > 64) return spr__fail(err, SPR_E_ARG, "--balls %d: at most 64", nballs);
+    enum { PER_BALL = 400, TRIES = 4096 };
+    spr_bounds b;
+    spr_cloud_bounds(c, &b);
+    double dg = 0.0;
+    for (int k = 0; k < 3; k++) dg += ((double)b.hi[k] - b.lo[k]) * ((double)b.hi[k] - b.lo[k]);
+    const double rb = 0.025 * sqrt(dg), sr = rb * sqrt(8.0 / PER_BALL);
+    double centre[64][3];
+    int kept = 0;
+    uint64_t seed = 0x5eed0ba11ull;
+    const size_t n = c->n;
+    for (int t = 0; t < TRIES && kept < nballs; t++) {
+        size_t i = (size_t)(spr__splitmix64(&seed) % n);
+        const float *p = c->pos + 3 * i, *nn = c->nrm + 3 * i;
+        double q[3];
+        for (int k = 0; k < 3; k++) q[k] = p[k] - 2.5 * rb * nn[k];
+        int ok = 1;
+        for (int j = 0; j < kept && ok; j++) {
+            double d2 = 0.0;
+            for (int k = 0; k < 3; k++) d2 += (q[k] - centre[j][k]) * (q[k] - centre[j][k]);
+            ok = d2 >= 36.0 * rb * rb;
+        }
+        if (!ok) continue;
+        size_t m = 0;
+        double best = INFINITY;
+        for (size_t s = 0; s < n; s++) {
+            const float *ps = c->pos + 3 * s;
+            double dx = q[0] - ps[0], dy = q[1] - ps[1], dz = q[2] - ps[2], d2 = dx * dx + dy * dy + dz * dz;
+            if (d2 < best) best = d2, m = s;
+        }
+        const float *pm = c->pos + 3 * m, *nm = c->nrm + 3 * m;
+        double side = (q[0] - pm[0]) * nm[0] + (q[1] - pm[1]) * nm[1] + (q[2] - pm[2]) * nm[2];
+        if (best < 2.25 * rb * rb || !(side < 0.0)) continue;
+        memcpy(centre[kept++], q, sizeof q);
+    }
+    if (kept < nballs)
+        return spr__fail(err, SPR_E_ARG, "--balls %d: found room for only %d balls inside the model (are its normals outward?)", nballs, kept);
+    spr_cloud o;
+    spr_result r = spr_cloud_alloc(&o, n + (size_t)nballs * PER_BALL);
+    if (r) return spr__fail(err, r, "--balls: out of memory");
+    memcpy(o.pos, c->pos, 3 * n * sizeof(float));
+    memcpy(o.nrm, c->nrm, 3 * n * sizeof(float));
+    memcpy(o.color, c->color, 3 * n * sizeof(float));
+    memcpy(o.radius, c->radius, n * sizeof(float));
+    memcpy(o.alpha, c->alpha, n * sizeof(float));
+    for (int j = 0; j < nballs; j++) {
+        size_t first = n + (size_t)j * PER_BALL;
+        fibonacci_sphere(&o, first, PER_BALL, centre[j][0], centre[j][1], centre[j][2], rb, face_colors[j % 8]);
+        for (size_t i = first; i < first + PER_BALL; i++) o.radius[i] = (float)sr;
+    }
+    o.flags = c->flags;
+    spr_cloud_free(c);
+    *c = o;
     return SPR_OK;
 }

@@ -231,6 +231,11 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
     if (c->n == 0) { spr_cloud_free(c); spr__mesh_free(&mesh); return spr__fail(err, SPR_E_FORMAT, "%s: no points", path); }
     r = complete(c, &mesh, &d, path, err);
     spr__mesh_free(&mesh);
+    if (!r && d.opacity > 0.0) {
+        if (!(d.opacity <= 1.0)) r = spr__fail(err, SPR_E_ARG, "%s: opacity %g outside (0, 1]", path, d.opacity);
+        for (size_t i = 0; !r && i < c->n; i++) c->alpha[i] = (float)d.opacity;
+    }
+    if (!r && d.balls > 0) r = spr__add_balls(c, d.balls, err);
     if (r) spr_cloud_free(c);
     return r;
 }

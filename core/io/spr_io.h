@@ -24,6 +24,8 @@ typedef struct spr_load_desc {
     double radius_rho;   /* ρ of the radius rule (0 = 1.0) */
     int normal_k;        /* k of PCA normals (0 = 10) */
     int threads;         /* for neighbour searches (0 = all cores) */
+    double opacity;      /* > 0: every loaded splat's α (before balls are added) */
+    int balls;           /* > 0: add this many small opaque balls inside the model (SPEC 6) */
     spr_progress progress;
 } spr_load_desc;
 void spr_load_defaults(spr_load_desc *d);
@@ -62,6 +64,8 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
 spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err);
 spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err);
+/* Append n small opaque balls inside the closed model c (builtin.c). */
+spr_result spr__add_balls(spr_cloud *c, int n, spr_error *err);
 /* Area-weighted face normals; returns the count of vertices left without one. */
 size_t spr__mesh_normals(const spr__mesh *m, spr_cloud *c);
 /* PCA normals (k neighbours) for splats whose normal is zero (all when `all`). */
