@@ -87,30 +87,46 @@ static spr_result attach(gl_context *c, int t)
     return gl__check(&c->base, "attach");
 }
 
-/* Make the pool hold `layers` layers: new arrays, live layers copied, every
- * live framebuffer re-attached.  Handles are reused, so this happens only
- * while an algorithm meets a larger target count than before. */
-static spr_result grow_pool(gl_context *c, int layers)
+/* A plane's array texture of `cap` layers. */
+static GLuint new_plane_array(gl_context *c, spr_plane p, int cap)
 {
-    if (layers <= c->pool_layers) return SPR_OK;
-    int cap = c->pool_layers ? c->pool_layers : 4;
-    while (cap < layers) cap *= 2;
-    int W = c->base.view.width, H = c->base.view.height;
-    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
-        GLuint t;
-        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t);
-        glTextureStorage3D(t, 1, plane_format((spr_plane)p), W, H, cap);
-        glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        for (int l = 0; c->pool[p] && l < c->pool_layers && l < c->base.n_targets; l++)
-            if (c->base.target_planes[l] & SPR_PLANE_BIT(p))
-                glCopyImageSubData(c->pool[p], GL_TEXTURE_2D_ARRAY, 0, 0, 0, l, t, GL_TEXTURE_2D_ARRAY, 0, 0, 0, l, W, H, 1);
-        if (c->pool[p]) glDeleteTextures(1, &c->pool[p]);
-        c->pool[p] = t;
+    GLuint t;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t);
+    glTextureStorage3D(t, 1, plane_format(p), c->base.view.width, c->base.view.height, cap);
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return t;
+}
+
+/* Make the pool hold `layers` layers of every plane some target has, and
+ * of the planes of `planes`: existing arrays are re-made larger with the
+ * live layers copied and every live framebuffer re-attached; a plane no
+ * target had before gets its array now (so the normal plane costs memory
+ * only in frames that shade).  Handles are reused, so growing happens only
+ * while an algorithm meets a larger target count than before. */
+static spr_result grow_pool(gl_context *c, int layers, unsigned planes)
+{
+    const int W = c->base.view.width, H = c->base.view.height;
+    int cap = c->pool_layers;
+    if (layers > cap) {
+        cap = cap ? cap : 4;
+        while (cap < layers) cap *= 2;
+        for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+            if (!c->pool[p]) continue;
+            GLuint t = new_plane_array(c, (spr_plane)p, cap);
+            for (int l = 0; l < c->pool_layers && l < c->base.n_targets; l++)
+                if (c->base.target_planes[l] & SPR_PLANE_BIT(p))
+                    glCopyImageSubData(c->pool[p], GL_TEXTURE_2D_ARRAY, 0, 0, 0, l, t, GL_TEXTURE_2D_ARRAY, 0, 0, 0, l, W, H, 1);
+            glDeleteTextures(1, &c->pool[p]);
+            c->pool[p] = t;
+        }
     }
+    for (int p = 0; p < SPR_PLANE__COUNT; p++)
+        if ((planes & SPR_PLANE_BIT(p)) && !c->pool[p]) c->pool[p] = new_plane_array(c, (spr_plane)p, cap);
+    const int grew = cap != c->pool_layers;
     c->pool_layers = cap;
     spr_result r = gl__check(&c->base, "target pool");
-    for (int l = 0; !r && l < c->base.n_targets; l++)
+    for (int l = 0; grew && !r && l < c->base.n_targets; l++)
         if (c->base.target_planes[l] && c->targets[l].fbo) r = attach(c, l);
     return r;
 }
@@ -172,7 +188,7 @@ static spr_result gl_target_create(spr_backend *b, unsigned planes, int *out)
     free_target(tg);
     glCreateFramebuffers(1, &tg->fbo);
     static const float zero[4] = {0, 0, 0, 0};
-    if ((r = grow_pool(c, t + 1)) || (r = attach(c, t)) || (r = gl_clear(b, t, zero))) {
+    if ((r = grow_pool(c, t + 1, planes)) || (r = attach(c, t)) || (r = gl_clear(b, t, zero))) {
         free_target(tg); /* no framebuffer left behind on any failure (core frees the slot) */
         return r;
     }

@@ -294,6 +294,52 @@ END_TEST
 
 /* An option the command, algorithm or grouping does not read is refused
  * with one line naming it, for every subcommand. */
+/* The transparency and shading options say what is wrong in one line and
+ * write nothing: a missing cube-map face (named), values out of range,
+ * images of different sizes for compare. */
+START_TEST(transparency_options)
+{
+    setup_dir();
+    const char *out = path_in("t.png");
+    static const struct { const char *argv[10]; const char *says; } cases[] = {
+        {{"render", "--algo", "transparent2", "--env", "/nonexistent/faces"}, "/nonexistent/faces/px.png"},
+        {{"render", "--algo", "transparent2", "--env", "sky", "--eta", "0.5,0.6"}, "--eta"},
+        {{"render", "--algo", "transparent2", "--env", "sky", "--env-layers", "many"}, "--env-layers"},
+        {{"render", "--algo", "depthpeel", "--layers", "0"}, "--layers"},
+        {{"render", "--algo", "pbr2p1", "--shade", "gouraud"}, "--shade"},
+        {{"render", "--algo", "pbr2p1", "--shade", "phong", "--material", "0.1,0.2,0.3,0"}, "--material"},
+        {{"render", "--algo", "pbr2p1", "--shade", "phong", "--light", "0,0,0"}, "--light"},
+        {{"render", "--model", "builtin:sphere", "--balls", "65"}, "--balls"},
+        {{"render", "--model", "builtin:sphere", "--balls", "64"}, "room for only"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *argv[16] = {"splatref"};
+        int n = 1;
+        for (int k = 0; cases[i].argv[k]; k++) argv[n++] = (char *)cases[i].argv[k];
+        argv[n++] = "--out";
+        argv[n++] = (char *)out;
+        argv[n++] = "--quiet";
+        argv[n] = NULL;
+        char err[4096];
+        int rc = run(argv, err, sizeof err);
+        printf("cli: %s %s: exit %d: %s", cases[i].argv[1], cases[i].argv[2], rc, err);
+        ck_assert_msg(rc != 0 && rc < 128, "%s: exit %d", cases[i].says, rc);
+        ck_assert_msg(strstr(err, cases[i].says) && strchr(err, '\n') == err + strlen(err) - 1, "%s: %s", cases[i].says, err);
+        ck_assert_msg(access(out, F_OK) != 0, "%s: an image was written", cases[i].says);
+    }
+    /* compare: two renders of different sizes */
+    char *r1[] = {"splatref", "render", "--model", "builtin:sphere", "--points", "500", "--size", "16x16", "--out", (char *)path_in("a.png"), "--quiet", NULL};
+    char *r2[] = {"splatref", "render", "--model", "builtin:sphere", "--points", "500", "--size", "16x12", "--out", (char *)path_in("b.png"), "--quiet", NULL};
+    char err[4096];
+    ck_assert_int_eq(run(r1, err, sizeof err), 0);
+    ck_assert_int_eq(run(r2, err, sizeof err), 0);
+    char *cmp[] = {"splatref", "compare", (char *)path_in("a.png"), (char *)path_in("b.png"), "--metric", "zp-eps", NULL};
+    int rc = run(cmp, err, sizeof err);
+    printf("cli: compare 16x16 16x12: exit %d: %s", rc, err);
+    ck_assert_msg(rc == 2 && strstr(err, "16x12") && strchr(err, '\n') == err + strlen(err) - 1, "compare: exit %d: %s", rc, err);
+}
+END_TEST
+
 START_TEST(unused_options_are_refused)
 {
     setup_dir();
@@ -315,6 +361,11 @@ START_TEST(unused_options_are_refused)
         {{"bench", "--scene", "grouping", "--size", "64x64"}, "--size"},
         {{"render", "--backend", "cpu", "--gl-device", "0"}, "--gl-device"},
         {{"reference", "--update", "--only", "none", "--gl-device", "0"}, "--gl-device"},
+        {{"render", "--algo", "zbuffer", "--shade", "phong"}, "--shade"},
+        {{"render", "--algo", "deferred", "--env", "sky"}, "--env"},
+        {{"render", "--algo", "pbr2p1", "--layers", "3"}, "--layers"},
+        {{"render", "--algo", "pbr2p1", "--light", "1,0,0"}, "--light"},
+        {{"render", "--algo", "transparent2", "--eta", "0.5"}, "--eta"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         char *argv[12] = {"splatref"};
@@ -419,6 +470,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, group_command);
     tcase_add_test(tc, explicit_origin_target_is_used);
     tcase_add_test(tc, unused_options_are_refused);
+    tcase_add_test(tc, transparency_options);
     tcase_add_test(tc, trace_lists_the_passes_in_order);
     tcase_add_test(tc, no_partial_dump_directory);
     suite_add_tcase(s, tc);

@@ -1,5 +1,6 @@
 /* cli_misc.c — `splatref info`, `splatref sample`, `splatref compare`. */
 #include "cli.h"
+#include "cli_scene_opts.h"
 #include "spr_image.h"
 
 #include <math.h>
@@ -7,11 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const cli_opt info_opts[] = {
-    {"model", "PATH|builtin:NAME", "model to describe (without it: what the library contains)"},
-    {"points", "N", "size of a built-in model (default 20000)"},
-    {"quiet", NULL, "no progress on stderr"},
-    {NULL, NULL, NULL}};
+static const cli_opt info_opts[] = {CLI_MODEL_OPTS, {NULL, NULL, NULL}}; /* without --model: what the library contains */
 
 int cmd_info(int argc, char **argv)
 {
@@ -20,10 +17,9 @@ int cmd_info(int argc, char **argv)
     if (pr) return pr == 1 ? 0 : 2;
     const char *model = cli_get(&a, "model");
     spr_load_desc ld;
-    spr_load_defaults(&ld);
-    if ((model && !strncmp(model, "builtin:", 8) && cli_get_size(&a, "points", &ld.points, 16, SPR_MAX_SPLATS) < 0) ||
-        (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
-        return 2;
+    cli_scene sc;
+    memset(&sc, 0, sizeof sc);
+    if ((model && cli_model_opts(&a, &sc, &ld)) || (cli_flag(&a, "quiet"), cli_reject_unused(&a))) return 2;
     if (!model) { /* the registries: what can be rendered, composited and stored */
         printf("algorithms:\n");
         for (int al = 0; al < SPR_ALGO__COUNT; al++)
@@ -41,7 +37,6 @@ int cmd_info(int argc, char **argv)
         printf("\n");
         return 0;
     }
-    ld.progress = cli_progress(cli_flag(&a, "quiet"));
     spr_cloud c;
     spr_error err = {0};
     if (spr_load(model, &ld, &c, &err)) { fprintf(stderr, "splatref info: %s\n", err.msg); return 2; }
@@ -53,7 +48,8 @@ int cmd_info(int argc, char **argv)
     printf("normals:  %s\n", c.flags & SPR_SRC_NORMALS ? "from the file" : c.flags & SPR_SRC_FACES ? "from mesh faces (area-weighted)" : "PCA of 10 nearest neighbours");
     printf("colours:  %s\n", c.flags & SPR_SRC_COLORS ? "from the file" : "0.5*normal + 0.5");
     printf("radii:    %s\n", c.flags & SPR_SRC_RADII ? "from the file" : "1.0 x distance to the 8th neighbour");
-    printf("opacity:  %s\n", c.flags & SPR_SRC_ALPHA ? "from the file" : "1");
+    printf("opacity:  %s\n", ld.opacity > 0.0 ? "--opacity" : c.flags & SPR_SRC_ALPHA ? "from the file" : "1");
+    if (ld.balls > 0) printf("balls:    %d opaque balls inside (--balls), included above\n", ld.balls);
     spr_cloud_free(&c);
     return 0;
 }
@@ -95,7 +91,7 @@ int cmd_sample(int argc, char **argv)
 
 static const cli_opt compare_opts[] = {
     {"metric", "NAME", "covered (default: mean and max over pixels not background in both) | zp-eps ([ZP] 6.3's eps over all pixels)"},
-    {"background", "R,G,B", "covered: pixels equal to it in both images are not covered (default 0,0,0)"},
+    {"background", "R,G,B", "pixels of this colour are not covered (covered: in both images; zp-eps: the part of eps where B has it) (default 0,0,0)"},
     {"heatmap", "FILE.png", "write the per-pixel sum of |dR|+|dG|+|dB| as a heat map (black equal, white the largest)"},
     {NULL, NULL, NULL}};
 
@@ -111,7 +107,7 @@ int cmd_compare(int argc, char **argv)
     if (metric && strcmp(metric, "covered") && strcmp(metric, "zp-eps")) { cli_error(&a, "--metric: '%s' is not covered or zp-eps", metric); return 2; }
     const int zp = metric && !strcmp(metric, "zp-eps");
     double bg[3] = {0, 0, 0};
-    if ((!zp && cli_get_vec3(&a, "background", bg) < 0) || cli_reject_unused(&a)) return 2;
+    if (cli_get_vec3(&a, "background", bg) < 0 || cli_reject_unused(&a)) return 2;
     float *im[2] = {NULL, NULL};
     int w[2], h[2], ch[2];
     spr_error err = {0};
@@ -136,6 +132,20 @@ int cmd_compare(int argc, char **argv)
     if (zp) {
         printf("compare: zp-eps %.4f (sum of |dR|+|dG|+|dB| in 8 bits over %zu pixels / %zu), max abs %d/255, mean abs %.4f/255, "
                "%zu pixels differ\n", st.zp_eps, st.pixels, st.pixels, st.max_abs, st.mean_abs, st.differing);
+        /* the share of eps from pixels B leaves at the background: A drawn where B has nothing */
+        uint64_t out_sum = 0;
+        size_t out_px = 0;
+        const int cb = ch[1] < 3 ? 1 : 3;
+        for (size_t p = 0; p < np; p++) {
+            int is_bg = 1;
+            for (int c = 0; c < 3; c++) is_bg &= spr_to_u8(im[1][p * ch[1] + (cb == 1 ? 0 : c)]) == spr_to_u8((float)bg[c]);
+            if (!is_bg) continue;
+            out_px++;
+            for (int c = 0; c < 3; c++)
+                out_sum += (uint64_t)abs((int)spr_to_u8(im[0][p * ch[0] + (ch[0] < 3 ? 0 : c)]) - (int)spr_to_u8(im[1][p * ch[1] + (cb == 1 ? 0 : c)]));
+        }
+        printf("compare: of which %.4f from the %zu pixels where %s is background (%.9g,%.9g,%.9g)\n", np ? (double)out_sum / (double)np : 0.0,
+               out_px, a.positional[1], bg[0], bg[1], bg[2]);
     } else {
         const int c0 = ch[0] < 3 ? 1 : 3;
         size_t covered = 0, differing = 0;

@@ -235,7 +235,10 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
         if (!(d.opacity <= 1.0)) r = spr__fail(err, SPR_E_ARG, "%s: opacity %g outside (0, 1]", path, d.opacity);
         for (size_t i = 0; !r && i < c->n; i++) c->alpha[i] = (float)d.opacity;
     }
-    if (!r && d.balls > 0) r = spr__add_balls(c, d.balls, err);
+    if (!r && d.balls > 0 && (r = spr__add_balls(c, d.balls, err))) {
+        spr_error inner = *err;
+        spr__fail(err, r, "%s: %s", path, inner.msg);
+    }
     if (r) spr_cloud_free(c);
     return r;
 }

@@ -40,7 +40,7 @@ spr_result spr__algo_transparent2(spr__run *run, int *final_target)
     if ((r = spr__run_composite(run, "nearest layer", &c))) goto done;
     if ((r = spr__transparent_geometry(run, O, T[F]))) goto done;
     c = spr__run_comp(run, SPR_COMP_AVERAGE, O, K, T[CO]);
-    if ((r = spr__run_composite(run, "other layers", &c))) goto done;
+    if ((r = spr__run_composite(run, "other layers average", &c))) goto done;
     int last[3] = {T[F], T[CO], T[OUT]};
     r = spr__run_finish(run, SPR_COMP_TRANSPARENT2, last, 2, final_target);
 done:
