@@ -67,6 +67,18 @@ static int run_in(const char *prog, const char *env, int out_too, char *const ar
 
 static int run(char *const argv[], char *err, size_t cap) { return run_in(NULL, NULL, 0, argv, err, cap); }
 
+/* `splatref ARGS… [--out OUT] --quiet` (args NULL-terminated, at most 12). */
+static int run_args(const char *const *args, const char *out, char *err, size_t cap)
+{
+    char *argv[20] = {"splatref"};
+    int n = 1;
+    for (int k = 0; args[k] && k < 12; k++) argv[n++] = (char *)args[k];
+    if (out) argv[n++] = "--out", argv[n++] = (char *)out;
+    argv[n++] = "--quiet";
+    argv[n] = NULL;
+    return run(argv, err, cap);
+}
+
 static int count_files(void)
 {
     DIR *d = opendir(dir);
@@ -313,15 +325,8 @@ START_TEST(transparency_options)
         {{"render", "--model", "builtin:sphere", "--balls", "64"}, "room for only"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        char *argv[16] = {"splatref"};
-        int n = 1;
-        for (int k = 0; cases[i].argv[k]; k++) argv[n++] = (char *)cases[i].argv[k];
-        argv[n++] = "--out";
-        argv[n++] = (char *)out;
-        argv[n++] = "--quiet";
-        argv[n] = NULL;
         char err[4096];
-        int rc = run(argv, err, sizeof err);
+        int rc = run_args(cases[i].argv, out, err, sizeof err);
         printf("cli: %s %s: exit %d: %s", cases[i].argv[1], cases[i].argv[2], rc, err);
         ck_assert_msg(rc != 0 && rc < 128, "%s: exit %d", cases[i].says, rc);
         ck_assert_msg(strstr(err, cases[i].says) && strchr(err, '\n') == err + strlen(err) - 1, "%s: %s", cases[i].says, err);
@@ -368,13 +373,8 @@ START_TEST(unused_options_are_refused)
         {{"render", "--algo", "transparent2", "--eta", "0.5"}, "--eta"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        char *argv[12] = {"splatref"};
-        int n = 1;
-        for (int k = 0; cases[i].argv[k]; k++) argv[n++] = (char *)cases[i].argv[k];
-        argv[n++] = "--quiet";
-        argv[n] = NULL;
         char err[4096];
-        int rc = run(argv, err, sizeof err);
+        int rc = run_args(cases[i].argv, NULL, err, sizeof err);
         printf("cli: %s ... %s: exit %d: %s", cases[i].argv[0], cases[i].names, rc, err);
         ck_assert_msg(rc == 2, "%s %s: exit %d", cases[i].argv[0], cases[i].names, rc);
         ck_assert_msg(strstr(err, cases[i].names) && strchr(err, '\n') == err + strlen(err) - 1, "%s: %s", cases[i].names, err);
