@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "spr_envmap.h"
 #include "spr_image.h"
 #include "test_util.h"
@@ -257,6 +258,48 @@ START_TEST(absorption_and_refraction)
 }
 END_TEST
 
+/* Six PNG faces load in GL's cube-map orientation: texel (i, j) of a face
+ * is column i of row j counted from the top of the picture.  Each 2×2 face
+ * has its top-left pixel coloured (f/8, 1, 0) and the others grey. */
+START_TEST(envmap_faces_from_png)
+{
+    char dir[] = "/tmp/spr_env_XXXXXX";
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+    static const char *const face[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+    for (int f = 0; f < 6; f++) {
+        float img[2 * 2 * 3];
+        for (int k = 0; k < 12; k++) img[k] = 0.2f;
+        float *top_left = img + (1 * 2 + 0) * 3; /* memory rows start at the bottom */
+        top_left[0] = (float)f / 8.0f, top_left[1] = 1.0f, top_left[2] = 0.0f;
+        char path[256];
+        snprintf(path, sizeof path, "%s/%s.png", dir, face[f]);
+        spr_error err;
+        ck_assert_int_eq(spr_write_png(path, img, 2, 2, 3, &err), SPR_OK);
+    }
+    spr_envmap e;
+    spr_error err = {0};
+    ck_assert_msg(spr_envmap_load(dir, &e, &err) == SPR_OK, "%s", err.msg);
+    ck_assert_int_eq(e.size, 2);
+    for (int f = 0; f < 6; f++) {
+        const float *t = e.texels + (size_t)f * 2 * 2 * 4; /* texel (0, 0) */
+        ck_assert_msg(fabsf(t[0] - spr_to_u8((float)f / 8.0f) / 255.0f) < 1e-7f && t[1] == 1.0f && t[2] == 0.0f,
+                      "face %s: texel (0,0) = (%g, %g, %g)", face[f], t[0], t[1], t[2]);
+        ck_assert_float_eq(t[4 * 3 + 1], spr_to_u8(0.2f) / 255.0f); /* texel (1, 1): grey */
+    }
+    spr_envmap_free(&e);
+    char path[256];
+    snprintf(path, sizeof path, "%s/nz.png", dir);
+    remove(path);
+    ck_assert_int_ne(spr_envmap_load(dir, &e, &err), SPR_OK); /* a face missing: an error naming it */
+    ck_assert_ptr_nonnull(strstr(err.msg, "nz.png"));
+    for (int f = 0; f < 5; f++) {
+        snprintf(path, sizeof path, "%s/%s.png", dir, face[f]);
+        remove(path);
+    }
+    rmdir(dir);
+}
+END_TEST
+
 /* [ZP] §6.3's ε on 8-bit values: two 2×1 images differing by 10 in one
  * red and 20 in one green: ε = (10 + 20)/2 = 15, max 20, mean 30/6 = 5. */
 START_TEST(zp_eps_by_hand)
@@ -287,6 +330,7 @@ Suite *make_shade_suite(void)
     tcase_add_test(tc, fresnel_normal_and_grazing);
     tcase_add_test(tc, absorption_and_refraction);
     tcase_add_test(tc, zp_eps_by_hand);
+    tcase_add_test(tc, envmap_faces_from_png);
     suite_add_tcase(s, tc);
     return s;
 }

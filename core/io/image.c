@@ -178,12 +178,12 @@ spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *chan
     for (png_uint_32 y = 0; y < H; y++) s.rows[y] = data + y * rowbytes;
     png_read_image(s.png, s.rows);
     png_read_end(s.png, NULL);
-    const float scale = bits == 16 ? 1.0f / 65535.0f : 1.0f / 255.0f;
+    const float full = bits == 16 ? 65535.0f : 255.0f; /* divided, not multiplied by a reciprocal: v/255 correctly rounded */
     for (png_uint_32 y = 0; y < H; y++) { /* row 0 of the image = the bottom row, as every plane */
         const unsigned char *src = s.rows[H - 1 - y];
         float *dst = s.img + (size_t)y * W * ch;
         for (size_t i = 0; i < (size_t)W * ch; i++)
-            dst[i] = (float)(bits == 16 ? (unsigned)(src[2 * i] << 8 | src[2 * i + 1]) : src[i]) * scale;
+            dst[i] = (float)(bits == 16 ? (unsigned)(src[2 * i] << 8 | src[2 * i + 1]) : src[i]) / full;
     }
     *img = s.img;
     *w = (int)W;
