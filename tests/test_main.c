@@ -18,12 +18,14 @@ Suite *make_determinism_suite(void);
 Suite *make_gl_suite(void);
 Suite *make_grouping_suite(void);
 Suite *make_shade_suite(void);
+Suite *make_domain_suite(void);
 
 static const struct { const char *name; Suite *(*make)(void); int gl; } suites[] = {
     {"kernel", make_kernel_suite, 0}, {"camera", make_camera_suite, 0}, {"raster", make_raster_suite, 0},
     {"algo", make_algo_suite, 0},     {"group", make_group_suite, 0},   {"io", make_io_suite, 0},
     {"cli", make_cli_suite, 0},       {"determinism", make_determinism_suite, 0}, {"grouping", make_grouping_suite, 0},
     {"shade", make_shade_suite, 0},
+    {"domain", make_domain_suite, 0},
     {"gl", make_gl_suite, 1},
 };
 

@@ -45,3 +45,24 @@ void spr_eigen3_sym(const double A[6], double eval[3], double evec[9])
         for (int r = 0; r < 3; r++) evec[3 * k + r] = v[r][order[k]];
     }
 }
+
+void spr_pca_local(const float *pos, size_t i, const uint32_t *nb, int k, double eval[3], double evec[9])
+{
+    double mean[3] = {pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]};
+    int m = 1;
+    for (int j = 0; j < k; j++) {
+        if (nb[j] == UINT32_MAX) continue;
+        for (int d = 0; d < 3; d++) mean[d] += pos[3 * (size_t)nb[j] + d];
+        m++;
+    }
+    for (int d = 0; d < 3; d++) mean[d] /= m;
+    double A[6] = {0};
+    for (int j = -1; j < k; j++) {
+        uint32_t o = j < 0 ? (uint32_t)i : nb[j];
+        if (o == UINT32_MAX) continue;
+        double q[3] = {pos[3 * (size_t)o] - mean[0], pos[3 * (size_t)o + 1] - mean[1], pos[3 * (size_t)o + 2] - mean[2]};
+        A[0] += q[0] * q[0]; A[1] += q[0] * q[1]; A[2] += q[0] * q[2];
+        A[3] += q[1] * q[1]; A[4] += q[1] * q[2]; A[5] += q[2] * q[2];
+    }
+    spr_eigen3_sym(A, eval, evec);
+}

@@ -98,25 +98,8 @@ static spr_result pca_from(spr_cloud *c, const knn_table *t, int k, int all, spr
     for (size_t i = 0; i < c->n; i++) {
         float *nv = c->nrm + 3 * i;
         if (!all && (nv[0] != 0.0f || nv[1] != 0.0f || nv[2] != 0.0f)) continue;
-        const uint32_t *nb = t->idx + i * (size_t)t->k;
-        double mean[3] = {c->pos[3 * i], c->pos[3 * i + 1], c->pos[3 * i + 2]};
-        int m = 1;
-        for (int j = 0; j < k; j++) {
-            if (nb[j] == UINT32_MAX) continue;
-            for (int d = 0; d < 3; d++) mean[d] += c->pos[3 * (size_t)nb[j] + d];
-            m++;
-        }
-        for (int d = 0; d < 3; d++) mean[d] /= m;
-        double A[6] = {0};
-        for (int j = -1; j < k; j++) {
-            uint32_t o = j < 0 ? (uint32_t)i : nb[j];
-            if (o == UINT32_MAX) continue;
-            double q[3] = {c->pos[3 * (size_t)o] - mean[0], c->pos[3 * (size_t)o + 1] - mean[1], c->pos[3 * (size_t)o + 2] - mean[2]};
-            A[0] += q[0] * q[0]; A[1] += q[0] * q[1]; A[2] += q[0] * q[2];
-            A[3] += q[1] * q[1]; A[4] += q[1] * q[2]; A[5] += q[2] * q[2];
-        }
         double ev[3], evec[9];
-        spr_eigen3_sym(A, ev, evec);
+        spr_pca_local(c->pos, i, t->idx + i * (size_t)t->k, k, ev, evec);
         /* Orientation [decision, SPEC §1]: away from the bounding-box centre. */
         double out = 0.0;
         for (int d = 0; d < 3; d++) out += evec[d] * (c->pos[3 * i + d] - 0.5 * (b.lo[d] + b.hi[d]));

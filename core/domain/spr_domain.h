@@ -1,0 +1,74 @@
+/* spr_domain.h — domain primitives, first half of SPEC §7 ([R]): local
+ * analysis (§7.1), the multi-scale soft decomposition (§7.2) and domains
+ * (§7.3).  Host-side and in double: nothing here reaches a plane directly.
+ *
+ * Sparse matrices are a small CSR type of our own (docs/domains.md says
+ * why no library): rows of (column, value) pairs, columns ascending.
+ */
+#ifndef SPR_DOMAIN_H
+#define SPR_DOMAIN_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "spr_cloud.h"
+#include "spr_result.h"
+#include "spr_util.h"
+
+typedef struct spr_csr {
+    size_t rows, cols;
+    size_t *ptr;     /* rows + 1 */
+    uint32_t *col;   /* ptr[rows] entries, ascending within a row */
+    double *val;
+} spr_csr;
+void spr_csr_free(spr_csr *m);
+/* out = a·b; entries below drop·(the row's largest) are dropped and the row
+ * is rescaled to its former sum (drop 0: exact product). */
+spr_result spr_csr_mul(const spr_csr *a, const spr_csr *b, double drop, spr_csr *out, spr_error *err);
+
+/* §7.1: per point the k nearest neighbours (FLANN, exact), the PCA normal
+ * (λ0 eigenvector, unoriented) and the surface variation σ = λ0/(λ0+λ1+λ2). */
+typedef struct spr_local {
+    size_t n;
+    int k;
+    uint32_t *nb;    /* n·k, UINT32_MAX where fewer exist */
+    float *normal;   /* n·3 */
+    double *sigma;   /* n */
+} spr_local;
+spr_result spr_local_analysis(const spr_cloud *c, int k, int threads, const spr_progress *prog, spr_local *out, spr_error *err);
+void spr_local_free(spr_local *l);
+
+/* §7.2: the decomposition's parameters. */
+typedef struct spr_decomp_desc {
+    int k;              /* neighbours of the local analysis and of the graph (default 10) */
+    double delta;       /* coupling M_jk = |n_j·n_k|^normal_power / (delta + max(σ_j, σ_k)) (default 0.01) */
+    double normal_power;/* with the cloud's normals; 0: σ alone (default 4) */
+    double strong;      /* an aggregate edge is strong when its mean fine coupling is at least
+                           strong × the fine mean (default 0.5); weaker ones wait for a later level */
+    double relative;    /* and only pairs when also ≥ relative × each end's strongest edge (default 0.8) */
+    double omega;       /* prolongation smoothing weight in [0, 1) (default 0.5) */
+    double drop;        /* basis entries below drop × the row's largest are dropped (default 1e-4) */
+    size_t min_regions; /* stop coarsening at this many regions or fewer (default 2) */
+    int threads;
+    spr_progress progress;
+} spr_decomp_desc;
+void spr_decomp_defaults(spr_decomp_desc *d);
+
+/* The levels: basis[l] is n × regions[l], level 0 the coarsest ([R]'s
+ * numbering); entries ≥ 0 and every row sums to 1 (a partition of unity). */
+typedef struct spr_decomp {
+    int levels;
+    size_t n;
+    size_t *regions;
+    spr_csr *basis;
+    double ms_analysis, ms_coarsen, ms_basis;
+} spr_decomp;
+spr_result spr_decompose(const spr_cloud *c, const spr_decomp_desc *d, spr_decomp *out, spr_error *err);
+void spr_decomp_free(spr_decomp *d);
+
+/* §7.3: strict domains, domain[p] = the j with the largest φ_j(p) (ties: the
+ * lowest j); thresholded domains, out = regions × n with the points of
+ * φ_j(p) ≥ K in row j (values φ). */
+void spr_domain_strict(const spr_csr *basis, int32_t *domain);
+spr_result spr_domain_thresholded(const spr_csr *basis, double K, spr_csr *out, spr_error *err);
+
+#endif

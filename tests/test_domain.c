@@ -1,0 +1,198 @@
+/* test_domain.c — SPEC §7.1–7.3: local analysis, the multi-scale soft
+ * decomposition (partition of unity at every level), domains, and the
+ * sparse product they rest on, against hand values. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "spr_domain.h"
+#include "test_util.h"
+
+/* [[1 2] [0 3]] · [[4 0] [5 6]] = [[14 12] [15 18]] exactly; the row
+ * [1, 0.001] times the identity with drop 0.01 keeps one entry, rescaled to
+ * the row's former sum 1.001. */
+START_TEST(csr_product_by_hand)
+{
+    size_t pa[3] = {0, 2, 3}, pb[3] = {0, 1, 3};
+    uint32_t ca[3] = {0, 1, 1}, cb[3] = {0, 0, 1};
+    double va[3] = {1, 2, 3}, vb[3] = {4, 5, 6};
+    spr_csr A = {2, 2, pa, ca, va}, Bm = {2, 2, pb, cb, vb}, C;
+    spr_error err;
+    ck_assert_int_eq(spr_csr_mul(&A, &Bm, 0.0, &C, &err), SPR_OK);
+    ck_assert_uint_eq(C.ptr[2], 4);
+    double want[4] = {14, 12, 15, 18};
+    for (int x = 0; x < 4; x++) ck_assert_double_eq(C.val[x], want[x]);
+    ck_assert_uint_eq(C.col[0], 0);
+    ck_assert_uint_eq(C.col[1], 1);
+    spr_csr_free(&C);
+    size_t pi[3] = {0, 1, 2}, pr[2] = {0, 2};
+    uint32_t ci[2] = {0, 1}, cr[2] = {0, 1};
+    double vi[2] = {1, 1}, vr[2] = {1, 0.001};
+    spr_csr R = {1, 2, pr, cr, vr}, I = {2, 2, pi, ci, vi};
+    ck_assert_int_eq(spr_csr_mul(&R, &I, 0.01, &C, &err), SPR_OK);
+    ck_assert_uint_eq(C.ptr[1], 1);
+    ck_assert_double_eq_tol(C.val[0], 1.001, 1e-15);
+    spr_csr_free(&C);
+}
+END_TEST
+
+/* A flat grid has σ = 0 and normals ±z; on a unit sphere σ is small and
+ * the normals radial. */
+START_TEST(local_analysis_flat_and_sphere)
+{
+    spr_cloud c;
+    ck_assert_int_eq(spr_cloud_alloc(&c, 400), SPR_OK);
+    for (int i = 0; i < 400; i++) c.pos[3 * i] = (float)(i % 20), c.pos[3 * i + 1] = (float)(i / 20), c.pos[3 * i + 2] = 0.0f;
+    spr_local la;
+    spr_error err;
+    ck_assert_int_eq(spr_local_analysis(&c, 10, 1, NULL, &la, &err), SPR_OK);
+    for (int i = 0; i < 400; i++) {
+        ck_assert_double_le(la.sigma[i], 1e-12);
+        ck_assert_double_ge(fabs(la.normal[3 * i + 2]), 1.0 - 1e-6);
+    }
+    spr_local_free(&la);
+    spr_cloud_free(&c);
+    c = tu_builtin("builtin:sphere", 4000);
+    ck_assert_int_eq(spr_local_analysis(&c, 10, 2, NULL, &la, &err), SPR_OK);
+    double worst = 0.0, smax = 0.0;
+    for (size_t i = 0; i < c.n; i++) {
+        const float *p = c.pos + 3 * i, *n = la.normal + 3 * i;
+        double dot = fabs(p[0] * n[0] + p[1] * n[1] + p[2] * n[2]);
+        if (1.0 - dot > worst) worst = 1.0 - dot;
+        if (la.sigma[i] > smax) smax = la.sigma[i];
+    }
+    printf("domain: sphere 4000, k = 10: largest 1 - |n·radial| %.2g, largest sigma %.3g\n", worst, smax);
+    ck_assert_double_le(worst, 1e-3);
+    ck_assert_double_le(smax, 0.01);
+    spr_local_free(&la);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+/* Every level: entries ≥ 0, every row sums to 1 within 1e-6 (SPEC §7.2),
+ * regions growing from level 0 (coarsest) on; strict domains cover every
+ * point; thresholded domains hold exactly the points with φ ≥ K.  On the
+ * octahedron (cube) some level has 8 (6) regions and none of its strict
+ * domains holds points of two faces (the faces come from the coordinates). */
+static int octa_face(const float *p) { return (p[0] < 0) + 2 * (p[1] < 0) + 4 * (p[2] < 0); }
+static int cube_face(const float *p)
+{
+    int ax = fabsf(p[0]) >= fabsf(p[1]) && fabsf(p[0]) >= fabsf(p[2]) ? 0 : fabsf(p[1]) >= fabsf(p[2]) ? 1 : 2;
+    return 2 * ax + (p[ax] < 0);
+}
+
+static void check_levels(const char *name, const spr_cloud *c, int (*face_of)(const float *), size_t faces)
+{
+    int found = 0;
+    spr_decomp_desc d;
+    spr_decomp_defaults(&d);
+    d.threads = 2;
+    spr_decomp dc;
+    spr_error err = {0};
+    ck_assert_msg(spr_decompose(c, &d, &dc, &err) == SPR_OK, "%s: %s", name, err.msg);
+    ck_assert_int_ge(dc.levels, 2);
+    char counts[2048] = "";
+    size_t o = 0;
+    int32_t *dom = malloc(c->n * sizeof *dom);
+    for (int l = 0; l < dc.levels; l++) {
+        const spr_csr *B = &dc.basis[l];
+        ck_assert_uint_eq(B->rows, c->n);
+        ck_assert_uint_eq(B->cols, dc.regions[l]);
+        if (l > 0) ck_assert_uint_gt(dc.regions[l], dc.regions[l - 1]);
+        double worst = 0.0;
+        for (size_t i = 0; i < B->rows; i++) {
+            double s = 0.0;
+            for (size_t p = B->ptr[i]; p < B->ptr[i + 1]; p++) {
+                ck_assert_msg(B->val[p] >= 0.0, "%s level %d: phi %g < 0", name, l, B->val[p]);
+                s += B->val[p];
+            }
+            if (fabs(s - 1.0) > worst) worst = fabs(s - 1.0);
+        }
+        ck_assert_msg(worst <= 1e-6, "%s level %d: partition of unity off by %g", name, l, worst);
+        spr_domain_strict(B, dom);
+        for (size_t i = 0; i < c->n; i++) ck_assert(dom[i] >= 0 && (size_t)dom[i] < dc.regions[l]);
+        spr_csr T;
+        ck_assert_int_eq(spr_domain_thresholded(B, 0.01, &T, &err), SPR_OK);
+        size_t want = 0;
+        for (size_t p = 0; p < B->ptr[B->rows]; p++) want += B->val[p] >= 0.01;
+        ck_assert_uint_eq(T.ptr[T.rows], want);
+        spr_csr_free(&T);
+        /* ridge respect on the flat-faced built-ins: strict domains holding points of two faces */
+        int impure = -1;
+        if (face_of) {
+            impure = 0;
+            int32_t *first = malloc(dc.regions[l] * sizeof *first);
+            for (size_t j = 0; j < dc.regions[l]; j++) first[j] = -1;
+            unsigned char *mixed = calloc(dc.regions[l], 1);
+            for (size_t i = 0; i < c->n; i++) {
+                int f = face_of(c->pos + 3 * i);
+                if (first[dom[i]] < 0) first[dom[i]] = f;
+                else if (first[dom[i]] != f && !mixed[dom[i]]) mixed[dom[i]] = 1, impure++;
+            }
+            free(first);
+            free(mixed);
+        }
+        o += (size_t)snprintf(counts + o, sizeof counts - o, "%s%zu", l ? " " : "", dc.regions[l]);
+        if (impure >= 0) o += (size_t)snprintf(counts + o, sizeof counts - o, "(%d mixed)", impure);
+        if (faces && dc.regions[l] == faces && impure == 0) found = 1;
+    }
+    printf("domain: %s, %zu points: %d levels, regions %s (analysis %.0f ms, coarsening and basis %.0f ms)\n", name, c->n, dc.levels,
+           counts, dc.ms_analysis, dc.ms_coarsen);
+    free(dom);
+    spr_decomp_free(&dc);
+    /* issue 11: at the level with one region per flat face, no strict domain crosses a crease */
+    if (faces) ck_assert_msg(found, "%s: no level of %zu regions whose strict domains each stay on one face", name, faces);
+}
+
+START_TEST(partition_of_unity_every_level)
+{
+    static const char *const models[] = {"builtin:octahedron", "builtin:cube", "builtin:torus", "builtin:sphere"};
+    for (int m = 0; m < 4; m++) {
+        spr_cloud c = tu_model(models[m], 8000);
+        check_levels(models[m], &c, m == 0 ? octa_face : m == 1 ? cube_face : NULL, m == 0 ? 8 : m == 1 ? 6 : 0);
+        spr_cloud_free(&c);
+    }
+    spr_cloud c = tu_model("meshes/bunny00.off", 0);
+    check_levels("bunny00.off", &c, NULL, 0);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+/* Strict and thresholded domains of a hand basis: rows (0.6, 0.4),
+ * (0.5, 0.5) (tie: the lower region), (0.005, 0.995). */
+START_TEST(domains_by_hand)
+{
+    size_t ptr[4] = {0, 2, 4, 6};
+    uint32_t col[6] = {0, 1, 0, 1, 0, 1};
+    double val[6] = {0.6, 0.4, 0.5, 0.5, 0.005, 0.995};
+    spr_csr B = {3, 2, ptr, col, val};
+    int32_t dom[3];
+    spr_domain_strict(&B, dom);
+    ck_assert_int_eq(dom[0], 0);
+    ck_assert_int_eq(dom[1], 0);
+    ck_assert_int_eq(dom[2], 1);
+    spr_csr T;
+    spr_error err;
+    ck_assert_int_eq(spr_domain_thresholded(&B, 0.01, &T, &err), SPR_OK);
+    ck_assert_uint_eq(T.rows, 2);
+    ck_assert_uint_eq(T.ptr[1], 2); /* region 0: points 0, 1 (not 2: 0.005 < 0.01) */
+    ck_assert_uint_eq(T.ptr[2], 5); /* region 1: points 0, 1, 2 */
+    ck_assert_uint_eq(T.col[0], 0);
+    ck_assert_uint_eq(T.col[1], 1);
+    ck_assert_uint_eq(T.col[4], 2);
+    spr_csr_free(&T);
+}
+END_TEST
+
+Suite *make_domain_suite(void)
+{
+    Suite *s = suite_create("domain");
+    TCase *tc = tcase_create("all");
+    tcase_set_timeout(tc, 300);
+    tcase_add_test(tc, csr_product_by_hand);
+    tcase_add_test(tc, local_analysis_flat_and_sphere);
+    tcase_add_test(tc, partition_of_unity_every_level);
+    tcase_add_test(tc, domains_by_hand);
+    suite_add_tcase(s, tc);
+    return s;
+}
