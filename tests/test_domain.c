@@ -184,6 +184,48 @@ START_TEST(domains_by_hand)
 }
 END_TEST
 
+/* A flat 20×10 grid (spacing 1, z = 0.3, normals +z, radius 0.5) is one
+ * rectangle with zero error: normal +z, u along x, extents 19 × 9 grown by
+ * 5% to 19.95 × 9.45 about the centre, or 21 × 10.5 with the radii.
+ * Tilted to the normal (0, 0.6, 0.8), the error stays at float rounding. */
+START_TEST(flat_square_one_rectangle)
+{
+    for (int tilt = 0; tilt < 2; tilt++) {
+        spr_cloud c;
+        ck_assert_int_eq(spr_cloud_alloc(&c, 200), SPR_OK);
+        uint32_t idx[200];
+        for (int i = 0; i < 200; i++) {
+            double x = i % 20, y = i / 20, z = 0.3;
+            double p[3] = {x, tilt ? y * 0.8 - z * 0.6 : y, tilt ? y * 0.6 + z * 0.8 : z};
+            for (int d = 0; d < 3; d++) c.pos[3 * i + d] = (float)p[d];
+            c.nrm[3 * i] = 0.0f, c.nrm[3 * i + 1] = tilt ? -0.6f : 0.0f, c.nrm[3 * i + 2] = tilt ? 0.8f : 1.0f;
+            c.radius[i] = 0.5f;
+            idx[i] = (uint32_t)i;
+        }
+        spr_polygon pg;
+        spr_error err;
+        for (int rad = 0; rad < 2; rad++) {
+            ck_assert_int_eq(spr_support_polygon(&c, idx, NULL, 200, 0.05, rad, &pg, &err), SPR_OK);
+            const double want_n[3] = {0, tilt ? -0.6 : 0, tilt ? 0.8 : 1};
+            for (int d = 0; d < 3; d++) ck_assert_double_eq_tol(pg.normal[d], want_n[d], 1e-6);
+            ck_assert_double_eq_tol(fabs(pg.u[0]), 1.0, 1e-9);
+            double cross_ok = fabs(pg.v[0] - (pg.normal[1] * pg.u[2] - pg.normal[2] * pg.u[1])) + fabs(pg.v[1] - (pg.normal[2] * pg.u[0] - pg.normal[0] * pg.u[2]));
+            ck_assert_double_le(cross_ok, 1e-12);
+            const double hu = rad ? 10.5 : 9.975, hv = rad ? 5.25 : 4.725;
+            ck_assert_double_eq_tol(pg.umin, -hu, 1e-5);
+            ck_assert_double_eq_tol(pg.umax, hu, 1e-5);
+            ck_assert_double_eq_tol(pg.vmin, -hv, 1e-5);
+            ck_assert_double_eq_tol(pg.vmax, hv, 1e-5);
+            ck_assert_double_le(pg.error, tilt ? 1e-6 : 1e-12);
+            ck_assert_double_le(pg.flatness, tilt ? 1e-12 : 1e-20);
+        }
+        printf("domain: flat grid%s: error %.3g (normalised %.3g), rectangle %.4f..%.4f × %.4f..%.4f\n", tilt ? " tilted" : "", pg.error,
+               pg.error_norm, pg.umin, pg.umax, pg.vmin, pg.vmax);
+        spr_cloud_free(&c);
+    }
+}
+END_TEST
+
 Suite *make_domain_suite(void)
 {
     Suite *s = suite_create("domain");
@@ -193,6 +235,7 @@ Suite *make_domain_suite(void)
     tcase_add_test(tc, local_analysis_flat_and_sphere);
     tcase_add_test(tc, partition_of_unity_every_level);
     tcase_add_test(tc, domains_by_hand);
+    tcase_add_test(tc, flat_square_one_rectangle);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -71,4 +71,18 @@ void spr_decomp_free(spr_decomp *d);
 void spr_domain_strict(const spr_csr *basis, int32_t *domain);
 spr_result spr_domain_thresholded(const spr_csr *basis, double K, spr_csr *out, spr_error *err);
 
+/* §7.4: the support rectangle of a domain (polygon.c). */
+typedef struct spr_polygon {
+    double centroid[3];          /* weighted centroid, the rectangle's origin */
+    double normal[3], u[3], v[3]; /* plane normal and rectangle axes, orthonormal, v = n × u */
+    double umin, umax, vmin, vmax; /* the rectangle in (u, v) about the centroid, enlarged */
+    double error, error_norm;    /* mean |point − projection|, and over the mean radius */
+    double flatness;             /* weighted λ0/(λ0+λ1+λ2): the domain's curvature measure (§7.6) */
+    size_t points;
+} spr_polygon;
+/* The m points idx[·] with weights phi[·] (NULL: 1); enlarge 0.05 = 5%;
+ * with_radii: grow each projection by its radius. */
+spr_result spr_support_polygon(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, double enlarge, int with_radii,
+                               spr_polygon *out, spr_error *err);
+
 #endif
