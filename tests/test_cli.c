@@ -1,5 +1,6 @@
 /* test_cli.c — the `splatref` command on bad input: one clear line on
  * stderr naming the file or option, exit status ≠ 0, no output file. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -345,6 +346,47 @@ START_TEST(transparency_options)
 }
 END_TEST
 
+/* domains --basis-out: one line per point in input order, "x y z strict
+ * j:phi …", the phis summing to 1 and the strict domain their argmax;
+ * --stats prints one row per level; --basis-out without --level is refused. */
+START_TEST(domains_command)
+{
+    setup_dir();
+    const char *out = path_in("basis.txt");
+    const char *args[] = {"domains", "--model", "builtin:octahedron", "--points", "2000", "--stats", "--level", "2", "--basis-out", out, NULL};
+    char err[4096];
+    int rc = run_args(args, NULL, err, sizeof err);
+    ck_assert_msg(rc == 0, "domains: exit %d: %s", rc, err);
+    FILE *f = fopen(out, "r");
+    ck_assert_ptr_nonnull(f);
+    char line[4096];
+    int lines = 0;
+    while (fgets(line, sizeof line, f)) {
+        double x, y, z;
+        int strict, used;
+        ck_assert_int_eq(sscanf(line, "%lf %lf %lf %d%n", &x, &y, &z, &strict, &used), 4);
+        double sum = 0.0, best = -1.0;
+        int arg = -1, j;
+        double phi;
+        char *p = line + used;
+        int k;
+        while (sscanf(p, " %d:%lf%n", &j, &phi, &k) == 2) {
+            sum += phi;
+            if (phi > best) best = phi, arg = j;
+            p += k;
+        }
+        ck_assert_msg(fabs(sum - 1.0) < 1e-6, "line %d: phis sum to %.9g", lines + 1, sum);
+        ck_assert_int_eq(arg, strict);
+        lines++;
+    }
+    fclose(f);
+    ck_assert_int_ge(lines, 1500); /* the octahedron of 2000 points: 8·m² sub-triangles */
+    const char *bad[] = {"domains", "--model", "builtin:octahedron", "--points", "500", "--basis-out", out, NULL};
+    rc = run_args(bad, NULL, err, sizeof err);
+    ck_assert_msg(rc == 2 && strstr(err, "--level") && strchr(err, '\n') == err + strlen(err) - 1, "exit %d: %s", rc, err);
+}
+END_TEST
+
 START_TEST(unused_options_are_refused)
 {
     setup_dir();
@@ -471,6 +513,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, explicit_origin_target_is_used);
     tcase_add_test(tc, unused_options_are_refused);
     tcase_add_test(tc, transparency_options);
+    tcase_add_test(tc, domains_command);
     tcase_add_test(tc, trace_lists_the_passes_in_order);
     tcase_add_test(tc, no_partial_dump_directory);
     suite_add_tcase(s, tc);

@@ -110,6 +110,7 @@ int cmd_bench(int argc, char **argv);
 int cmd_parity(int argc, char **argv);
 int cmd_group(int argc, char **argv);
 int cmd_reference(int argc, char **argv);
+int cmd_domains(int argc, char **argv);
 
 /* Where the CGAL demo data lives: $SPLATREF_DATA, else ./data/cgal/data. */
 const char *cli_data_dir(void);

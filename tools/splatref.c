@@ -13,6 +13,7 @@ static const struct { const char *name; int (*fn)(int, char **); const char *hel
     {"compare", cmd_compare, "differences of two images (.png/.pfm): covered-pixel means, [ZP]'s eps, a heat map"},
     {"parity", cmd_parity, "compare the CPU reference and the GL backend, every plane of every pass"},
     {"reference", cmd_reference, "check (or --update) the reference images of reference_images/"},
+    {"domains", cmd_domains, "multi-scale soft decomposition, domains and support rectangles of a model ([R], SPEC 7)"},
     {"bench", cmd_bench, "benchmark the CPU reference on fixed scenes, 1 vs 2 threads"},
 };
 

@@ -7,17 +7,22 @@
  *       their points have the same variation), and the count of fine edges (1)
  *   coarsening, level graph t → t+1 (fine to coarse):
  *       τ = strong × the mean fine coupling; an edge (aggregate pair) is
- *       strong when its mean fine coupling (Σ M / count) ≥ τ.  Strong edges,
- *       strongest first (ties: larger Σ M, then lower indices), pair up
- *       unmatched nodes; a node left over joins the aggregate of its strongest
- *       strong neighbour.  A level with no strong edge halves τ first, so
- *       weak edges (across ridges) are crossed only once nothing else is left.
- *       Aggregates are numbered by their lowest node.
- *   prolongation P_t (m × m'), smoothed aggregation with the strong edges:
- *       P[j, agg(j)] += 1 − ω,  P[j, agg(k)] += ω·M_jk / Σ_k M_jk
- *       — entries ≥ 0, rows summing to 1.
- *   basis of the level after t coarsenings: B_t = P_1·P_2·…·P_t (rows sum to
- *       1, so the basis functions form a partition of unity at every point);
+ *       strong when its mean fine coupling (Σ M / count) ≥ τ and at least
+ *       `relative` × the strongest edge of the node choosing.  Nodes, smallest
+ *       first, pair with their strongest unmatched strong neighbour; a node
+ *       left over stays alone for this level, so aggregates at most double
+ *       and none snowballs.  A level with no strong
+ *       edge halves τ first, so weak edges (across creases) are crossed only
+ *       once nothing else is left.  Aggregates are numbered by their lowest
+ *       node.
+ *   prolongation P̂_t (m × m'): the tentative, hard one (1 at agg(j)).
+ *   basis of the level after t coarsenings: Φ_t = S^q·P̂_1·…·P̂_t with the
+ *       smoothing S = (1 − ω)·I + ω·D⁻¹·M on the point graph (q = `smooth`
+ *       steps): the regions' hard aggregation made fuzzy in a band of a few
+ *       point spacings, weak across creases because M is; S ≥ 0 with rows
+ *       summing to 1 and P̂ one-hot, so Φ_t ≥ 0 and every row sums to 1 —
+ *       a partition of unity at every point.  (Smoothing every P_t on its
+ *       own level instead spreads a coarse region over all its neighbours.)
  *       [R]'s numbering puts the coarsest level at 0.
  */
 #include "spr_domain.h"
@@ -73,6 +78,7 @@ typedef struct lgraph {
     size_t *ptr;
     uint32_t *col;
     double *w, *e;
+    double *size;  /* fine points in each node */
 } lgraph;
 
 static void lgraph_free(lgraph *g)
@@ -81,6 +87,7 @@ static void lgraph_free(lgraph *g)
     free(g->col);
     free(g->w);
     free(g->e);
+    free(g->size);
     memset(g, 0, sizeof *g);
 }
 
@@ -120,111 +127,110 @@ static int lgraph_from(triple *t, size_t nt, size_t m, lgraph *g)
     return 0;
 }
 
-typedef struct cand { double key, w; uint32_t j, k; } cand;
-static int strongest_first(const void *x, const void *y)
+/* One coarsening: agg[j] for the m nodes, the count m' returned (m when no
+ * strong edge pairs anything).  Nodes take their turn smallest first (ties:
+ * lower index) and pair with their strongest unmatched neighbour over a
+ * strong edge — one that is also strong relative to the node's own
+ * strongest (key ≥ rel × it, as classical AMG's strength of connection), so
+ * a node on a crease waits for its own side instead of pairing across.
+ * (Asking it of both ends lets large aggregates refuse small neighbours and
+ * pair only with each other: one region then swallows the model.)
+ * Small aggregates pair first, so sizes stay balanced and none snowballs. */
+typedef struct node_ord { double size; uint32_t j; } node_ord;
+static int smallest_first(const void *x, const void *y)
 {
-    const cand *p = x, *q = y;
-    if (p->key != q->key) return p->key > q->key ? -1 : 1;
-    if (p->w != q->w) return p->w > q->w ? -1 : 1;
-    if (p->j != q->j) return p->j < q->j ? -1 : 1;
-    return (p->k > q->k) - (p->k < q->k);
+    const node_ord *p = x, *q = y;
+    if (p->size != q->size) return p->size < q->size ? -1 : 1;
+    return (p->j > q->j) - (p->j < q->j);
 }
 
-/* One coarsening: agg[j] for the m nodes, the count m' returned (m when no
- * strong edge pairs anything).  An edge pairs or joins only when it is also
- * strong relative to both ends (key ≥ rel × each end's strongest key, as
- * classical AMG's strength of connection), so a node on a ridge waits for
- * its own side instead of pairing across. */
-static size_t aggregate(const lgraph *g, double tau, double rel, uint32_t *agg, cand *cs)
+static size_t aggregate(const lgraph *g, double tau, double rel, uint32_t *agg)
 {
+    const uint32_t none = UINT32_MAX;
     double *best = calloc(g->m ? g->m : 1, sizeof *best);
-    if (!best) return 0;
-    for (size_t j = 0; j < g->m; j++)
+    uint32_t *mate = malloc((g->m ? g->m : 1) * sizeof *mate);
+    node_ord *ord = malloc((g->m ? g->m : 1) * sizeof *ord);
+    if (!best || !mate || !ord) { free(best); free(mate); free(ord); return 0; }
+    for (size_t j = 0; j < g->m; j++) {
+        mate[j] = none;
+        ord[j] = (node_ord){g->size[j], (uint32_t)j};
         for (size_t p = g->ptr[j]; p < g->ptr[j + 1]; p++)
             if (g->w[p] / g->e[p] > best[j]) best[j] = g->w[p] / g->e[p];
-    size_t nc = 0;
-    for (size_t j = 0; j < g->m; j++)
-        for (size_t p = g->ptr[j]; p < g->ptr[j + 1]; p++) {
-            const uint32_t k = g->col[p];
-            const double key = g->w[p] / g->e[p];
-            if (k > j && key >= tau && key >= rel * best[j] && key >= rel * best[k]) cs[nc++] = (cand){key, g->w[p], (uint32_t)j, k};
-        }
-    qsort(cs, nc, sizeof *cs, strongest_first);
-    const uint32_t none = UINT32_MAX;
-    for (size_t j = 0; j < g->m; j++) agg[j] = none;
-    uint32_t *mate = malloc((g->m ? g->m : 1) * sizeof *mate);
-    if (!mate) { free(best); return 0; }
-    for (size_t j = 0; j < g->m; j++) mate[j] = none;
-    for (size_t x = 0; x < nc; x++)
-        if (mate[cs[x].j] == none && mate[cs[x].k] == none) mate[cs[x].j] = cs[x].k, mate[cs[x].k] = cs[x].j;
-    /* leftovers join their strongest strong neighbour that has a mate */
-    uint32_t *join = malloc((g->m ? g->m : 1) * sizeof *join);
-    if (!join) { free(mate); free(best); return 0; }
-    for (size_t j = 0; j < g->m; j++) {
-        join[j] = none;
+    }
+    qsort(ord, g->m, sizeof *ord, smallest_first);
+    for (size_t o = 0; o < g->m; o++) {
+        const uint32_t j = ord[o].j;
         if (mate[j] != none) continue;
+        uint32_t pick = none;
         double bk = -1.0;
         for (size_t p = g->ptr[j]; p < g->ptr[j + 1]; p++) {
             const uint32_t k = g->col[p];
             const double key = g->w[p] / g->e[p];
-            if (key >= tau && key >= rel * best[j] && mate[k] != none && key > bk) bk = key, join[j] = k;
+            if (mate[k] != none || key < tau || key < rel * best[j]) continue;
+            if (key > bk) bk = key, pick = k; /* ascending columns: ties keep the lower index */
         }
+        if (pick != none) mate[j] = pick, mate[pick] = j;
     }
-    /* number aggregates by their lowest node: scan nodes in order */
+    /* pairs only: aggregates at most double per level; a node left unmatched
+     * stays on its own and pairs at a later level */
     size_t m2 = 0;
     for (size_t j = 0; j < g->m; j++) {
-        if (agg[j] != none) continue;
-        if (mate[j] != none) {
-            agg[j] = agg[mate[j]] = (uint32_t)m2++;
-        } else if (join[j] == none) {
-            agg[j] = (uint32_t)m2++;
-        }
+        if (mate[j] != none && mate[j] < j) { agg[j] = agg[mate[j]]; continue; }
+        agg[j] = (uint32_t)m2++;
     }
-    for (size_t j = 0; j < g->m; j++)
-        if (agg[j] == none) agg[j] = agg[join[j]]; /* the node joined has its number now */
-    free(mate);
-    free(join);
     free(best);
+    free(mate);
+    free(ord);
     return m2;
 }
 
-/* P (m × m2): (1 − ω) at agg(j), ω·M_jk/Σ M over j's strong edges at agg(k). */
-static int prolongation(const lgraph *g, const uint32_t *agg, size_t m2, double tau, double omega, spr_csr *P)
+/* S (n × n) = (1 − ω)·I + ω·D⁻¹·M over the point graph g (level 0). */
+static int smoothing_operator(const lgraph *g, double omega, spr_csr *S)
 {
-    memset(P, 0, sizeof *P);
-    P->rows = g->m;
-    P->cols = m2;
-    size_t cap = g->ptr[g->m] + g->m;
-    P->ptr = malloc((g->m + 1) * sizeof *P->ptr);
-    P->col = malloc((cap ? cap : 1) * sizeof *P->col);
-    P->val = malloc((cap ? cap : 1) * sizeof *P->val);
-    if (!P->ptr || !P->col || !P->val) return -1;
+    memset(S, 0, sizeof *S);
+    const size_t nnz = g->ptr[g->m] + g->m;
+    S->rows = S->cols = g->m;
+    S->ptr = malloc((g->m + 1) * sizeof *S->ptr);
+    S->col = malloc((nnz ? nnz : 1) * sizeof *S->col);
+    S->val = malloc((nnz ? nnz : 1) * sizeof *S->val);
+    if (!S->ptr || !S->col || !S->val) { spr_csr_free(S); return -1; }
     size_t o = 0;
-    P->ptr[0] = 0;
+    S->ptr[0] = 0;
     for (size_t j = 0; j < g->m; j++) {
         double D = 0.0;
-        for (size_t p = g->ptr[j]; p < g->ptr[j + 1]; p++)
-            if (g->w[p] / g->e[p] >= tau) D += g->w[p];
-        const size_t row0 = o;
-        P->col[o] = agg[j];
-        P->val[o++] = D > 0.0 ? 1.0 - omega : 1.0;
-        for (size_t p = g->ptr[j]; D > 0.0 && p < g->ptr[j + 1]; p++) {
-            if (!(g->w[p] / g->e[p] >= tau)) continue;
-            const uint32_t a = agg[g->col[p]];
-            const double v = omega * g->w[p] / D;
-            size_t x = row0;
-            while (x < o && P->col[x] != a) x++;
-            if (x < o) P->val[x] += v;
-            else P->col[o] = a, P->val[o++] = v;
+        for (size_t p = g->ptr[j]; p < g->ptr[j + 1]; p++) D += g->w[p];
+        int diag = 0;
+        for (size_t p = g->ptr[j]; p <= g->ptr[j + 1]; p++) { /* ascending columns, the diagonal in its place */
+            if (!diag && (p == g->ptr[j + 1] || g->col[p] > j)) {
+                S->col[o] = (uint32_t)j;
+                S->val[o++] = D > 0.0 ? 1.0 - omega : 1.0;
+                diag = 1;
+            }
+            if (p < g->ptr[j + 1] && D > 0.0) S->col[o] = g->col[p], S->val[o++] = omega * g->w[p] / D;
         }
-        for (size_t x = row0 + 1; x < o; x++) { /* ascending columns */
-            uint32_t c = P->col[x];
-            double v = P->val[x];
-            size_t y = x;
-            while (y > row0 && P->col[y - 1] > c) P->col[y] = P->col[y - 1], P->val[y] = P->val[y - 1], y--;
-            P->col[y] = c, P->val[y] = v;
-        }
-        P->ptr[j + 1] = o;
+        S->ptr[j + 1] = o;
+    }
+    return 0;
+}
+
+/* The basis of a level: one-hot rows (point i in region map[i]) smoothed
+ * `steps` times by S. */
+static int smooth_basis(const spr_csr *S, const uint32_t *map, size_t n, size_t regions, int steps, spr_csr *B, spr_error *err)
+{
+    memset(B, 0, sizeof *B);
+    B->rows = n;
+    B->cols = regions;
+    B->ptr = malloc((n + 1) * sizeof *B->ptr);
+    B->col = malloc((n ? n : 1) * sizeof *B->col);
+    B->val = malloc((n ? n : 1) * sizeof *B->val);
+    if (!B->ptr || !B->col || !B->val) { spr_csr_free(B); spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory"); return -1; }
+    for (size_t i = 0; i <= n; i++) B->ptr[i] = i;
+    for (size_t i = 0; i < n; i++) B->col[i] = map[i], B->val[i] = 1.0;
+    for (int s = 0; s < steps; s++) {
+        spr_csr NB;
+        if (spr_csr_mul(S, B, 0.0, &NB, err)) { spr_csr_free(B); return -1; }
+        spr_csr_free(B);
+        *B = NB;
     }
     return 0;
 }
@@ -234,11 +240,11 @@ void spr_decomp_defaults(spr_decomp_desc *d)
     memset(d, 0, sizeof *d);
     d->k = 10;
     d->delta = 0.01;
-    d->strong = 0.5;
+    d->strong = 0.05;
     d->relative = 0.8;
     d->normal_power = 4.0;
     d->omega = 0.5;
-    d->drop = 1e-4;
+    d->smooth = 3;
     d->min_regions = 2;
 }
 
@@ -273,9 +279,9 @@ spr_result spr_decompose(const spr_cloud *c, const spr_decomp_desc *din, spr_dec
     spr_decomp_desc d;
     if (din) d = *din; else spr_decomp_defaults(&d);
     memset(out, 0, sizeof *out);
-    if (!(d.delta > 0.0) || !(d.omega >= 0.0 && d.omega < 1.0) || !(d.strong > 0.0) || !(d.drop >= 0.0 && d.drop < 1.0))
-        return spr__fail(err, SPR_E_ARG, "decomposition: delta > 0, 0 <= omega < 1, strong > 0, 0 <= drop < 1 (%g %g %g %g)", d.delta,
-                         d.omega, d.strong, d.drop);
+    if (!(d.delta > 0.0) || !(d.omega >= 0.0 && d.omega < 1.0) || !(d.strong > 0.0) || !(d.relative >= 0.0 && d.relative <= 1.0))
+        return spr__fail(err, SPR_E_ARG, "decomposition: delta > 0, 0 <= omega < 1, strong > 0, 0 <= relative <= 1 (%g %g %g %g)", d.delta,
+                         d.omega, d.strong, d.relative);
     if (d.min_regions < 1) d.min_regions = 1;
     double t0 = spr_now_ms();
     spr_local la;
@@ -306,7 +312,9 @@ spr_result spr_decompose(const spr_cloud *c, const spr_decomp_desc *din, spr_dec
     spr_local_free(&la);
     if (!r) {
         /* an edge found from both ends counts once: halve the duplicates when merging */
-        if (lgraph_from(t, nt, n, &g)) r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory");
+        if (lgraph_from(t, nt, n, &g) || !(g.size = malloc((n ? n : 1) * sizeof *g.size)))
+            r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory");
+        for (size_t i = 0; !r && i < n; i++) g.size[i] = 1.0;
         for (size_t p = 0; !r && p < g.ptr[n]; p++) {
             double dup = g.e[p]; /* 2 when both found each other */
             g.w[p] /= dup;
@@ -316,28 +324,30 @@ spr_result spr_decompose(const spr_cloud *c, const spr_decomp_desc *din, spr_dec
     }
     free(t);
     double tau = g.ptr && g.ptr[n] ? d.strong * msum / (double)g.ptr[n] : 0.0;
+    /* S = (1 − ω)·I + ω·D⁻¹·M on the point graph: non-negative, rows sum to 1 */
+    spr_csr S = {0};
+    if (!r && smoothing_operator(&g, d.omega, &S)) r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory");
     spr_csr B = {0}; /* basis of the current level, n × m (owned by out once kept) */
+    uint32_t *map = r ? NULL : malloc((n ? n : 1) * sizeof *map), *agg_map = NULL; /* point → node of the current level graph */
+    if (!r && !map) r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory");
+    for (size_t i = 0; !r && i < n; i++) map[i] = (uint32_t)i;
     size_t cap = 0, B_regions = 0, last_kept = 0;
     int B_kept = 0;
     while (!r && g.m > d.min_regions) {
         uint32_t *agg = malloc((g.m ? g.m : 1) * sizeof *agg);
-        cand *cs = malloc((g.ptr[g.m] / 2 + 1) * sizeof *cs);
-        if (!agg || !cs) { free(agg); free(cs); r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory"); break; }
+        if (!agg) { r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory"); break; }
         size_t m2 = g.m;
         int any_edge = g.ptr[g.m] > 0, lowered = 0;
         while (any_edge) {
-            m2 = aggregate(&g, tau, d.relative, agg, cs);
+            m2 = aggregate(&g, tau, d.relative, agg);
             if (m2 == 0) break; /* out of memory */
             if (m2 < g.m) break;
             tau *= 0.5; /* nothing strong left at this τ: the next weaker edges */
             lowered = 1;
             if (tau < 1e-300) { any_edge = 0; break; }
         }
-        free(cs);
         if (m2 == 0) { free(agg); r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory"); break; }
         if (!any_edge || m2 >= g.m || m2 < d.min_regions) { free(agg); break; }
-        spr_csr P;
-        if (prolongation(&g, agg, m2, tau, d.omega, &P)) { spr_csr_free(&P); free(agg); r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory"); break; }
         /* the coarse graph */
         triple *ct = malloc((g.ptr[g.m] ? g.ptr[g.m] : 1) * sizeof *ct);
         size_t nct = 0;
@@ -347,22 +357,27 @@ spr_result spr_decompose(const spr_cloud *c, const spr_decomp_desc *din, spr_dec
                 for (size_t p = g.ptr[j]; p < g.ptr[j + 1]; p++)
                     if (agg[j] != agg[g.col[p]]) ct[nct++] = (triple){agg[j], agg[g.col[p]], g.w[p], g.e[p]};
         }
-        if (!ct || lgraph_from(ct, nct, m2, &g2)) {
+        if (!ct || lgraph_from(ct, nct, m2, &g2) || !(g2.size = calloc(m2 ? m2 : 1, sizeof *g2.size))) {
+            lgraph_free(&g2);
             free(ct);
             free(agg);
-            spr_csr_free(&P);
             r = spr__fail(err, SPR_E_NOMEM, "decomposition: out of memory");
             break;
         }
+        for (size_t j = 0; j < g.m; j++) g2.size[agg[j]] += g.size[j];
         free(ct);
-        free(agg);
+        agg_map = agg; /* freed once the points are mapped below */
         lgraph_free(&g);
         g = g2;
-        /* the basis of the new level */
+        /* the basis of the new level: the hard aggregation of the points,
+         * then `smooth` steps of S on the point graph (SPEC §7.2's smoothing
+         * made at the finest scale, so neighbouring regions overlap in a
+         * band of a few point spacings at every level) */
+        for (size_t i = 0; i < n; i++) map[i] = agg_map[map[i]];
+        free(agg_map);
+        agg_map = NULL;
         spr_csr NB;
-        if (!B.ptr) NB = P;
-        else if ((r = spr_csr_mul(&B, &P, d.drop, &NB, err))) { spr_csr_free(&P); break; }
-        if (B.ptr) spr_csr_free(&P);
+        if (smooth_basis(&S, map, n, m2, d.smooth, &NB, err)) { r = err->code ? err->code : SPR_E_NOMEM; break; }
         /* Levels kept: the one before a step that had to cross weaker edges
          * (everything strong was joined: faces between creases), and any
          * that has at most 0.7× the regions of the last kept one; the many
@@ -387,6 +402,9 @@ spr_result spr_decompose(const spr_cloud *c, const spr_decomp_desc *din, spr_dec
         if (!(r = keep_level(out, &cap, &B, B_regions, err))) B_kept = 1;
     }
     if (B.ptr && !B_kept) spr_csr_free(&B);
+    free(map);
+    free(agg_map);
+    spr_csr_free(&S);
     lgraph_free(&g);
     out->n = n;
     out->ms_coarsen = spr_now_ms() - t0;

@@ -43,10 +43,10 @@ typedef struct spr_decomp_desc {
     double delta;       /* coupling M_jk = |n_j·n_k|^normal_power / (delta + max(σ_j, σ_k)) (default 0.01) */
     double normal_power;/* with the cloud's normals; 0: σ alone (default 4) */
     double strong;      /* an aggregate edge is strong when its mean fine coupling is at least
-                           strong × the fine mean (default 0.5); weaker ones wait for a later level */
-    double relative;    /* and only pairs when also ≥ relative × each end's strongest edge (default 0.8) */
-    double omega;       /* prolongation smoothing weight in [0, 1) (default 0.5) */
-    double drop;        /* basis entries below drop × the row's largest are dropped (default 1e-4) */
+                           strong × the fine mean (default 0.05); weaker ones wait for a later level */
+    double relative;    /* and only pairs when also ≥ relative × the chooser's strongest edge (default 0.8) */
+    double omega;       /* smoothing weight in [0, 1) (default 0.5) */
+    int smooth;         /* smoothing steps on the point graph: the width of the fuzzy band (default 3) */
     size_t min_regions; /* stop coarsening at this many regions or fewer (default 2) */
     int threads;
     spr_progress progress;
