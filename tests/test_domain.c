@@ -226,6 +226,50 @@ START_TEST(flat_square_one_rectangle)
 }
 END_TEST
 
+/* One point at the origin (radius 1, colour (0.2, 0.4, 0.6), basis value
+ * 1) on a 4 × 4 rectangle with texel 0.25 and support w·r = 1.5: with
+ * Eq. 3.3 (normalise where f ≥ 1) every texel's alpha is the kernel at its
+ * distance d — 1 − d/1.5 (linear), 1 (constant), exp(−ρ²/(2·(1/3)²)) with
+ * ρ = d/1.5 (gauss, to the polynomial's 1e-6) — and its colour the kernel
+ * times the point's colour; with Eq. 3.4 (f > 0) alpha is 1 and the colour
+ * the point's wherever the kernel is positive; outside the support alpha is
+ * 0, and with "extend colour" the colour is still the point's. */
+START_TEST(radial_texture_of_one_point)
+{
+    spr_cloud c;
+    ck_assert_int_eq(spr_cloud_alloc(&c, 1), SPR_OK);
+    c.radius[0] = 1.0f;
+    c.color[0] = 0.2f, c.color[1] = 0.4f, c.color[2] = 0.6f;
+    spr_polygon pg = {.centroid = {0, 0, 0}, .normal = {0, 0, 1}, .u = {1, 0, 0}, .v = {0, 1, 0}, .umin = -2, .umax = 2, .vmin = -2, .vmax = 2};
+    uint32_t idx = 0;
+    double phi = 1.0;
+    for (int shape = 0; shape < 3; shape++)
+        for (int norm = 0; norm < 2; norm++) {
+            spr_texture_desc td = {0.25, 1.5, (spr_rbf)shape, (spr_rbf_norm)norm, 1};
+            spr_texture t;
+            spr_error err;
+            ck_assert_int_eq(spr_texture_radial(&c, &idx, &phi, 1, &pg, &td, &t, &err), SPR_OK);
+            ck_assert_int_eq(t.w, 16);
+            ck_assert_int_eq(t.h, 16);
+            for (int y = 0; y < 16; y++)
+                for (int x = 0; x < 16; x++) {
+                    const double tu = -2 + (x + 0.5) * 0.25, tv = -2 + (y + 0.5) * 0.25, d = sqrt(tu * tu + tv * tv), rho = d / 1.5;
+                    double k = d > 1.5 ? 0.0 : shape == SPR_RBF_CONSTANT ? 1.0 : shape == SPR_RBF_LINEAR ? 1.0 - rho : exp(-rho * rho * 4.5);
+                    const float *q = t.rgba + 4 * (y * 16 + x);
+                    const double want_a = norm == SPR_NORM_GE1 ? k : (k > 0.0 ? 1.0 : 0.0);
+                    ck_assert_msg(fabs(q[3] - want_a) < 2e-6, "shape %d norm %d texel (%d,%d): alpha %.7g, kernel %.7g", shape, norm, x, y,
+                                  q[3], want_a);
+                    const double cscale = k > 0.0 ? want_a : 1.0; /* extend colour: the point's colour where f = 0 */
+                    for (int ch = 0; ch < 3; ch++)
+                        ck_assert_msg(fabs(q[ch] - cscale * c.color[ch]) < 2e-6, "shape %d norm %d texel (%d,%d) channel %d: %.7g", shape,
+                                      norm, x, y, ch, q[ch]);
+                }
+            spr_texture_free(&t);
+        }
+    spr_cloud_free(&c);
+}
+END_TEST
+
 Suite *make_domain_suite(void)
 {
     Suite *s = suite_create("domain");
@@ -236,6 +280,7 @@ Suite *make_domain_suite(void)
     tcase_add_test(tc, partition_of_unity_every_level);
     tcase_add_test(tc, domains_by_hand);
     tcase_add_test(tc, flat_square_one_rectangle);
+    tcase_add_test(tc, radial_texture_of_one_point);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -21,6 +21,11 @@ static const cli_opt domains_opts[] = {
     {"normal-power", "P", "coupling times |n_j.n_k|^P: weak across creases (default 4; 0: sigma alone)"},
     {"omega", "W", "prolongation smoothing in [0,1): how much the basis functions overlap (default 0.5)"},
     {"enlarge", "E", "support rectangles grown by E about their centre (default 0.05)"},
+    {"rbf", "SHAPE", "radial texture basis: constant | linear (default) | gauss ([R] 3.3.2)"},
+    {"width", "W", "radial support W x the point radius (default 1)"},
+    {"texel", "T", "texel side T x the domain's mean radius (default 1)"},
+    {"normalize", "WHEN", "gt0: where f > 0 (Eq. 3.4, default) | ge1: where f >= 1 (Eq. 3.3)"},
+    {"extend-color", NULL, "texels no point reaches take the nearest point's colour ([R] 3.3.4)"},
     {"stats", NULL, "print [R] Table 5.2's columns built so far, one row per level"},
     {"basis-out", "F", "one line per point of --level, in input order: x y z strict_domain j:phi ... (phi > 0)"},
     {"dump", "F.ply", "the strict domains of --level as a colour-coded point cloud"},
@@ -49,8 +54,8 @@ static void region_color(int32_t j, float rgb[3])
 }
 
 /* Polygons of one level: one per domain with at least 3 points. */
-static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, double K, double enlarge, size_t *npoly, double *err_mean,
-                          double *errn_mean, double *pts_mean, spr_error *err)
+static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, double K, double enlarge, const spr_texture_desc *td,
+                          size_t *npoly, double *err_mean, double *errn_mean, double *pts_mean, size_t *texels, spr_error *err)
 {
     spr_csr T;
     int32_t *dom = NULL;
@@ -75,6 +80,7 @@ static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, doub
         return -1;
     }
     *npoly = 0;
+    *texels = 0;
     double e = 0.0, en = 0.0, pts = 0.0;
     for (size_t j = 0; j < T.rows; j++) {
         const size_t m = T.ptr[j + 1] - T.ptr[j];
@@ -83,6 +89,10 @@ static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, doub
         if (spr_support_polygon(c, T.col + T.ptr[j], T.val + T.ptr[j], m, enlarge, 1, &pg, err)) continue;
         (*npoly)++;
         e += pg.error, en += pg.error_norm, pts += (double)m;
+        spr_texture tex;
+        if (spr_texture_radial(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &pg, td, &tex, err)) { spr_csr_free(&T); free(dom); return -1; }
+        *texels += (size_t)tex.w * (size_t)tex.h;
+        spr_texture_free(&tex);
     }
     *err_mean = *npoly ? e / (double)*npoly : 0.0;
     *errn_mean = *npoly ? en / (double)*npoly : 0.0;
@@ -104,13 +114,20 @@ int cmd_domains(int argc, char **argv)
     spr_decomp_defaults(&dd);
     int level = -1, rc = 2;
     double K = 0.01, enlarge = 0.05;
+    spr_texture_desc td = {1.0, 1.0, SPR_RBF_LINEAR, SPR_NORM_GT0, cli_flag(&a, "extend-color")};
     const char *how = cli_get(&a, "domain"), *basis_out = cli_get(&a, "basis-out"), *dump = cli_get(&a, "dump");
+    const char *rbf = cli_get(&a, "rbf"), *norm = cli_get(&a, "normalize");
     const int stats = cli_flag(&a, "stats");
     if (cli_model_opts(&a, &s, &ld) || cli_get_int(&a, "level", &level, 0, 1000) < 0 || cli_get_double(&a, "threshold", &K, 1e-12, 1.0) < 0 ||
         cli_get_int(&a, "k", &dd.k, 3, 256) < 0 || cli_get_double(&a, "delta", &dd.delta, 1e-12, 1e12) < 0 ||
         cli_get_double(&a, "normal-power", &dd.normal_power, 0.0, 64.0) < 0 || cli_get_double(&a, "omega", &dd.omega, 0.0, 0.999) < 0 ||
-        cli_get_double(&a, "enlarge", &enlarge, 0.0, 10.0) < 0 || (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
+        cli_get_double(&a, "enlarge", &enlarge, 0.0, 10.0) < 0 || cli_get_double(&a, "width", &td.width, 1e-3, 100.0) < 0 ||
+        cli_get_double(&a, "texel", &td.texel_factor, 1e-3, 100.0) < 0 || (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
         return 2;
+    if (rbf && strcmp(rbf, "constant") && strcmp(rbf, "linear") && strcmp(rbf, "gauss")) { cli_error(&a, "--rbf: '%s' is not constant, linear or gauss", rbf); return 2; }
+    if (rbf) td.shape = !strcmp(rbf, "constant") ? SPR_RBF_CONSTANT : !strcmp(rbf, "linear") ? SPR_RBF_LINEAR : SPR_RBF_GAUSS;
+    if (norm && strcmp(norm, "gt0") && strcmp(norm, "ge1")) { cli_error(&a, "--normalize: '%s' is not gt0 or ge1", norm); return 2; }
+    if (norm) td.normalize = !strcmp(norm, "ge1") ? SPR_NORM_GE1 : SPR_NORM_GT0;
     if (how && strcmp(how, "thresholded") && strcmp(how, "strict")) { cli_error(&a, "--domain: '%s' is not thresholded or strict", how); return 2; }
     if ((basis_out || dump) && level < 0) { cli_error(&a, "--basis-out and --dump need --level"); return 2; }
     if (!stats && !basis_out && !dump) { cli_error(&a, "nothing to do: give --stats, --basis-out or --dump"); return 2; }
@@ -128,20 +145,25 @@ int cmd_domains(int argc, char **argv)
     printf("domains: %s, %zu points, %d levels (local analysis %.0f ms, coarsening and basis %.0f ms, all %.0f ms)\n", s.model, s.cloud.n,
            dc.levels, dc.ms_analysis, dc.ms_coarsen, ms_decomp);
     if (stats) {
-        printf("  %5s %8s %9s %12s %12s %12s %9s\n", "level", "regions", "polygons", "points/poly", "error", "norm. error", "ms");
+        printf("  %5s %8s %9s %12s %12s %12s %10s %12s %9s\n", "level", "regions", "polygons", "points/poly", "error", "norm. error", "texels",
+               "tex. bytes", "ms");
         for (int l = 0; l < dc.levels; l++) {
-            size_t np;
+            size_t np, texels;
             double e, en, pts;
             double t1 = spr_now_ms();
-            if (level_polygons(&s.cloud, &dc.basis[l], strict, K, enlarge, &np, &e, &en, &pts, &err)) {
+            if (level_polygons(&s.cloud, &dc.basis[l], strict, K, enlarge, &td, &np, &e, &en, &pts, &texels, &err)) {
                 fprintf(stderr, "splatref domains: level %d: %s\n", l, err.msg[0] ? err.msg : "out of memory");
                 goto done;
             }
-            printf("  %5d %8zu %9zu %12.1f %12.4g %12.4g %9.1f\n", l, dc.regions[l], np, pts, e, en, spr_now_ms() - t1);
+            printf("  %5d %8zu %9zu %12.1f %12.4g %12.4g %10zu %12zu %9.1f\n", l, dc.regions[l], np, pts, e, en, texels, 4 * texels,
+                   spr_now_ms() - t1);
         }
         printf("  (%s domains%s; error: mean distance point-projection per polygon, normalised by the mean radius;\n"
-               "   textures, texture bytes, primitives per pixel and render times come with the texture and rendering stages)\n",
-               strict ? "strict" : "thresholded", strict ? "" : " at phi >= K");
+               "   radial %s textures, width %g, texel %g x mean radius, normalised where %s, RGBA 8-bit bytes;\n"
+               "   primitives per pixel and render times come with the rendering stage; ms: polygons and textures)\n",
+               strict ? "strict" : "thresholded", strict ? "" : " at phi >= K",
+               td.shape == SPR_RBF_CONSTANT ? "constant" : td.shape == SPR_RBF_LINEAR ? "linear" : "gauss", td.width, td.texel_factor,
+               td.normalize == SPR_NORM_GE1 ? "f >= 1" : "f > 0");
     }
     if (basis_out || dump) {
         const spr_csr *B = &dc.basis[level];

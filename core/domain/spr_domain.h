@@ -85,4 +85,25 @@ typedef struct spr_polygon {
 spr_result spr_support_polygon(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, double enlarge, int with_radii,
                                spr_polygon *out, spr_error *err);
 
+/* §7.5: textures (texture.c). */
+typedef enum spr_rbf { SPR_RBF_CONSTANT = 0, SPR_RBF_LINEAR, SPR_RBF_GAUSS } spr_rbf;
+typedef enum spr_rbf_norm { SPR_NORM_GE1 = 0, SPR_NORM_GT0 } spr_rbf_norm; /* [R] Eq. 3.3, Eq. 3.4 */
+typedef struct spr_texture_desc {
+    double texel_factor;  /* texel side = factor × the domain's mean radius (default 1) */
+    double width;         /* radial support w·r_p (default 1) */
+    spr_rbf shape;
+    spr_rbf_norm normalize;
+    int extend_color;     /* texels no point reaches take the nearest point's colour */
+} spr_texture_desc;
+typedef struct spr_texture {
+    int w, h;             /* texels along u and v */
+    double texel;         /* texel side in model units */
+    float *rgba;          /* w·h·4: colour and alpha (= the basis function); row 0 at vmin */
+} spr_texture;
+/* The radial texture of a domain (points idx, basis values phi) on its
+ * support rectangle pg. */
+spr_result spr_texture_radial(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, const spr_polygon *pg,
+                              const spr_texture_desc *td, spr_texture *out, spr_error *err);
+void spr_texture_free(spr_texture *t);
+
 #endif
