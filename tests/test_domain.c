@@ -270,6 +270,77 @@ START_TEST(radial_texture_of_one_point)
 }
 END_TEST
 
+/* Merging (SPEC §7.6) on the cube: from a level with more regions than
+ * faces, merging flat domains whose normals agree (dot > 0.9) stops at the
+ * six faces (neighbouring faces' normals are at 90°), strict domains stay on
+ * one face and the merged basis is still a partition of unity; the faces
+ * share no point, so lifting the limits merges nothing more, while on the
+ * sphere, where neighbouring regions overlap, everything becomes one. */
+START_TEST(merge_flat_domains_of_the_cube)
+{
+    spr_cloud c = tu_model("builtin:cube", 6000);
+    spr_decomp dc;
+    spr_decomp_desc d;
+    spr_decomp_defaults(&d);
+    spr_error err = {0};
+    ck_assert_msg(spr_decompose(&c, &d, &dc, &err) == SPR_OK, "%s", err.msg);
+    int l = 0;
+    while (l < dc.levels && dc.regions[l] < 24) l++;
+    ck_assert_int_lt(l, dc.levels);
+    spr_csr M;
+    size_t merges;
+    ck_assert_int_eq(spr_domain_merge(&c, &dc.basis[l], 0.01, 0.05, 0.9, &M, &merges, &err), SPR_OK);
+    printf("domain: cube level %d, %zu regions -> %zu after %zu merges\n", l, dc.regions[l], M.cols, merges);
+    ck_assert_uint_eq(M.cols, 6);
+    int32_t *dom = malloc(c.n * sizeof *dom);
+    spr_domain_strict(&M, dom);
+    int face_of_region[6] = {-1, -1, -1, -1, -1, -1};
+    for (size_t i = 0; i < c.n; i++) {
+        double s = 0.0;
+        for (size_t q = M.ptr[i]; q < M.ptr[i + 1]; q++) s += M.val[q];
+        ck_assert_double_le(fabs(s - 1.0), 1e-6);
+        const int f = cube_face(c.pos + 3 * i);
+        if (face_of_region[dom[i]] < 0) face_of_region[dom[i]] = f;
+        ck_assert_int_eq(face_of_region[dom[i]], f);
+    }
+    spr_csr_free(&M);
+    /* the faces share no point (the coupling across a right angle is 0): no limits merge nothing more */
+    ck_assert_int_eq(spr_domain_merge(&c, &dc.basis[l], 0.01, 2.0, -2.0, &M, &merges, &err), SPR_OK);
+    ck_assert_uint_eq(M.cols, 6);
+    spr_csr_free(&M);
+    free(dom);
+    spr_decomp_free(&dc);
+    spr_cloud_free(&c);
+    /* the octahedron's faces do overlap across their 109° creases: the
+     * normal limit alone stops the merging at the eight faces */
+    c = tu_model("builtin:octahedron", 8000);
+    ck_assert_msg(spr_decompose(&c, &d, &dc, &err) == SPR_OK, "%s", err.msg);
+    l = 0;
+    while (l < dc.levels && dc.regions[l] < 24) l++;
+    ck_assert_int_eq(spr_domain_merge(&c, &dc.basis[l], 0.01, 0.05, 0.9, &M, &merges, &err), SPR_OK);
+    printf("domain: octahedron level %d, %zu regions -> %zu after %zu merges\n", l, dc.regions[l], M.cols, merges);
+    ck_assert_uint_eq(M.cols, 8);
+    spr_csr_free(&M);
+    ck_assert_int_eq(spr_domain_merge(&c, &dc.basis[l], 0.01, 2.0, -2.0, &M, &merges, &err), SPR_OK);
+    ck_assert_uint_eq(M.cols, 1);
+    spr_csr_free(&M);
+    spr_decomp_free(&dc);
+    spr_cloud_free(&c);
+    /* on the sphere every region overlaps its neighbours: no limits merge all */
+    c = tu_model("builtin:sphere", 4000);
+    ck_assert_msg(spr_decompose(&c, &d, &dc, &err) == SPR_OK, "%s", err.msg);
+    l = 0;
+    while (l < dc.levels && dc.regions[l] < 8) l++;
+    ck_assert_int_eq(spr_domain_merge(&c, &dc.basis[l], 0.01, 2.0, -2.0, &M, &merges, &err), SPR_OK);
+    printf("domain: sphere level %d, %zu regions -> %zu after %zu merges without limits\n", l, dc.regions[l], M.cols, merges);
+    ck_assert_uint_eq(M.cols, 1);
+    for (size_t i = 0; i < c.n; i++) ck_assert_double_le(fabs(M.val[M.ptr[i]] - 1.0), 1e-6);
+    spr_csr_free(&M);
+    spr_decomp_free(&dc);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 Suite *make_domain_suite(void)
 {
     Suite *s = suite_create("domain");
@@ -281,6 +352,7 @@ Suite *make_domain_suite(void)
     tcase_add_test(tc, domains_by_hand);
     tcase_add_test(tc, flat_square_one_rectangle);
     tcase_add_test(tc, radial_texture_of_one_point);
+    tcase_add_test(tc, merge_flat_domains_of_the_cube);
     suite_add_tcase(s, tc);
     return s;
 }

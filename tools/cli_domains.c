@@ -26,6 +26,7 @@ static const cli_opt domains_opts[] = {
     {"texel", "T", "texel side T x the domain's mean radius (default 1)"},
     {"normalize", "WHEN", "gt0: where f > 0 (Eq. 3.4, default) | ge1: where f >= 1 (Eq. 3.3)"},
     {"extend-color", NULL, "texels no point reaches take the nearest point's colour ([R] 3.3.4)"},
+    {"merge", "FLAT,DOT", "merge overlapping domains flatter than FLAT whose normals' dot exceeds DOT ([R] 3.4), e.g. 0.05,0.9"},
     {"stats", NULL, "print [R] Table 5.2's columns built so far, one row per level"},
     {"basis-out", "F", "one line per point of --level, in input order: x y z strict_domain j:phi ... (phi > 0)"},
     {"dump", "F.ply", "the strict domains of --level as a colour-coded point cloud"},
@@ -116,7 +117,13 @@ int cmd_domains(int argc, char **argv)
     double K = 0.01, enlarge = 0.05;
     spr_texture_desc td = {1.0, 1.0, SPR_RBF_LINEAR, SPR_NORM_GT0, cli_flag(&a, "extend-color")};
     const char *how = cli_get(&a, "domain"), *basis_out = cli_get(&a, "basis-out"), *dump = cli_get(&a, "dump");
-    const char *rbf = cli_get(&a, "rbf"), *norm = cli_get(&a, "normalize");
+    const char *rbf = cli_get(&a, "rbf"), *norm = cli_get(&a, "normalize"), *merge = cli_get(&a, "merge");
+    double mflat = 0.0, mdot = 0.0;
+    char mtail;
+    if (merge && (sscanf(merge, "%lf,%lf%c", &mflat, &mdot, &mtail) != 2 || !(mflat >= 0.0 && mflat <= 1.0) || !(mdot >= -1.0 && mdot <= 1.0))) {
+        cli_error(&a, "--merge: '%s' is not FLAT,DOT with FLAT in [0,1] and DOT in [-1,1]", merge);
+        return 2;
+    }
     const int stats = cli_flag(&a, "stats");
     if (cli_model_opts(&a, &s, &ld) || cli_get_int(&a, "level", &level, 0, 1000) < 0 || cli_get_double(&a, "threshold", &K, 1e-12, 1.0) < 0 ||
         cli_get_int(&a, "k", &dd.k, 3, 256) < 0 || cli_get_double(&a, "delta", &dd.delta, 1e-12, 1e12) < 0 ||
@@ -137,14 +144,30 @@ int cmd_domains(int argc, char **argv)
     spr_error err = {0};
     spr_decomp dc = {0};
     int32_t *dom = NULL;
+    size_t *merged_from = NULL;
     if (cli_load_model(&a, &s, &ld)) goto done;
     double t0 = spr_now_ms();
     if (spr_decompose(&s.cloud, &dd, &dc, &err)) { fprintf(stderr, "splatref domains: %s\n", err.msg); goto done; }
     const double ms_decomp = spr_now_ms() - t0;
     if (level >= dc.levels) { cli_error(&a, "--level %d: the decomposition has levels 0..%d", level, dc.levels - 1); goto done; }
+    merged_from = calloc((size_t)dc.levels, sizeof *merged_from);
+    if (!merged_from) { cli_error(&a, "out of memory"); goto done; }
+    for (int l = 0; merge && l < dc.levels; l++) { /* every level's basis replaced by its merged one */
+        spr_csr M;
+        size_t merges;
+        if (spr_domain_merge(&s.cloud, &dc.basis[l], K, mflat, mdot, &M, &merges, &err)) {
+            fprintf(stderr, "splatref domains: %s\n", err.msg);
+            goto done;
+        }
+        merged_from[l] = dc.regions[l];
+        spr_csr_free(&dc.basis[l]);
+        dc.basis[l] = M;
+        dc.regions[l] = M.cols;
+    }
     printf("domains: %s, %zu points, %d levels (local analysis %.0f ms, coarsening and basis %.0f ms, all %.0f ms)\n", s.model, s.cloud.n,
            dc.levels, dc.ms_analysis, dc.ms_coarsen, ms_decomp);
     if (stats) {
+        if (merge) printf("  (merged at flatness < %g and normal dot > %g: regions before merging in brackets)\n", mflat, mdot);
         printf("  %5s %8s %9s %12s %12s %12s %10s %12s %9s\n", "level", "regions", "polygons", "points/poly", "error", "norm. error", "texels",
                "tex. bytes", "ms");
         for (int l = 0; l < dc.levels; l++) {
@@ -155,7 +178,10 @@ int cmd_domains(int argc, char **argv)
                 fprintf(stderr, "splatref domains: level %d: %s\n", l, err.msg[0] ? err.msg : "out of memory");
                 goto done;
             }
-            printf("  %5d %8zu %9zu %12.1f %12.4g %12.4g %10zu %12zu %9.1f\n", l, dc.regions[l], np, pts, e, en, texels, 4 * texels,
+            char reg[48];
+            if (merge) snprintf(reg, sizeof reg, "%zu(%zu)", dc.regions[l], merged_from[l]);
+            else snprintf(reg, sizeof reg, "%zu", dc.regions[l]);
+            printf("  %5d %8s %9zu %12.1f %12.4g %12.4g %10zu %12zu %9.1f\n", l, reg, np, pts, e, en, texels, 4 * texels,
                    spr_now_ms() - t1);
         }
         printf("  (%s domains%s; error: mean distance point-projection per polygon, normalised by the mean radius;\n"
@@ -184,6 +210,7 @@ int cmd_domains(int argc, char **argv)
     rc = 0;
 done:
     free(dom);
+    free(merged_from);
     spr_decomp_free(&dc);
     cli_scene_free(&s);
     return rc;

@@ -85,6 +85,12 @@ typedef struct spr_polygon {
 spr_result spr_support_polygon(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, double enlarge, int with_radii,
                                spr_polygon *out, spr_error *err);
 
+/* §7.6: merge thresholded domains (φ ≥ K) greedily by shared points while
+ * both are flatter than `flat` and their normals' dot exceeds `dot`; out
+ * is the merged basis (columns summed: still a partition of unity). */
+spr_result spr_domain_merge(const spr_cloud *c, const spr_csr *B, double K, double flat, double dot, spr_csr *out, size_t *merges,
+                            spr_error *err);
+
 /* §7.5: textures (texture.c). */
 typedef enum spr_rbf { SPR_RBF_CONSTANT = 0, SPR_RBF_LINEAR, SPR_RBF_GAUSS } spr_rbf;
 typedef enum spr_rbf_norm { SPR_NORM_GE1 = 0, SPR_NORM_GT0 } spr_rbf_norm; /* [R] Eq. 3.3, Eq. 3.4 */
