@@ -341,6 +341,51 @@ START_TEST(merge_flat_domains_of_the_cube)
 }
 END_TEST
 
+/* The affine texture reproduces a linear colour ramp exactly (to float
+ * storage) at every texel centre inside the triangulation: a 10 × 10 grid
+ * (spacing 1, radius 0.8, so every Delaunay edge is kept) coloured
+ * r = 0.05·x + 0.02·y + 0.1, g = 0.5, b = 0.03·x, basis 1. */
+START_TEST(affine_texture_reproduces_a_ramp)
+{
+    spr_cloud c;
+    ck_assert_int_eq(spr_cloud_alloc(&c, 100), SPR_OK);
+    uint32_t idx[100];
+    for (int i = 0; i < 100; i++) {
+        const double x = i % 10, y = i / 10;
+        c.pos[3 * i] = (float)x, c.pos[3 * i + 1] = (float)y, c.pos[3 * i + 2] = 0.0f;
+        c.radius[i] = 0.8f;
+        c.color[3 * i] = (float)(0.05 * x + 0.02 * y + 0.1), c.color[3 * i + 1] = 0.5f, c.color[3 * i + 2] = (float)(0.03 * x);
+        idx[i] = (uint32_t)i;
+    }
+    spr_polygon pg;
+    spr_error err;
+    ck_assert_int_eq(spr_support_polygon(&c, idx, NULL, 100, 0.05, 1, &pg, &err), SPR_OK);
+    spr_texture_desc td = {0.3, 1.0, SPR_RBF_LINEAR, SPR_NORM_GT0, 0};
+    spr_texture t;
+    size_t ntri;
+    ck_assert_msg(spr_texture_affine(&c, idx, NULL, 100, &pg, &td, &t, &ntri, &err) == SPR_OK, "%s", err.msg);
+    ck_assert_uint_eq(ntri, 162); /* 81 cells, two triangles each */
+    int inside = 0;
+    double worst = 0.0;
+    for (int y = 0; y < t.h; y++)
+        for (int x = 0; x < t.w; x++) {
+            const double tu = pg.umin + (x + 0.5) * t.texel, tv = pg.vmin + (y + 0.5) * t.texel;
+            double X = pg.centroid[0] + tu * pg.u[0] + tv * pg.v[0], Y = pg.centroid[1] + tu * pg.u[1] + tv * pg.v[1];
+            if (!(X > 1e-9 && X < 9 - 1e-9 && Y > 1e-9 && Y < 9 - 1e-9)) continue;
+            inside++;
+            const float *q = t.rgba + 4 * ((size_t)y * t.w + x);
+            const double want[4] = {0.05 * X + 0.02 * Y + 0.1, 0.5, 0.03 * X, 1.0};
+            for (int k = 0; k < 4; k++)
+                if (fabs(q[k] - want[k]) > worst) worst = fabs(q[k] - want[k]);
+        }
+    printf("domain: affine ramp, %d×%d texels, %d inside the triangulation, largest error %.2g\n", t.w, t.h, inside, worst);
+    ck_assert_int_gt(inside, 1000);
+    ck_assert_double_le(worst, 2e-7);
+    spr_texture_free(&t);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 Suite *make_domain_suite(void)
 {
     Suite *s = suite_create("domain");
@@ -353,6 +398,7 @@ Suite *make_domain_suite(void)
     tcase_add_test(tc, flat_square_one_rectangle);
     tcase_add_test(tc, radial_texture_of_one_point);
     tcase_add_test(tc, merge_flat_domains_of_the_cube);
+    tcase_add_test(tc, affine_texture_reproduces_a_ramp);
     suite_add_tcase(s, tc);
     return s;
 }

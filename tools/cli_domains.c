@@ -21,6 +21,7 @@ static const cli_opt domains_opts[] = {
     {"normal-power", "P", "coupling times |n_j.n_k|^P: weak across creases (default 4; 0: sigma alone)"},
     {"omega", "W", "prolongation smoothing in [0,1): how much the basis functions overlap (default 0.5)"},
     {"enlarge", "E", "support rectangles grown by E about their centre (default 0.05)"},
+    {"texture", "HOW", "radial (default) | affine: qhull Delaunay, barycentric inside, radial elsewhere ([R] 3.3.3)"},
     {"rbf", "SHAPE", "radial texture basis: constant | linear (default) | gauss ([R] 3.3.2)"},
     {"width", "W", "radial support W x the point radius (default 1)"},
     {"texel", "T", "texel side T x the domain's mean radius (default 1)"},
@@ -55,7 +56,7 @@ static void region_color(int32_t j, float rgb[3])
 }
 
 /* Polygons of one level: one per domain with at least 3 points. */
-static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, double K, double enlarge, const spr_texture_desc *td,
+static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, double K, double enlarge, const spr_texture_desc *td, int affine,
                           size_t *npoly, double *err_mean, double *errn_mean, double *pts_mean, size_t *texels, spr_error *err)
 {
     spr_csr T;
@@ -91,7 +92,13 @@ static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, doub
         (*npoly)++;
         e += pg.error, en += pg.error_norm, pts += (double)m;
         spr_texture tex;
-        if (spr_texture_radial(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &pg, td, &tex, err)) { spr_csr_free(&T); free(dom); return -1; }
+        size_t ntri;
+        if (affine ? spr_texture_affine(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &pg, td, &tex, &ntri, err)
+                   : spr_texture_radial(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &pg, td, &tex, err)) {
+            spr_csr_free(&T);
+            free(dom);
+            return -1;
+        }
         *texels += (size_t)tex.w * (size_t)tex.h;
         spr_texture_free(&tex);
     }
@@ -117,7 +124,9 @@ int cmd_domains(int argc, char **argv)
     double K = 0.01, enlarge = 0.05;
     spr_texture_desc td = {1.0, 1.0, SPR_RBF_LINEAR, SPR_NORM_GT0, cli_flag(&a, "extend-color")};
     const char *how = cli_get(&a, "domain"), *basis_out = cli_get(&a, "basis-out"), *dump = cli_get(&a, "dump");
-    const char *rbf = cli_get(&a, "rbf"), *norm = cli_get(&a, "normalize"), *merge = cli_get(&a, "merge");
+    const char *rbf = cli_get(&a, "rbf"), *norm = cli_get(&a, "normalize"), *merge = cli_get(&a, "merge"), *texture = cli_get(&a, "texture");
+    if (texture && strcmp(texture, "radial") && strcmp(texture, "affine")) { cli_error(&a, "--texture: '%s' is not radial or affine", texture); return 2; }
+    const int affine = texture && !strcmp(texture, "affine");
     double mflat = 0.0, mdot = 0.0;
     char mtail;
     if (merge && (sscanf(merge, "%lf,%lf%c", &mflat, &mdot, &mtail) != 2 || !(mflat >= 0.0 && mflat <= 1.0) || !(mdot >= -1.0 && mdot <= 1.0))) {
@@ -174,7 +183,7 @@ int cmd_domains(int argc, char **argv)
             size_t np, texels;
             double e, en, pts;
             double t1 = spr_now_ms();
-            if (level_polygons(&s.cloud, &dc.basis[l], strict, K, enlarge, &td, &np, &e, &en, &pts, &texels, &err)) {
+            if (level_polygons(&s.cloud, &dc.basis[l], strict, K, enlarge, &td, affine, &np, &e, &en, &pts, &texels, &err)) {
                 fprintf(stderr, "splatref domains: level %d: %s\n", l, err.msg[0] ? err.msg : "out of memory");
                 goto done;
             }
@@ -185,9 +194,9 @@ int cmd_domains(int argc, char **argv)
                    spr_now_ms() - t1);
         }
         printf("  (%s domains%s; error: mean distance point-projection per polygon, normalised by the mean radius;\n"
-               "   radial %s textures, width %g, texel %g x mean radius, normalised where %s, RGBA 8-bit bytes;\n"
+               "   %s%s textures, width %g, texel %g x mean radius, normalised where %s, RGBA 8-bit bytes;\n"
                "   primitives per pixel and render times come with the rendering stage; ms: polygons and textures)\n",
-               strict ? "strict" : "thresholded", strict ? "" : " at phi >= K",
+               strict ? "strict" : "thresholded", strict ? "" : " at phi >= K", affine ? "affine (radial where no triangle) + radial " : "radial ",
                td.shape == SPR_RBF_CONSTANT ? "constant" : td.shape == SPR_RBF_LINEAR ? "linear" : "gauss", td.width, td.texel_factor,
                td.normalize == SPR_NORM_GE1 ? "f >= 1" : "f > 0");
     }

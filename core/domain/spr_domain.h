@@ -111,5 +111,11 @@ typedef struct spr_texture {
 spr_result spr_texture_radial(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, const spr_polygon *pg,
                               const spr_texture_desc *td, spr_texture *out, spr_error *err);
 void spr_texture_free(spr_texture *t);
+/* The linear affine texture (affine.c): qhull's Delaunay triangulation of
+ * the projections without edges longer than the sum of their endpoints'
+ * radii, barycentric colour and basis inside the triangles, the radial
+ * linear texture (Eq. 3.4, width 1) elsewhere; *triangles kept. */
+spr_result spr_texture_affine(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, const spr_polygon *pg,
+                              const spr_texture_desc *td, spr_texture *out, size_t *triangles, spr_error *err);
 
 #endif
