@@ -156,7 +156,7 @@ int cmd_domains(int argc, char **argv)
     size_t *merged_from = NULL;
     if (cli_load_model(&a, &s, &ld)) goto done;
     double t0 = spr_now_ms();
-    if (spr_decompose(&s.cloud, &dd, &dc, &err)) { fprintf(stderr, "splatref domains: %s\n", err.msg); goto done; }
+    if (spr_decompose(&s.cloud, &dd, &dc, &err)) { fprintf(stderr, "splatref domains: %s: %s\n", s.model, err.msg); goto done; }
     const double ms_decomp = spr_now_ms() - t0;
     if (level >= dc.levels) { cli_error(&a, "--level %d: the decomposition has levels 0..%d", level, dc.levels - 1); goto done; }
     merged_from = calloc((size_t)dc.levels, sizeof *merged_from);
