@@ -112,10 +112,15 @@ static void check_levels(const char *name, const spr_cloud *c, int (*face_of)(co
         spr_domain_strict(B, dom);
         for (size_t i = 0; i < c->n; i++) ck_assert(dom[i] >= 0 && (size_t)dom[i] < dc.regions[l]);
         spr_csr T;
-        ck_assert_int_eq(spr_domain_thresholded(B, 0.01, &T, &err), SPR_OK);
+        ck_assert_int_eq(spr_domain_members(B, 0, 0.01, &T, &err), SPR_OK);
         size_t want = 0;
         for (size_t p = 0; p < B->ptr[B->rows]; p++) want += B->val[p] >= 0.01;
         ck_assert_uint_eq(T.ptr[T.rows], want);
+        spr_csr_free(&T);
+        ck_assert_int_eq(spr_domain_members(B, 1, 0.01, &T, &err), SPR_OK); /* strict: each point once, in its argmax row */
+        ck_assert_uint_eq(T.ptr[T.rows], c->n);
+        for (size_t j = 0; j < T.rows; j++)
+            for (size_t q = T.ptr[j]; q < T.ptr[j + 1]; q++) ck_assert_int_eq(dom[T.col[q]], (int32_t)j);
         spr_csr_free(&T);
         /* ridge respect on the flat-faced built-ins: strict domains holding points of two faces */
         int impure = -1;
@@ -173,7 +178,7 @@ START_TEST(domains_by_hand)
     ck_assert_int_eq(dom[2], 1);
     spr_csr T;
     spr_error err;
-    ck_assert_int_eq(spr_domain_thresholded(&B, 0.01, &T, &err), SPR_OK);
+    ck_assert_int_eq(spr_domain_members(&B, 0, 0.01, &T, &err), SPR_OK);
     ck_assert_uint_eq(T.rows, 2);
     ck_assert_uint_eq(T.ptr[1], 2); /* region 0: points 0, 1 (not 2: 0.005 < 0.01) */
     ck_assert_uint_eq(T.ptr[2], 5); /* region 1: points 0, 1, 2 */

@@ -60,27 +60,7 @@ static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, doub
                           size_t *npoly, double *err_mean, double *errn_mean, double *pts_mean, size_t *texels, spr_error *err)
 {
     spr_csr T;
-    int32_t *dom = NULL;
-    if (strict) {
-        /* strict domains as a regions × points matrix of ones */
-        dom = malloc(c->n * sizeof *dom);
-        if (!dom) return -1;
-        spr_domain_strict(B, dom);
-        size_t *ptr = calloc(B->cols + 1, sizeof *ptr);
-        uint32_t *col = malloc((c->n ? c->n : 1) * sizeof *col);
-        double *val = malloc((c->n ? c->n : 1) * sizeof *val);
-        if (!ptr || !col || !val) { free(ptr); free(col); free(val); free(dom); return -1; }
-        for (size_t i = 0; i < c->n; i++) ptr[dom[i] + 1]++;
-        for (size_t j = 0; j < B->cols; j++) ptr[j + 1] += ptr[j];
-        size_t *fill = malloc((B->cols ? B->cols : 1) * sizeof *fill);
-        if (!fill) { free(ptr); free(col); free(val); free(dom); return -1; }
-        memcpy(fill, ptr, B->cols * sizeof *fill);
-        for (size_t i = 0; i < c->n; i++) col[fill[dom[i]]] = (uint32_t)i, val[fill[dom[i]]++] = 1.0;
-        free(fill);
-        T = (spr_csr){B->cols, c->n, ptr, col, val};
-    } else if (spr_domain_thresholded(B, K, &T, err)) {
-        return -1;
-    }
+    if (spr_domain_members(B, strict, K, &T, err)) return -1;
     *npoly = 0;
     *texels = 0;
     double e = 0.0, en = 0.0, pts = 0.0;
@@ -96,7 +76,6 @@ static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, doub
         if (affine ? spr_texture_affine(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &pg, td, &tex, &ntri, err)
                    : spr_texture_radial(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &pg, td, &tex, err)) {
             spr_csr_free(&T);
-            free(dom);
             return -1;
         }
         *texels += (size_t)tex.w * (size_t)tex.h;
@@ -106,7 +85,6 @@ static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, doub
     *errn_mean = *npoly ? en / (double)*npoly : 0.0;
     *pts_mean = *npoly ? pts / (double)*npoly : 0.0;
     spr_csr_free(&T);
-    free(dom);
     return 0;
 }
 

@@ -100,7 +100,17 @@ void spr_domain_strict(const spr_csr *basis, int32_t *domain)
     }
 }
 
-spr_result spr_domain_thresholded(const spr_csr *basis, double K, spr_csr *out, spr_error *err)
+/* Entry q of row i belongs to its domain: φ ≥ K, or (strict) it is the
+ * row's largest (the first of equal ones: the lowest region). */
+static int member(const spr_csr *b, size_t i, size_t q, int strict, double K)
+{
+    if (!strict) return b->val[q] >= K;
+    for (size_t p = b->ptr[i]; p < b->ptr[i + 1]; p++)
+        if (b->val[p] > b->val[q] || (b->val[p] == b->val[q] && p < q)) return 0;
+    return 1;
+}
+
+spr_result spr_domain_members(const spr_csr *basis, int strict, double K, spr_csr *out, spr_error *err)
 {
     memset(out, 0, sizeof *out);
     out->rows = basis->cols;
@@ -110,7 +120,7 @@ spr_result spr_domain_thresholded(const spr_csr *basis, double K, spr_csr *out, 
     if (!out->ptr) return spr__fail(err, SPR_E_NOMEM, "domains: out of memory");
     for (size_t i = 0; i < basis->rows; i++)
         for (size_t p = basis->ptr[i]; p < basis->ptr[i + 1]; p++)
-            if (basis->val[p] >= K) out->ptr[basis->col[p] + 1]++, nnz++;
+            if (member(basis, i, p, strict, K)) out->ptr[basis->col[p] + 1]++, nnz++;
     for (size_t j = 0; j < out->rows; j++) out->ptr[j + 1] += out->ptr[j];
     out->col = malloc((nnz ? nnz : 1) * sizeof *out->col);
     out->val = malloc((nnz ? nnz : 1) * sizeof *out->val);
@@ -123,7 +133,7 @@ spr_result spr_domain_thresholded(const spr_csr *basis, double K, spr_csr *out, 
     memcpy(fill, out->ptr, out->rows * sizeof *fill);
     for (size_t i = 0; i < basis->rows; i++) /* points in ascending order within each domain */
         for (size_t p = basis->ptr[i]; p < basis->ptr[i + 1]; p++)
-            if (basis->val[p] >= K) {
+            if (member(basis, i, p, strict, K)) {
                 size_t q = fill[basis->col[p]]++;
                 out->col[q] = (uint32_t)i;
                 out->val[q] = basis->val[p];

@@ -66,10 +66,10 @@ spr_result spr_decompose(const spr_cloud *c, const spr_decomp_desc *d, spr_decom
 void spr_decomp_free(spr_decomp *d);
 
 /* §7.3: strict domains, domain[p] = the j with the largest φ_j(p) (ties: the
- * lowest j); thresholded domains, out = regions × n with the points of
- * φ_j(p) ≥ K in row j (values φ). */
+ * lowest j); the domains as out = regions × n with the points of region j
+ * in row j (values φ_j): φ_j(p) ≥ K (thresholded) or j = domain[p] (strict). */
 void spr_domain_strict(const spr_csr *basis, int32_t *domain);
-spr_result spr_domain_thresholded(const spr_csr *basis, double K, spr_csr *out, spr_error *err);
+spr_result spr_domain_members(const spr_csr *basis, int strict, double K, spr_csr *out, spr_error *err);
 
 /* §7.4: the support rectangle of a domain (polygon.c). */
 typedef struct spr_polygon {
