@@ -307,7 +307,7 @@ START_TEST(zp_eps_by_hand)
     float a[6] = {0, 0, 0, 1, 1, 1}, b[6] = {10.0f / 255.0f, 0, 0, 1, 1.0f - 20.0f / 255.0f, 1};
     spr_image_diff_stats st;
     float heat[6];
-    ck_assert_int_eq(spr_image_diff(a, 3, b, 3, 2, 1, &st, heat), SPR_OK);
+    ck_assert_int_eq(spr_image_diff(a, 3, b, 3, 2, 1, NULL, &st, heat), SPR_OK);
     ck_assert_double_eq(st.zp_eps, 15.0);
     ck_assert_int_eq(st.max_abs, 20);
     ck_assert_double_eq(st.mean_abs, 5.0);
@@ -316,6 +316,13 @@ START_TEST(zp_eps_by_hand)
     ck_assert_float_eq(heat[5], 1.0f);
     ck_assert_float_eq(heat[2], 0.0f); /* half of it: red, no blue */
     ck_assert_uint_eq(st.pixels, 2);
+    /* pixel 0 of b is not black (10/255 red), pixel 1 not either: nothing on the background */
+    ck_assert_uint_eq(st.bg_pixels, 0);
+    ck_assert_double_eq(st.zp_eps_bg, 0.0);
+    const float white[3] = {1, 1, 1};
+    ck_assert_int_eq(spr_image_diff(b, 3, a, 3, 2, 1, white, &st, NULL), SPR_OK); /* a's pixel 1 is white: its 20 counts */
+    ck_assert_uint_eq(st.bg_pixels, 1);
+    ck_assert_double_eq(st.zp_eps_bg, 10.0);
 }
 END_TEST
 

@@ -128,24 +128,13 @@ int cmd_compare(int argc, char **argv)
     float *heat = heatmap ? malloc(np * 3 * sizeof *heat) : NULL;
     if (heatmap && !heat) { cli_error(&a, "out of memory for the heat map"); rc = 2; goto done; }
     spr_image_diff_stats st;
-    spr_image_diff(im[0], ch[0], im[1], ch[1], w[0], h[0], &st, heat);
+    const float bgf[3] = {(float)bg[0], (float)bg[1], (float)bg[2]};
+    spr_image_diff(im[0], ch[0], im[1], ch[1], w[0], h[0], bgf, &st, heat);
     if (zp) {
         printf("compare: zp-eps %.4f (sum of |dR|+|dG|+|dB| in 8 bits over %zu pixels / %zu), max abs %d/255, mean abs %.4f/255, "
                "%zu pixels differ\n", st.zp_eps, st.pixels, st.pixels, st.max_abs, st.mean_abs, st.differing);
-        /* the share of eps from pixels B leaves at the background: A drawn where B has nothing */
-        uint64_t out_sum = 0;
-        size_t out_px = 0;
-        const int cb = ch[1] < 3 ? 1 : 3;
-        for (size_t p = 0; p < np; p++) {
-            int is_bg = 1;
-            for (int c = 0; c < 3; c++) is_bg &= spr_to_u8(im[1][p * ch[1] + (cb == 1 ? 0 : c)]) == spr_to_u8((float)bg[c]);
-            if (!is_bg) continue;
-            out_px++;
-            for (int c = 0; c < 3; c++)
-                out_sum += (uint64_t)abs((int)spr_to_u8(im[0][p * ch[0] + (ch[0] < 3 ? 0 : c)]) - (int)spr_to_u8(im[1][p * ch[1] + (cb == 1 ? 0 : c)]));
-        }
-        printf("compare: of which %.4f from the %zu pixels where %s is background (%.9g,%.9g,%.9g)\n", np ? (double)out_sum / (double)np : 0.0,
-               out_px, a.positional[1], bg[0], bg[1], bg[2]);
+        printf("compare: of which %.4f from the %zu pixels where %s is background (%.9g,%.9g,%.9g)\n", st.zp_eps_bg, st.bg_pixels,
+               a.positional[1], bg[0], bg[1], bg[2]);
     } else {
         const int c0 = ch[0] < 3 ? 1 : 3;
         size_t covered = 0, differing = 0;

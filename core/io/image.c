@@ -209,25 +209,30 @@ static int u8_at(const float *im, int ch, size_t p, int c)
     return spr_to_u8(im[p * (size_t)ch + (size_t)(ch < 3 ? 0 : c)]);
 }
 
-spr_result spr_image_diff(const float *a, int ch_a, const float *b, int ch_b, int w, int h, spr_image_diff_stats *st,
-                          float *heat)
+spr_result spr_image_diff(const float *a, int ch_a, const float *b, int ch_b, int w, int h, const float *bg,
+                          spr_image_diff_stats *st, float *heat)
 {
     memset(st, 0, sizeof *st);
     const size_t np = (size_t)w * h;
-    uint64_t total = 0;
+    uint64_t total = 0, total_bg = 0;
+    int bg8[3];
+    for (int c = 0; c < 3; c++) bg8[c] = bg ? spr_to_u8(bg[c]) : 0;
     for (size_t p = 0; p < np; p++) {
-        int sum = 0;
+        int sum = 0, on_bg = 1;
         for (int c = 0; c < 3; c++) {
-            int d = abs(u8_at(a, ch_a, p, c) - u8_at(b, ch_b, p, c));
+            const int vb = u8_at(b, ch_b, p, c), d = abs(u8_at(a, ch_a, p, c) - vb);
             sum += d;
+            on_bg &= vb == bg8[c];
             if (d > st->max_abs) st->max_abs = d;
         }
         total += (uint64_t)sum;
+        if (on_bg) st->bg_pixels++, total_bg += (uint64_t)sum;
         st->differing += sum != 0;
         if (heat) heat[p] = (float)sum;
     }
     st->pixels = np;
     st->zp_eps = np ? (double)total / (double)np : 0.0;
+    st->zp_eps_bg = np ? (double)total_bg / (double)np : 0.0;
     st->mean_abs = np ? (double)total / (3.0 * (double)np) : 0.0;
     if (heat) { /* sum of |Δ| mapped through black → red → yellow → white over 0 … max (≥ 1) */
         double hi = 1.0;

@@ -37,11 +37,14 @@ typedef struct spr_image_diff_stats {
     int max_abs;        /* largest |Δ| of one channel, 0 … 255 */
     double mean_abs;    /* mean |Δ| per channel */
     double zp_eps;      /* [ZP]'s ε */
+    size_t bg_pixels;   /* pixels where b is the background colour (8-bit) */
+    double zp_eps_bg;   /* the part of ε from those pixels: a drawn where b has nothing */
 } spr_image_diff_stats;
-/* heat: NULL, or 3·W·H floats that receive an RGB heat map of the
+/* bg: the background colour for bg_pixels and zp_eps_bg (NULL: black);
+ * heat: NULL, or 3·W·H floats that receive an RGB heat map of the
  * per-pixel Σ|Δ| (black = equal, white = the largest). */
-spr_result spr_image_diff(const float *a, int ch_a, const float *b, int ch_b, int w, int h, spr_image_diff_stats *st,
-                          float *heat);
+spr_result spr_image_diff(const float *a, int ch_a, const float *b, int ch_b, int w, int h, const float *bg,
+                          spr_image_diff_stats *st, float *heat);
 
 uint64_t spr_hash64(const void *data, size_t n);
 
