@@ -10,6 +10,7 @@
 static void free_target(sw_target *t)
 {
     for (int p = 0; p < SPR_PLANE__COUNT; p++) free(t->plane[p]);
+    sw__lists_free(&t->lists);
     memset(t, 0, sizeof *t);
 }
 
@@ -67,6 +68,7 @@ static spr_result sw_clear(spr_backend *b, int t, const float color[4])
     sw_target *tg = &c->targets[t];
     const unsigned planes = b->target_planes[t];
     const long np = (long)b->view.width * b->view.height;
+    sw__lists_free(&tg->lists); /* a clear empties the fragment lists too */
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         if (!(planes & SPR_PLANE_BIT(p))) continue;
         const spr_plane_info *pi = spr_plane_info_of((spr_plane)p);
@@ -132,6 +134,7 @@ spr_backend *spr_swrast_create(int threads, spr_error *err)
     b->clear = sw_clear;
     b->draw_splats = sw__draw_splats;
     b->composite = sw__composite;
+    b->draw_rects = sw__draw_rects;
     b->read_plane = sw_read_plane;
     b->destroy = sw_destroy;
     return b;

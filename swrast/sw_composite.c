@@ -14,6 +14,9 @@ typedef struct sw_comp_io {
     const float *const *color, *const *depth, *const *opac, *const *normal;
     float *ocolor, *odepth, *otest, *onormal;
     int W;
+    const spr_frag_lists *lists;
+    const uint32_t *nbr;
+    size_t nbr_words;
 } sw_comp_io;
 #define SW__COMP_LOOP(e, fn, max_in, reads, writes, summary)                                                       \
     static void comp_##fn(const sw_comp_io *io, long np, int threads)                                               \
@@ -23,8 +26,10 @@ typedef struct sw_comp_io {
             unsigned fp = sw_fp_enter();                                                                          \
             _Pragma("omp for schedule(static)")                                                                   \
             for (long i = 0; i < np; i++) {                                                                       \
-                spr_pixel_in px = {io->color, io->depth, io->opac, io->normal, io->cd->env, (size_t)i,            \
-                                   (int)(i % io->W), (int)(i / io->W)};                                           \
+                spr_pixel_in px = {.color = io->color, .depth = io->depth, .opacity = io->opac,                    \
+                                   .normal = io->normal, .env = io->cd->env, .lists = io->lists,                  \
+                                   .nbr = io->nbr, .nbr_words = io->nbr_words, .i = (size_t)i,                    \
+                                   .x = (int)(i % io->W), .y = (int)(i / io->W)};                                 \
                 float d, on[4];                                                                                   \
                 spr_comp_##fn(&px, io->cd->n_inputs, io->cd->eps_t, io->cd->background, io->prm,                   \
                               io->ocolor + 4 * i, on, &d);                                                        \
@@ -56,14 +61,20 @@ spr_result sw__composite(spr_backend *b, const spr_composite_desc *cd)
     const float *normal[SPR_MAX_COMPOSITE_INPUTS];
     for (int k = 0; k < K; k++) {
         sw_target *in = &c->targets[cd->inputs[k]];
-        color[k] = SW_F(in, COLOR);
+        color[k] = SW_F(in, COLOR);   /* NULL where absent: the prefix op reads lists */
         depth[k] = SW_F(in, DEPTH);
         opac[k] = SW_F(in, OPACITY);   /* NULL where absent: read only by ops whose row says so */
         normal[k] = SW_F(in, NORMAL);  /* NULL where absent: read only when the parameters ask */
     }
     static const float no_params[SPR_PRM_COUNT];
     sw_comp_io io = {cd, cd->params ? cd->params : no_params, color, depth, opac, normal,
-                     SW_F(out, COLOR), SW_F(out, DEPTH), SW_F(out, TEST), SW_F(out, NORMAL), b->view.width};
+                     SW_F(out, COLOR), SW_F(out, DEPTH), SW_F(out, TEST), SW_F(out, NORMAL), b->view.width, NULL, NULL, 0};
+    if (cd->op == SPR_COMP_PREFIX) { /* input 0's lists and the rectangles' neighbours (checked by core) */
+        io.lists = &c->targets[cd->inputs[0]].lists;
+        if (!io.lists->first) return spr__fail(&b->err, SPR_E_ARG, "cpu: prefix: target %d has no fragment lists", cd->inputs[0]);
+        io.nbr = cd->rects->nbr;
+        io.nbr_words = spr_rects_words(cd->rects->n);
+    }
     comp_loops[cd->op](&io, np, c->threads);
     return SPR_OK;
 }

@@ -4,6 +4,7 @@
 
 #include <stdint.h>
 #include "spr_backend.h"
+#include "spr_arith_c.h"
 #if defined(__SSE__)
 #include <xmmintrin.h>
 #endif
@@ -15,6 +16,7 @@
 typedef struct sw_target {
     void *plane[SPR_PLANE__COUNT];
     size_t pixels;    /* size the buffers were allocated for */
+    spr_frag_lists lists; /* fragment lists of the last list draw (first == NULL: none) */
 } sw_target;
 #define SW_F(t, p) ((float *)(t)->plane[SPR_PLANE_##p])
 #define SW_U(t, p) ((uint32_t *)(t)->plane[SPR_PLANE_##p])
@@ -51,5 +53,7 @@ static inline void sw_fp_leave(unsigned old)
 
 spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st);
 spr_result sw__composite(spr_backend *b, const spr_composite_desc *c);
+spr_result sw__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
+void sw__lists_free(spr_frag_lists *l);
 
 #endif

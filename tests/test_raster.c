@@ -230,7 +230,7 @@ START_TEST(average_composite)
     d.state.write_mask = SPR_WRITE_DEPTH; /* colour stays as cleared */
     ck_assert_int_eq(spr_backend_draw(f.b, t1, &d, NULL), SPR_OK);
     int in[2] = {f.t, t1};
-    spr_composite_desc cd = {SPR_COMP_AVERAGE, in, 2, out, 0.0f, {0, 0, 0}, NULL, NULL};
+    spr_composite_desc cd = {SPR_COMP_AVERAGE, in, 2, out, 0.0f, {0, 0, 0}, NULL, NULL, NULL};
     ck_assert_int_eq(spr_backend_composite(f.b, &cd), SPR_OK);
     ck_assert_int_eq(spr_backend_read_plane(f.b, out, SPR_PLANE_COLOR, f.color), SPR_OK);
     ck_assert_int_eq(spr_backend_read_plane(f.b, out, SPR_PLANE_DEPTH, f.depth), SPR_OK);
@@ -371,7 +371,7 @@ START_TEST(backend_rejects_bad_calls)
     d.state.depth_value = SPR_DEPTH_VORONOI;
     d.state.lowres.d_max = d.state.lowres.d_min;
     ck_assert_int_eq(spr_backend_draw(f.b, f.t, &d, NULL), SPR_E_ARG);
-    spr_composite_desc cd = {SPR_COMP_NORMALIZE, &f.t, 1, f.t, 0.0f, {0, 0, 0}, NULL, NULL};
+    spr_composite_desc cd = {SPR_COMP_NORMALIZE, &f.t, 1, f.t, 0.0f, {0, 0, 0}, NULL, NULL, NULL};
     ck_assert_int_eq(spr_backend_composite(f.b, &cd), SPR_E_ARG);
     spr_cloud_free(&c);
     spr_backend_destroy(f.b);

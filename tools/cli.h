@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include "spr_algo.h"
 #include "spr_io.h"
+#include "spr_domain.h"
 #include <cjson/cJSON.h>
 
 typedef struct cli_opt {
@@ -18,7 +19,7 @@ typedef struct cli_opt {
     const char *help;
 } cli_opt;
 
-#define CLI_MAX_OPTS 64
+#define CLI_MAX_OPTS 128
 typedef struct cli_args {
     const char *cmd;
     const cli_opt *opts;
@@ -52,6 +53,24 @@ void cli_error(cli_args *a, const char *fmt, ...)
 spr_progress cli_progress(int quiet);
 
 /* A loaded scene: model, camera, view and grouping. */
+/* The domain pipeline's options (cli_domopts.c). */
+typedef struct cli_domain_opts_t {
+    spr_decomp_desc dd;
+    spr_prims_desc pd;
+    int level;            /* −1: the default */
+    int merge;
+    double mflat, mdot;
+    int level_used, levels;
+    size_t regions;
+    double ms_decomp;
+} cli_domain_opts_t;
+int cli_domain_opts(cli_args *a, cli_domain_opts_t *o);
+/* Replace level l's basis by its merged one when --merge was given. */
+int cli_domain_merge(cli_args *a, const spr_cloud *c, const cli_domain_opts_t *o, spr_decomp *dc, int l, size_t *before);
+/* Decompose c and build the primitives of o->level (default 2). 0 or −1 after one line. */
+int cli_domain_prims(cli_args *a, const char *model, const spr_cloud *c, cli_domain_opts_t *o, int threads, const spr_progress *prog,
+                     spr_rects *out, spr_prims_stats *st);
+
 typedef struct cli_scene {
     spr_cloud cloud;
     spr_camera_desc cam;
@@ -62,6 +81,9 @@ typedef struct cli_scene {
     int threads;
     int all_algos;          /* parity/reference: --algo all (the default there) */
     spr_envmap env;         /* --env's cube map (texels NULL: none) */
+    spr_rects rects;        /* the domain primitives of domain-* algorithms (n 0: none) */
+    spr_prims_stats prims;
+    cli_domain_opts_t dom;
     double load_ms;
 } cli_scene;
 /* The model options of CLI_MODEL_OPTS (model, points for built-ins only,

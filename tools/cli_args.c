@@ -42,6 +42,12 @@ int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usa
     memset(a, 0, sizeof *a);
     a->cmd = cmd;
     a->opts = opts;
+    int n_opts = 0;
+    while (opts[n_opts].name) n_opts++;
+    if (n_opts > CLI_MAX_OPTS) { /* a programming error: the table outgrew the arrays */
+        cli_error(a, "%d options, more than CLI_MAX_OPTS (%d)", n_opts, CLI_MAX_OPTS);
+        return 2;
+    }
     for (int i = 0; i < argc; i++) {
         const char *s = argv[i];
         if (!strcmp(s, "--help") || !strcmp(s, "-h")) {

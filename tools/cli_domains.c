@@ -5,6 +5,8 @@
 #include "cli.h"
 #include "cli_scene_opts.h"
 #include "spr_domain.h"
+#include "spr_swrast.h"
+#include "spr_image.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -13,24 +15,10 @@
 
 static const cli_opt domains_opts[] = {
     CLI_MODEL_OPTS,
-    {"level", "L", "the level (0 = coarsest) for --basis-out and --dump; --stats prints every level"},
-    {"domain", "HOW", "thresholded (phi >= --threshold, default) | strict (largest phi)"},
-    {"threshold", "K", "thresholded domains: phi >= K (default 0.01)"},
-    {"k", "K", "neighbours of the local analysis and of the coupling graph (default 10)"},
-    {"delta", "D", "coupling 1/(D + max sigma) (default 0.01)"},
-    {"normal-power", "P", "coupling times |n_j.n_k|^P: weak across creases (default 4; 0: sigma alone)"},
-    {"omega", "W", "prolongation smoothing in [0,1): how much the basis functions overlap (default 0.5)"},
-    {"enlarge", "E", "support rectangles grown by E about their centre (default 0.05)"},
-    {"texture", "HOW", "radial (default) | affine: qhull Delaunay, barycentric inside, radial elsewhere ([R] 3.3.3)"},
-    {"rbf", "SHAPE", "radial texture basis: constant | linear (default) | gauss ([R] 3.3.2)"},
-    {"width", "W", "radial support W x the point radius (default 1)"},
-    {"texel", "T", "texel side T x the domain's mean radius (default 1)"},
-    {"normalize", "WHEN", "gt0: where f > 0 (Eq. 3.4, default) | ge1: where f >= 1 (Eq. 3.3)"},
-    {"extend-color", NULL, "texels no point reaches take the nearest point's colour ([R] 3.3.4)"},
-    {"merge", "FLAT,DOT", "merge overlapping domains flatter than FLAT whose normals' dot exceeds DOT ([R] 3.4), e.g. 0.05,0.9"},
-    {"stats", NULL, "print [R] Table 5.2's columns built so far, one row per level"},
+    CLI_DOMAIN_OPTS,
+    {"stats", NULL, "print [R] Table 5.2's columns, one row per level (--level: that level only)"},
     {"basis-out", "F", "one line per point of --level, in input order: x y z strict_domain j:phi ... (phi > 0)"},
-    {"dump", "F.ply", "the strict domains of --level as a colour-coded point cloud"},
+    {"dump", "F.ply", "the strict domains of --level as a colour-coded point cloud, and F.ply's textures as F-atlas.png"},
     {NULL, NULL, NULL}};
 
 typedef struct basis_file { const spr_cloud *c; const spr_csr *B; const int32_t *strict; } basis_file;
@@ -55,37 +43,88 @@ static void region_color(int32_t j, float rgb[3])
     for (int k = 0; k < 3; k++) rgb[k] = 0.15f + 0.8f * (float)((spr__splitmix64(&s) >> 40) & 0xffff) / 65535.0f;
 }
 
-/* Polygons of one level: one per domain with at least 3 points. */
-static int level_polygons(const spr_cloud *c, const spr_csr *B, int strict, double K, double enlarge, const spr_texture_desc *td, int affine,
-                          size_t *npoly, double *err_mean, double *errn_mean, double *pts_mean, size_t *texels, spr_error *err)
+/* Primitives per pixel and render time of one level's primitives on the
+ * CPU backend, 256×256 framing the model: the mean count of rectangles
+ * covering a covered pixel (blendall's count plane), and domain-overlap's
+ * milliseconds (the method [R] timed). */
+static int render_stats(const spr_cloud *c, const spr_rects *rs, int threads, double *ppp, double *ms, spr_error *err)
 {
-    spr_csr T;
-    if (spr_domain_members(B, strict, K, &T, err)) return -1;
-    *npoly = 0;
-    *texels = 0;
-    double e = 0.0, en = 0.0, pts = 0.0;
-    for (size_t j = 0; j < T.rows; j++) {
-        const size_t m = T.ptr[j + 1] - T.ptr[j];
-        if (m < 3) continue;
-        spr_polygon pg;
-        if (spr_support_polygon(c, T.col + T.ptr[j], T.val + T.ptr[j], m, enlarge, 1, &pg, err)) continue;
-        (*npoly)++;
-        e += pg.error, en += pg.error_norm, pts += (double)m;
-        spr_texture tex;
-        size_t ntri;
-        if (affine ? spr_texture_affine(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &pg, td, &tex, &ntri, err)
-                   : spr_texture_radial(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &pg, td, &tex, err)) {
-            spr_csr_free(&T);
-            return -1;
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.width = cam.height = 256;
+    spr_bounds bd;
+    spr_cloud_bounds(c, &bd);
+    spr_camera_frame(&cam, &bd);
+    spr_view v;
+    if (spr_view_make(&cam, &v, err)) return -1;
+    spr_backend *b = spr_swrast_create(threads, err);
+    if (!b) return -1;
+    spr_render_desc rd;
+    memset(&rd, 0, sizeof rd);
+    rd.rects = rs;
+    rd.sampling = SPR_SAMPLE_LINEAR;
+    spr_render_result out;
+    int rc = -1, t = -1;
+    uint32_t *cnt = malloc((size_t)256 * 256 * sizeof *cnt);
+    spr_rect_draw_desc d;
+    memset(&d, 0, sizeof d);
+    d.rects = rs;
+    spr_pass_state_defaults(&d.state);
+    d.state.depth_func = SPR_FUNC_ALWAYS;
+    d.state.write_mask = SPR_WRITE_COUNT;
+    if (!cnt || spr_backend_set_view(b, &v) || spr_backend_target_create(b, SPR_PLANES_OPAQUE, &t) || spr_backend_draw_rects(b, t, &d, NULL) ||
+        spr_backend_read_plane(b, t, SPR_PLANE_COUNT, cnt)) {
+        *err = b->err;
+    } else {
+        double sum = 0.0, covered = 0.0;
+        for (size_t i = 0; i < (size_t)256 * 256; i++)
+            if (cnt[i]) sum += cnt[i], covered += 1.0;
+        *ppp = covered > 0.0 ? sum / covered : 0.0;
+        spr_backend_target_destroy(b, t);
+        rd.algo = SPR_ALGO_DOMAIN_OVERLAP;
+        double t0 = spr_now_ms();
+        if (!spr_render(b, &v, c, &rd, &out, err)) {
+            *ms = spr_now_ms() - t0;
+            spr_render_result_free(&out);
+            rc = 0;
         }
-        *texels += (size_t)tex.w * (size_t)tex.h;
-        spr_texture_free(&tex);
     }
-    *err_mean = *npoly ? e / (double)*npoly : 0.0;
-    *errn_mean = *npoly ? en / (double)*npoly : 0.0;
-    *pts_mean = *npoly ? pts / (double)*npoly : 0.0;
-    spr_csr_free(&T);
-    return 0;
+    free(cnt);
+    spr_backend_destroy(b);
+    return rc;
+}
+
+/* The textures of a level side by side, rows of at most 1024 texels,
+ * one texel gap, colour with the basis function as alpha. */
+static int write_atlas(const char *path, const spr_rects *rs, spr_error *err)
+{
+    int W = 1, H = 0, x = 0, rowh = 0;
+    for (size_t k = 0; k < rs->n; k++) {
+        const int tw = (int)rs->i[k * SPR_RECTI_COUNT + SPR_RECTI_TW], th = (int)rs->i[k * SPR_RECTI_COUNT + SPR_RECTI_TH];
+        if (x > 0 && x + tw > 1024) H += rowh + 1, x = 0, rowh = 0;
+        x += tw + 1;
+        if (x > W) W = x;
+        if (th > rowh) rowh = th;
+    }
+    H += rowh;
+    if (H < 1) H = 1;
+    float *img = calloc((size_t)W * H * 4, sizeof *img);
+    if (!img) return spr__fail(err, SPR_E_NOMEM, "domains: out of memory for a %dx%d atlas", W, H);
+    int y = 0;
+    x = 0, rowh = 0;
+    for (size_t k = 0; k < rs->n; k++) {
+        const uint32_t *I = rs->i + k * SPR_RECTI_COUNT;
+        const int tw = (int)I[SPR_RECTI_TW], th = (int)I[SPR_RECTI_TH];
+        if (x > 0 && x + tw > 1024) y += rowh + 1, x = 0, rowh = 0;
+        for (int ty = 0; ty < th; ty++) /* texture row 0 (vmin) at the bottom, as images here are stored */
+            memcpy(img + 4 * ((size_t)(H - 1 - (y + th - 1 - ty)) * W + x), rs->texels + 4 * ((size_t)I[SPR_RECTI_OFF] + (size_t)ty * tw),
+                   (size_t)tw * 4 * sizeof(float));
+        x += tw + 1;
+        if (th > rowh) rowh = th;
+    }
+    spr_result r = spr_write_png(path, img, W, H, 4, err);
+    free(img);
+    return r;
 }
 
 int cmd_domains(int argc, char **argv)
@@ -96,106 +135,91 @@ int cmd_domains(int argc, char **argv)
     cli_scene s;
     memset(&s, 0, sizeof s);
     spr_load_desc ld;
-    spr_decomp_desc dd;
-    spr_decomp_defaults(&dd);
-    int level = -1, rc = 2;
-    double K = 0.01, enlarge = 0.05;
-    spr_texture_desc td = {1.0, 1.0, SPR_RBF_LINEAR, SPR_NORM_GT0, cli_flag(&a, "extend-color")};
-    const char *how = cli_get(&a, "domain"), *basis_out = cli_get(&a, "basis-out"), *dump = cli_get(&a, "dump");
-    const char *rbf = cli_get(&a, "rbf"), *norm = cli_get(&a, "normalize"), *merge = cli_get(&a, "merge"), *texture = cli_get(&a, "texture");
-    if (texture && strcmp(texture, "radial") && strcmp(texture, "affine")) { cli_error(&a, "--texture: '%s' is not radial or affine", texture); return 2; }
-    const int affine = texture && !strcmp(texture, "affine");
-    double mflat = 0.0, mdot = 0.0;
-    char mtail;
-    if (merge && (sscanf(merge, "%lf,%lf%c", &mflat, &mdot, &mtail) != 2 || !(mflat >= 0.0 && mflat <= 1.0) || !(mdot >= -1.0 && mdot <= 1.0))) {
-        cli_error(&a, "--merge: '%s' is not FLAT,DOT with FLAT in [0,1] and DOT in [-1,1]", merge);
-        return 2;
-    }
+    cli_domain_opts_t o;
+    int rc = 2;
+    const char *basis_out = cli_get(&a, "basis-out"), *dump = cli_get(&a, "dump");
     const int stats = cli_flag(&a, "stats");
-    if (cli_model_opts(&a, &s, &ld) || cli_get_int(&a, "level", &level, 0, 1000) < 0 || cli_get_double(&a, "threshold", &K, 1e-12, 1.0) < 0 ||
-        cli_get_int(&a, "k", &dd.k, 3, 256) < 0 || cli_get_double(&a, "delta", &dd.delta, 1e-12, 1e12) < 0 ||
-        cli_get_double(&a, "normal-power", &dd.normal_power, 0.0, 64.0) < 0 || cli_get_double(&a, "omega", &dd.omega, 0.0, 0.999) < 0 ||
-        cli_get_double(&a, "enlarge", &enlarge, 0.0, 10.0) < 0 || cli_get_double(&a, "width", &td.width, 1e-3, 100.0) < 0 ||
-        cli_get_double(&a, "texel", &td.texel_factor, 1e-3, 100.0) < 0 || (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
-        return 2;
-    if (rbf && strcmp(rbf, "constant") && strcmp(rbf, "linear") && strcmp(rbf, "gauss")) { cli_error(&a, "--rbf: '%s' is not constant, linear or gauss", rbf); return 2; }
-    if (rbf) td.shape = !strcmp(rbf, "constant") ? SPR_RBF_CONSTANT : !strcmp(rbf, "linear") ? SPR_RBF_LINEAR : SPR_RBF_GAUSS;
-    if (norm && strcmp(norm, "gt0") && strcmp(norm, "ge1")) { cli_error(&a, "--normalize: '%s' is not gt0 or ge1", norm); return 2; }
-    if (norm) td.normalize = !strcmp(norm, "ge1") ? SPR_NORM_GE1 : SPR_NORM_GT0;
-    if (how && strcmp(how, "thresholded") && strcmp(how, "strict")) { cli_error(&a, "--domain: '%s' is not thresholded or strict", how); return 2; }
-    if ((basis_out || dump) && level < 0) { cli_error(&a, "--basis-out and --dump need --level"); return 2; }
+    if (cli_model_opts(&a, &s, &ld) || cli_domain_opts(&a, &o) || (cli_flag(&a, "quiet"), cli_reject_unused(&a))) return 2;
+    if ((basis_out || dump) && o.level < 0) { cli_error(&a, "--basis-out and --dump need --level"); return 2; }
     if (!stats && !basis_out && !dump) { cli_error(&a, "nothing to do: give --stats, --basis-out or --dump"); return 2; }
-    const int strict = how && !strcmp(how, "strict");
-    dd.threads = s.threads;
-    dd.progress = ld.progress;
+    o.dd.threads = o.pd.threads = s.threads;
+    o.dd.progress = ld.progress;
     spr_error err = {0};
     spr_decomp dc = {0};
     int32_t *dom = NULL;
     size_t *merged_from = NULL;
+    spr_rects rs = {0};
     if (cli_load_model(&a, &s, &ld)) goto done;
     double t0 = spr_now_ms();
-    if (spr_decompose(&s.cloud, &dd, &dc, &err)) { fprintf(stderr, "splatref domains: %s: %s\n", s.model, err.msg); goto done; }
+    if (spr_decompose(&s.cloud, &o.dd, &dc, &err)) { fprintf(stderr, "splatref domains: %s: %s\n", s.model, err.msg); goto done; }
     const double ms_decomp = spr_now_ms() - t0;
-    if (level >= dc.levels) { cli_error(&a, "--level %d: the decomposition has levels 0..%d", level, dc.levels - 1); goto done; }
+    if (o.level >= dc.levels) { cli_error(&a, "--level %d: the decomposition has levels 0..%d", o.level, dc.levels - 1); goto done; }
     merged_from = calloc((size_t)dc.levels, sizeof *merged_from);
     if (!merged_from) { cli_error(&a, "out of memory"); goto done; }
-    for (int l = 0; merge && l < dc.levels; l++) { /* every level's basis replaced by its merged one */
-        spr_csr M;
-        size_t merges;
-        if (spr_domain_merge(&s.cloud, &dc.basis[l], K, mflat, mdot, &M, &merges, &err)) {
-            fprintf(stderr, "splatref domains: %s\n", err.msg);
-            goto done;
-        }
-        merged_from[l] = dc.regions[l];
-        spr_csr_free(&dc.basis[l]);
-        dc.basis[l] = M;
-        dc.regions[l] = M.cols;
+    double ms_merge = 0.0;
+    for (int l = 0; l < dc.levels; l++) { /* every level's basis replaced by its merged one */
+        double t1 = spr_now_ms();
+        if (cli_domain_merge(&a, &s.cloud, &o, &dc, l, &merged_from[l])) goto done;
+        ms_merge += spr_now_ms() - t1;
     }
-    printf("domains: %s, %zu points, %d levels (local analysis %.0f ms, coarsening and basis %.0f ms, all %.0f ms)\n", s.model, s.cloud.n,
-           dc.levels, dc.ms_analysis, dc.ms_coarsen, ms_decomp);
+    printf("domains: %s, %zu points, %d levels (local analysis %.0f ms, coarsening and basis %.0f ms, all %.0f ms%s)\n", s.model, s.cloud.n,
+           dc.levels, dc.ms_analysis, dc.ms_coarsen, ms_decomp, o.merge ? ", merging below" : "");
+    if (o.merge) printf("  merging at flatness < %g and normal dot > %g: %.0f ms for all levels\n", o.mflat, o.mdot, ms_merge);
     if (stats) {
-        if (merge) printf("  (merged at flatness < %g and normal dot > %g: regions before merging in brackets)\n", mflat, mdot);
-        printf("  %5s %8s %9s %12s %12s %12s %10s %12s %9s\n", "level", "regions", "polygons", "points/poly", "error", "norm. error", "texels",
-               "tex. bytes", "ms");
+        if (o.merge) printf("  (regions before merging in brackets)\n");
+        printf("  %5s %9s %8s %11s %11s %11s %9s %10s %9s %9s %9s\n", "level", "regions", "polygons", "points/poly", "error", "norm.error",
+               "texels", "tex.bytes", "prim/pix", "render", "build");
         for (int l = 0; l < dc.levels; l++) {
-            size_t np, texels;
-            double e, en, pts;
-            double t1 = spr_now_ms();
-            if (level_polygons(&s.cloud, &dc.basis[l], strict, K, enlarge, &td, affine, &np, &e, &en, &pts, &texels, &err)) {
-                fprintf(stderr, "splatref domains: level %d: %s\n", l, err.msg[0] ? err.msg : "out of memory");
+            if (o.level >= 0 && l != o.level) continue;
+            spr_prims_stats st;
+            double ppp = 0.0, rms = 0.0;
+            if (spr_domain_prims(&s.cloud, &dc.basis[l], &o.pd, &rs, &st, &err) || render_stats(&s.cloud, &rs, s.threads, &ppp, &rms, &err)) {
+                fprintf(stderr, "splatref domains: %s level %d: %s\n", s.model, l, err.msg[0] ? err.msg : "out of memory");
                 goto done;
             }
+            spr_rects_free(&rs);
             char reg[48];
-            if (merge) snprintf(reg, sizeof reg, "%zu(%zu)", dc.regions[l], merged_from[l]);
+            if (o.merge) snprintf(reg, sizeof reg, "%zu(%zu)", dc.regions[l], merged_from[l]);
             else snprintf(reg, sizeof reg, "%zu", dc.regions[l]);
-            printf("  %5d %8s %9zu %12.1f %12.4g %12.4g %10zu %12zu %9.1f\n", l, reg, np, pts, e, en, texels, 4 * texels,
-                   spr_now_ms() - t1);
+            printf("  %5d %9s %8zu %11.1f %11.4g %11.4g %9zu %10zu %9.2f %7.1fms %7.0fms\n", l, reg, st.polygons, st.points, st.error,
+                   st.error_norm, st.texels, 4 * st.texels, ppp, rms, st.ms);
         }
+        const spr_texture_desc *td = &o.pd.tex;
         printf("  (%s domains%s; error: mean distance point-projection per polygon, normalised by the mean radius;\n"
                "   %s%s textures, width %g, texel %g x mean radius, normalised where %s, RGBA 8-bit bytes;\n"
-               "   primitives per pixel and render times come with the rendering stage; ms: polygons and textures)\n",
-               strict ? "strict" : "thresholded", strict ? "" : " at phi >= K", affine ? "affine (radial where no triangle) + radial " : "radial ",
-               td.shape == SPR_RBF_CONSTANT ? "constant" : td.shape == SPR_RBF_LINEAR ? "linear" : "gauss", td.width, td.texel_factor,
-               td.normalize == SPR_NORM_GE1 ? "f >= 1" : "f > 0");
+               "   prim/pix: rectangles covering a covered pixel on average and render: domain-overlap on the CPU backend,\n"
+               "   both at 256x256 framing the model; build: polygons, textures and neighbours)\n",
+               o.pd.strict ? "strict" : "thresholded", o.pd.strict ? "" : " at phi >= K", o.pd.affine ? "affine (radial where no triangle) + radial " : "radial ",
+               td->shape == SPR_RBF_CONSTANT ? "constant" : td->shape == SPR_RBF_LINEAR ? "linear" : "gauss", td->width, td->texel_factor,
+               td->normalize == SPR_NORM_GE1 ? "f >= 1" : "f > 0");
     }
     if (basis_out || dump) {
-        const spr_csr *B = &dc.basis[level];
+        const spr_csr *B = &dc.basis[o.level];
         dom = malloc(s.cloud.n * sizeof *dom);
         if (!dom) { cli_error(&a, "out of memory"); goto done; }
         spr_domain_strict(B, dom);
         if (basis_out) {
             basis_file bf = {&s.cloud, B, dom};
             if (spr__write_atomic(basis_out, write_basis, &bf, &err)) { fprintf(stderr, "splatref domains: %s\n", err.msg); goto done; }
-            printf("domains: level %d basis (%zu regions) -> %s\n", level, dc.regions[level], basis_out);
+            printf("domains: level %d basis (%zu regions) -> %s\n", o.level, dc.regions[o.level], basis_out);
         }
         if (dump) {
+            spr_prims_stats st;
+            char atlas[1100];
+            size_t L = strlen(dump);
+            snprintf(atlas, sizeof atlas, "%.*s-atlas.png", (int)(L > 4 && !strcmp(dump + L - 4, ".ply") ? L - 4 : L), dump);
+            if (spr_domain_prims(&s.cloud, B, &o.pd, &rs, &st, &err) || write_atlas(atlas, &rs, &err)) {
+                fprintf(stderr, "splatref domains: %s\n", err.msg);
+                goto done;
+            }
             for (size_t i = 0; i < s.cloud.n; i++) region_color(dom[i], s.cloud.color + 3 * i);
             if (spr_write_ply(dump, &s.cloud, &err)) { fprintf(stderr, "splatref domains: %s\n", err.msg); goto done; }
-            printf("domains: level %d strict domains, coloured -> %s\n", level, dump);
+            printf("domains: level %d strict domains, coloured -> %s; %zu textures -> %s\n", o.level, dump, rs.n, atlas);
         }
     }
     rc = 0;
 done:
+    spr_rects_free(&rs);
     free(dom);
     free(merged_from);
     spr_decomp_free(&dc);

@@ -17,6 +17,7 @@ void cli_scene_free(cli_scene *s)
     spr_cloud_free(&s->cloud);
     spr_grouping_free(&s->g);
     spr_envmap_free(&s->env);
+    spr_rects_free(&s->rects);
 }
 
 /* --shade, --light, --material (SPR_USES_SHADE) and --env, --env-size, --eta,
@@ -217,6 +218,18 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
     if ((uses & SPR_USES_ALPHA) && cli_get_double(a, "alpha", &alpha, 1e-6, 1.0) < 0) return -1;
     rd->alpha = (float)alpha;
     if (shading_opts(a, s, uses, rd)) return -1;
+    if (uses & SPR_USES_RECTS) {
+        const char *smp = cli_get(a, "sampling");
+        if (smp && strcmp(smp, "nearest") && strcmp(smp, "linear") && strcmp(smp, "hardware")) {
+            cli_error(a, "--sampling: '%s' is not nearest, linear or hardware", smp);
+            return -1;
+        }
+        rd->sampling = !smp || !strcmp(smp, "linear") ? SPR_SAMPLE_LINEAR : !strcmp(smp, "nearest") ? SPR_SAMPLE_NEAREST : SPR_SAMPLE_HARDWARE;
+        if (cli_domain_opts(a, &s->dom)) return -1;
+    }
+    double aref = 0.1;
+    if ((uses & SPR_USES_ALPHAREF) && cli_get_double(a, "alpha-ref", &aref, 0.0, 1.0) < 0) return -1;
+    rd->alpha_ref = (float)aref;
     spr_grouping_desc gd;
     const char *hash_near = NULL;
     if ((uses & SPR_USES_GROUPS) && cli_parse_group_opts(a, "groups", &gd, &hash_near)) return -1;
@@ -226,6 +239,11 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
         gd.progress = cli_progress(quiet);
         if (cli_make_groups(a, s, &gd, hash_near)) return -1;
         rd->groups = &s->g.groups;
+    }
+    if (uses & SPR_USES_RECTS) {
+        spr_progress pg = cli_progress(quiet);
+        if (cli_domain_prims(a, s->model, &s->cloud, &s->dom, s->threads, &pg, &s->rects, &s->prims)) return -1;
+        rd->rects = &s->rects;
     }
     return 0;
 }

@@ -43,7 +43,9 @@
     {"env-size", "S", "env: texels a side of a built-in cube map (default 256)"}, \
     {"eta", "E|R,G,B", "env: refraction ratio outside/inside, one, or three for dispersion (default 0.6711,0.6667,0.6579)"}, \
     {"env-layers", "HOW", "env: multi (sin T = eta^(l+1) sin I, default) | single (one interface)"}, \
-    {"layers", "L", "depthpeel: layers peeled, 1..64 (default 8; 3 = the front-three variant)"}
+    {"layers", "L", "depthpeel: layers peeled, 1..64 (default 8; 3 = the front-three variant)"}, \
+    {"sampling", "HOW", "domain-*: texture sampling nearest | linear (explicit bilinear, default) | hardware (GL texture(), Tier B)"}, \
+    {"alpha-ref", "A", "domain-overlap: lock pixels where alpha >= A (default 0.1)"}
 
 /* Grouping parameters; the method itself is render's --groups or group's --method. */
 #define CLI_GROUP_OPTS \
@@ -56,9 +58,28 @@
     {"hash-near", "DIST", "hash mode 3: handle collisions within this eye distance ('centre': eye to model centre)"}, \
     {"extend", "HOW", "extended grouping: dup (duplication) | radius (Eq. 13) | hash-radius (sqrt(50)/4 for K=8)"}
 
+/* The domain pipeline (SPEC 7): `domains` and the domain-* algorithms. */
+#define CLI_DOMAIN_OPTS \
+    {"level", "L", "decomposition level, 0 = coarsest (render default 2)"}, \
+    {"domain", "HOW", "thresholded (phi >= --threshold, default) | strict (largest phi)"}, \
+    {"threshold", "K", "thresholded domains: phi >= K (default 0.01)"}, \
+    {"knn", "K", "neighbours of the local analysis and of the coupling graph (default 10)"}, \
+    {"delta", "D", "coupling 1/(D + max sigma) (default 0.01)"}, \
+    {"normal-power", "P", "coupling times |n_j.n_k|^P: weak across creases (default 4; 0: sigma alone)"}, \
+    {"omega", "W", "prolongation smoothing in [0,1): how much the basis functions overlap (default 0.5)"}, \
+    {"enlarge", "E", "support rectangles grown by E about their centre (default 0.05)"}, \
+    {"texture", "HOW", "radial (default) | affine: qhull Delaunay, barycentric inside, radial elsewhere ([R] 3.3.3)"}, \
+    {"rbf", "SHAPE", "radial texture basis: constant | linear (default) | gauss ([R] 3.3.2)"}, \
+    {"width", "W", "radial support W x the point radius (default 1)"}, \
+    {"texel", "T", "texel side T x the domain's mean radius (default 1)"}, \
+    {"normalize", "WHEN", "gt0: where f > 0 (Eq. 3.4, default) | ge1: where f >= 1 (Eq. 3.3)"}, \
+    {"extend-color", NULL, "texels no point reaches take the nearest point's colour ([R] 3.3.4)"}, \
+    {"merge", "FLAT,DOT", "merge overlapping domains flatter than FLAT whose normals' dot exceeds DOT ([R] 3.4), e.g. 0.05,0.9"}, \
+    {"nbr-ratio", "R", "neighbours share more than R of either domain's points (default 0.05, [R] 4.4.4)"}
+
 /* Everything that determines a rendered scene (render, parity, reference). */
 #define CLI_SCENE_OPTS \
-    CLI_MODEL_OPTS, CLI_CAMERA_OPTS, CLI_ALGO_OPTS, \
+    CLI_MODEL_OPTS, CLI_CAMERA_OPTS, CLI_ALGO_OPTS, CLI_DOMAIN_OPTS, \
     {"groups", "METHOD", "grouping of the algorithms that use groups: none | mgc | wgc | hash (default mgc)"}, \
     CLI_GROUP_OPTS
 

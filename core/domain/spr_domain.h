@@ -13,6 +13,7 @@
 #include "spr_cloud.h"
 #include "spr_result.h"
 #include "spr_util.h"
+#include "spr_backend.h"
 
 typedef struct spr_csr {
     size_t rows, cols;
@@ -117,5 +118,27 @@ void spr_texture_free(spr_texture *t);
  * linear texture (Eq. 3.4, width 1) elsewhere; *triangles kept. */
 spr_result spr_texture_affine(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, const spr_polygon *pg,
                               const spr_texture_desc *td, spr_texture *out, size_t *triangles, spr_error *err);
+
+/* §7.3–7.5, §7.7: the domain primitives of one level (prims.c). */
+typedef struct spr_prims_desc {
+    int strict;            /* strict domains (argmax) instead of thresholded */
+    double K;              /* thresholded: φ ≥ K (default 0.01) */
+    double enlarge;        /* rectangles grown by this fraction (default 0.05) */
+    spr_texture_desc tex;  /* default: linear radial, width 1, texel 1, Eq. 3.4 */
+    int affine;            /* linear affine textures (qhull) instead of radial */
+    double nbr_ratio;      /* neighbours: shared points above this fraction of either domain (default 0.05) */
+    int threads;
+} spr_prims_desc;
+void spr_prims_defaults(spr_prims_desc *d);
+typedef struct spr_prims_stats {
+    size_t polygons, texels, triangles, neighbour_pairs;
+    double error, error_norm;  /* means over the polygons */
+    double points;             /* mean points per polygon */
+    double ms;
+} spr_prims_stats;
+/* One rectangle per domain of B with at least 3 points and a proper plane,
+ * in domain order (spr_rects.i[DOMAIN] = the region number). */
+spr_result spr_domain_prims(const spr_cloud *c, const spr_csr *B, const spr_prims_desc *d, spr_rects *out, spr_prims_stats *st,
+                            spr_error *err);
 
 #endif

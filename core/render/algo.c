@@ -55,6 +55,15 @@ spr_result spr__run_composite(spr__run *run, const char *name, const spr_composi
     return record(run, name, -1, NULL, c->output, &st, spr_now_ms() - t0);
 }
 
+spr_result spr__run_rects(spr__run *run, const char *name, int target, const spr_rect_draw_desc *d)
+{
+    spr_draw_stats st;
+    double t0 = spr_now_ms();
+    spr_result r = spr_backend_draw_rects(run->b, target, d, &st);
+    if (r) return backend_failed(run, r);
+    return record(run, name, -1, &d->state, target, &st, spr_now_ms() - t0);
+}
+
 void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius)
 {
     for (size_t a = 0; a < m; a++) radius[members[a]] = g->radius_scale[k] * run->cloud->radius[members[a]];
@@ -63,7 +72,7 @@ void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uin
 spr_composite_desc spr__run_comp(const spr__run *run, spr_composite_op op, const int *inputs, int n, int output)
 {
     const float *bg = run->desc->background;
-    spr_composite_desc c = {op, inputs, n, output, run->eps_t, {bg[0], bg[1], bg[2]}, NULL, NULL};
+    spr_composite_desc c = {op, inputs, n, output, run->eps_t, {bg[0], bg[1], bg[2]}, NULL, NULL, NULL};
     if (run->use_prm) {
         c.params = run->prm;
         c.env = run->desc->shade.env;
@@ -162,6 +171,8 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     memset(out, 0, sizeof *out);
     const spr_algo_info *ai = spr_algo_info_of(desc->algo);
     if (!ai) return spr__fail(err, SPR_E_ARG, "render: unknown algorithm %d", (int)desc->algo);
+    if ((ai->uses & SPR_USES_RECTS) && !desc->rects)
+        return spr__fail(err, SPR_E_ARG, "render: %s draws domain primitives: none given", ai->name);
     if (desc->groups && desc->groups->n_splats != cloud->n)
         return spr__fail(err, SPR_E_ARG, "render: groups are for %zu splats, the model has %zu", desc->groups->n_splats, cloud->n);
     spr_result r = spr_backend_set_view(b, view);

@@ -5,7 +5,7 @@
 #include <string.h>
 
 static const spr_algo_info algos[SPR_ALGO__COUNT] = {
-#define SPR__ALGO_ROW(e, name, uses, spec, summary) {#name, uses, spec, summary, spr__algo_##name},
+#define SPR__ALGO_ROW(e, fn, name, uses, spec, summary) {name, uses, spec, summary, spr__algo_##fn},
     SPR_ALGO_LIST(SPR__ALGO_ROW)
 #undef SPR__ALGO_ROW
 };

@@ -148,6 +148,73 @@ spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, 
     return b->draw_splats(b, target, d, st ? st : &dummy);
 }
 
+spr_result spr_backend_draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st)
+{
+    if (!live(b, target)) return bad(b, "rects: no target %d", target);
+    if (!b->draw_rects) return spr__fail(&b->err, SPR_E_BACKEND, "rects: backend %s draws no rectangles", b->name);
+    const spr_rects *r = d->rects;
+    if (!r || (r->n && (!r->f || !r->i || !r->texels || !r->nbr))) return bad(b, "rects: no rectangles (%d)", 0);
+    const spr_pass_state *s = &d->state;
+    if ((unsigned)d->output >= SPR_ROUT__COUNT) return bad(b, "rects: output %d unknown", (int)d->output);
+    if ((unsigned)d->sampling >= SPR_SAMPLE__COUNT) return bad(b, "rects: sampling %d unknown", (int)d->sampling);
+    if (!(d->alpha_ref >= 0.0f && d->alpha_ref <= 1.0f)) return bad(b, "rects: alpha reference outside [0, 1] (%d)", 0);
+    if (s->depth_value != SPR_DEPTH_PLAIN && s->depth_value != SPR_DEPTH_EPS_OFFSET)
+        return bad(b, "rects: test value %d is not plain or eps-offset", (int)s->depth_value);
+    if ((unsigned)s->depth_func >= SPR_FUNC__COUNT) return bad(b, "rects: depth func %d unknown", (int)s->depth_func);
+    if ((unsigned)s->blend >= SPR_BLEND__COUNT || (unsigned)s->blend_alpha >= SPR_BLEND__COUNT || s->blend == SPR_BLEND_OVER ||
+        s->blend_alpha == SPR_BLEND_OVER)
+        return bad(b, "rects: blends are replace, add or sub (%d)", 0);
+    if (s->write_mask & ~(unsigned)(SPR_WRITE_COLOR | SPR_WRITE_DEPTH | SPR_WRITE_ID | SPR_WRITE_COUNT))
+        return bad(b, "rects: write mask 0x%x: colour, depth, id and count only", (int)s->write_mask);
+    if (!has(b, target, SPR_PLANE_TEST)) return bad(b, "rects: target %d has no test plane", target);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++)
+        if (!d->list && (s->write_mask & SPR_PLANE_BIT(p)) && !has(b, target, (spr_plane)p))
+            return spr__fail(&b->err, SPR_E_ARG, "rects: writes plane %s, which target %d does not have", spr_plane_name((spr_plane)p), target);
+    size_t count = d->indices ? d->count : r->n;
+    for (size_t i = 0; d->indices && i < count; i++)
+        if (d->indices[i] >= r->n) return bad(b, "rects: index %d beyond the set", (int)d->indices[i]);
+    for (size_t k = 0; k < r->n; k++) { /* every texel a rectangle reads lies in the set */
+        const uint32_t *I = r->i + k * SPR_RECTI_COUNT;
+        if (I[SPR_RECTI_TW] < 1 || I[SPR_RECTI_TH] < 1 ||
+            (uint64_t)I[SPR_RECTI_OFF] + (uint64_t)I[SPR_RECTI_TW] * I[SPR_RECTI_TH] > (uint64_t)r->n_texels)
+            return bad(b, "rects: rectangle %d's texture lies outside the texels", (int)k);
+    }
+    if (r->n_texels >= (size_t)1 << 31) return bad(b, "rects: %d-bit texel count too large", 31);
+    spr_draw_stats dummy;
+    memset(st ? st : &dummy, 0, sizeof dummy);
+    return b->draw_rects(b, target, d, st ? st : &dummy);
+}
+
+static uint64_t rects_serial;
+
+spr_result spr_rects_alloc(spr_rects *r, size_t n, size_t n_texels, spr_error *err)
+{
+    memset(r, 0, sizeof *r);
+    const size_t words = spr_rects_words(n);
+    r->n = n;
+    r->n_texels = n_texels;
+    r->f = calloc(n ? n * SPR_RECT_FLOATS : 1, sizeof(float));
+    r->i = calloc(n ? n * SPR_RECTI_COUNT : 1, sizeof(uint32_t));
+    r->texels = calloc(n_texels ? n_texels * 4 : 1, sizeof(float));
+    r->nbr = calloc(n ? n * words : 1, sizeof(uint32_t));
+#pragma omp atomic capture
+    r->serial = ++rects_serial;
+    if (!r->f || !r->i || !r->texels || !r->nbr) {
+        spr_rects_free(r);
+        return spr__fail(err, SPR_E_NOMEM, "rectangles: out of memory for %zu rectangles and %zu texels", n, n_texels);
+    }
+    return SPR_OK;
+}
+
+void spr_rects_free(spr_rects *r)
+{
+    free(r->f);
+    free(r->i);
+    free(r->texels);
+    free(r->nbr);
+    memset(r, 0, sizeof *r);
+}
+
 unsigned spr_composite_extra_reads(spr_composite_op op, const float *params, int input)
 {
     if (!params || (params[SPR_PRM_SHADE] == 0.0f && params[SPR_PRM_ENV] == 0.0f)) return 0;
@@ -188,6 +255,8 @@ spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c)
         if ((b->target_planes[c->inputs[i]] & reads) != reads)
             return spr__fail(&b->err, SPR_E_ARG, "composite: %s reads planes input target %d lacks", ci->name, c->inputs[i]);
     }
+    if (c->op == SPR_COMP_PREFIX && (!c->rects || !c->rects->nbr))
+        return bad(b, "composite: prefix needs the rectangles the lists came from (%d)", 0);
     if (!live(b, c->output)) return bad(b, "composite: no output target %d", c->output);
     if ((b->target_planes[c->output] & ci->writes) != ci->writes)
         return spr__fail(&b->err, SPR_E_ARG, "composite: %s writes planes output target %d lacks", ci->name, c->output);

@@ -1,5 +1,6 @@
 /* camera.c — view matrices in double, the shared float M, pixel bounds. */
 #include "spr_camera.h"
+#include "spr_backend.h"
 
 #include <math.h>
 #include <string.h>
@@ -175,6 +176,24 @@ void spr_lowres_make(const spr_view *v, const spr_bounds *b, float eps_t, double
     out->inv_n = (float)(1.0 / n);
 }
 
+/* Pixels whose centres an NDC box may cover (everything when `full`: a
+ * corner behind the eye); 0 when none is on screen. */
+static int spr__pixel_bounds(const spr_view *v, int full, double xmin, double xmax, double ymin, double ymax, int *x0, int *y0, int *x1,
+                             int *y1)
+{
+    const int W = v->width, H = v->height;
+    if (full) { *x0 = 0; *y0 = 0; *x1 = W - 1; *y1 = H - 1; return 1; }
+    /* ndc → pixel-centre coordinate: x + 0.5 = (ndc + 1)·W/2; one pixel of slack. */
+    double fx0 = floor((xmin + 1.0) * 0.5 * W - 0.5) - 1.0, fx1 = ceil((xmax + 1.0) * 0.5 * W - 0.5) + 1.0;
+    double fy0 = floor((ymin + 1.0) * 0.5 * H - 0.5) - 1.0, fy1 = ceil((ymax + 1.0) * 0.5 * H - 0.5) + 1.0;
+    if (fx1 < 0.0 || fy1 < 0.0 || fx0 > W - 1 || fy0 > H - 1) return 0;
+    *x0 = fx0 < 0.0 ? 0 : (int)fx0;
+    *y0 = fy0 < 0.0 ? 0 : (int)fy0;
+    *x1 = fx1 > W - 1 ? W - 1 : (int)fx1;
+    *y1 = fy1 > H - 1 ? H - 1 : (int)fy1;
+    return 1;
+}
+
 int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], float r,
                          int *x0, int *y0, int *x1, int *y1)
 {
@@ -198,15 +217,26 @@ int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], 
         if (cy < ymin) ymin = cy;
         if (cy > ymax) ymax = cy;
     }
-    int W = v->width, H = v->height;
-    if (full) { *x0 = 0; *y0 = 0; *x1 = W - 1; *y1 = H - 1; return 1; }
-    /* ndc → pixel-centre coordinate: x + 0.5 = (ndc + 1)·W/2; one pixel of slack. */
-    double fx0 = floor((xmin + 1.0) * 0.5 * W - 0.5) - 1.0, fx1 = ceil((xmax + 1.0) * 0.5 * W - 0.5) + 1.0;
-    double fy0 = floor((ymin + 1.0) * 0.5 * H - 0.5) - 1.0, fy1 = ceil((ymax + 1.0) * 0.5 * H - 0.5) + 1.0;
-    if (fx1 < 0.0 || fy1 < 0.0 || fx0 > W - 1 || fy0 > H - 1) return 0;
-    *x0 = fx0 < 0.0 ? 0 : (int)fx0;
-    *y0 = fy0 < 0.0 ? 0 : (int)fy0;
-    *x1 = fx1 > W - 1 ? W - 1 : (int)fx1;
-    *y1 = fy1 > H - 1 ? H - 1 : (int)fy1;
-    return 1;
+    return spr__pixel_bounds(v, full, xmin, xmax, ymin, ymax, x0, y0, x1, y1);
+}
+
+int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int *x1, int *y1)
+{
+    const double *PV = v->PV;
+    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    int full = 0;
+    for (int corner = 0; corner < 4 && !full; corner++) {
+        const double s = (corner & 1) ? f[SPR_RECT_UMAX] : f[SPR_RECT_UMIN], w = (corner & 2) ? f[SPR_RECT_VMAX] : f[SPR_RECT_VMIN];
+        double q[3];
+        for (int k = 0; k < 3; k++) q[k] = (double)f[SPR_RECT_C + k] + s * f[SPR_RECT_U + k] + w * f[SPR_RECT_V + k];
+        double cw = PV[12] * q[0] + PV[13] * q[1] + PV[14] * q[2] + PV[15];
+        if (!(cw > 1e-9 * (v->far_plane))) { full = 1; break; }
+        double cx = (PV[0] * q[0] + PV[1] * q[1] + PV[2] * q[2] + PV[3]) / cw;
+        double cy = (PV[4] * q[0] + PV[5] * q[1] + PV[6] * q[2] + PV[7]) / cw;
+        if (cx < xmin) xmin = cx;
+        if (cx > xmax) xmax = cx;
+        if (cy < ymin) ymin = cy;
+        if (cy > ymax) ymax = cy;
+    }
+    return spr__pixel_bounds(v, full, xmin, xmax, ymin, ymax, x0, y0, x1, y1);
 }

@@ -25,7 +25,9 @@ enum {
     SPR_USES_ALPHA   = 1u << 6,  /* alpha: one opacity for every splat */
     SPR_USES_SHADE   = 1u << 7,  /* shade: deferred Phong shading (SPEC 4.3) */
     SPR_USES_ENV     = 1u << 8,  /* shade.env: environment effects (SPEC 6.3) */
-    SPR_USES_LAYERS  = 1u << 9   /* layers: depth-peeling layers (SPEC 6.4) */
+    SPR_USES_LAYERS  = 1u << 9,  /* layers: depth-peeling layers (SPEC 6.4) */
+    SPR_USES_RECTS   = 1u << 10, /* rects, sampling: domain primitives (SPEC 7.7) */
+    SPR_USES_ALPHAREF = 1u << 11 /* alpha_ref: the overlap method's lock threshold (SPEC 7.7) */
 };
 
 /* Back-to-front order of the transparent algorithms (SPEC §6.1). */
@@ -34,25 +36,39 @@ typedef enum spr_order {
     SPR_ORDER_SORT       /* all centres sorted by view depth, farthest first (ties: index) */
 } spr_order;
 
-/* The registry: X(ENUM, name, uses, SPEC section, summary).  Row order is
+/* The registry: X(ENUM, function, "name", uses, SPEC section, summary).  Row order is
  * the order parity, bench and reference run them; row 0 is the default. */
 #define SPR_ALGO_LIST(X)                                                                                      \
-    X(DEFERRED, deferred, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI | SPR_USES_SHADE, "4.2", \
+    X(DEFERRED, deferred, "deferred", SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI | SPR_USES_SHADE, "4.2", \
       "1+1-pass deferred blending: one target per group, then the eps-composite ([ZP] 3.2)")                  \
-    X(PBR2P1, pbr2p1, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_SHADE, "4.1",                                   \
+    X(PBR2P1, pbr2p1, "pbr2p1", SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_SHADE, "4.1",                                   \
       "standard 2+1-pass splatting: visibility, additive blend, normalise ([ZP] 3.1)")                       \
-    X(ZBUFFER, zbuffer, 0, "3.3", "no blending: the nearest splat's colour per pixel (the aliasing baseline)")          \
-    X(TRANSPARENT1, transparent1, SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA, "6.1",  \
+    X(ZBUFFER, zbuffer, "zbuffer", 0, "3.3", "no blending: the nearest splat's colour per pixel (the aliasing baseline)")          \
+    X(TRANSPARENT1, transparent1, "transparent1", SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA, "6.1",  \
       "transparent surfaces, Algorithm-1: per group back to front, `over` with z-tilde culling, average ([ZP] 3.3)")     \
-    X(TRANSPARENT2, transparent2,                                                                                           \
+    X(TRANSPARENT2, transparent2, "transparent2",                                                                                           \
       SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_GROUPS | SPR_USES_VORONOI | SPR_USES_LOWRES | SPR_USES_ORDER | SPR_USES_ALPHA | \
           SPR_USES_SHADE | SPR_USES_ENV,                                                                                    \
       "6.2", "transparent surfaces, Algorithm-2: nearest layer blended opaque, the others back to front, alpha_F mix ([ZP] 3.3)") \
-    X(DEPTHPEEL, depthpeel, SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_ALPHA | SPR_USES_LAYERS, "6.4",                      \
-      "depth peeling, the transparency reference: L pbr2p1 layers, each beyond the last, blended back to front ([ZP] 6.3)")
+    X(DEPTHPEEL, depthpeel, "depthpeel", SPR_USES_KERNEL | SPR_USES_EPS | SPR_USES_ALPHA | SPR_USES_LAYERS, "6.4",                      \
+      "depth peeling, the transparency reference: L pbr2p1 layers, each beyond the last, blended back to front ([ZP] 6.3)") \
+    X(DOMAIN_BLENDALL, domain_blendall, "domain-blendall", SPR_USES_RECTS, "7.7",                                         \
+      "domain primitives, every fragment summed, no depth test ([R] 4.4)")                                                 \
+    X(DOMAIN_NOBLEND, domain_noblend, "domain-noblend", SPR_USES_RECTS, "7.7",                                            \
+      "domain primitives, plain depth test, opaque: the nearest texel's colour ([R] 4.4)")                                \
+    X(DOMAIN_TWOPASS, domain_twopass, "domain-twopass", SPR_USES_RECTS | SPR_USES_EPS, "7.7",                             \
+      "domain primitives, depth pass offset by eps, then fragments within it summed ([R] 4.4.2)")                          \
+    X(DOMAIN_DARKBACK_HARD, domain_darkback_hard, "domain-darkback-hard", SPR_USES_RECTS, "7.7",                          \
+      "domain primitives back to front: front faces add, back faces reset to black ([R] 4.4.3)")                         \
+    X(DOMAIN_DARKBACK_SOFT, domain_darkback_soft, "domain-darkback-soft", SPR_USES_RECTS, "7.7",                          \
+      "domain primitives back to front: front faces add, back faces subtract alpha, clamped at 0 ([R] 4.4.3)")           \
+    X(DOMAIN_OVERLAP, domain_overlap, "domain-overlap", SPR_USES_RECTS | SPR_USES_ALPHAREF, "7.7",                        \
+      "domain primitives front to back with their neighbours, pixels locked by depth where alpha >= ref ([R] 4.4.4)")    \
+    X(DOMAIN_PREFIX, domain_prefix, "domain-prefix", SPR_USES_RECTS, "7.7",                                               \
+      "domain primitives: per-pixel fragment lists sorted, the front-most and its neighbours summed (the exact [R] 4.4)")
 
 typedef enum spr_algo {
-#define SPR__ALGO_ENUM(e, name, uses, spec, summary) SPR_ALGO_##e,
+#define SPR__ALGO_ENUM(e, fn, name, uses, spec, summary) SPR_ALGO_##e,
     SPR_ALGO_LIST(SPR__ALGO_ENUM)
 #undef SPR__ALGO_ENUM
     SPR_ALGO__COUNT
@@ -113,6 +129,9 @@ typedef struct spr_render_desc {
     float alpha;                 /* transparent1: > 0 replaces every splat's opacity */
     spr_shading shade;           /* SPEC 4.3, 6.3 (zero: none) */
     int layers;                  /* depthpeel: L ≥ 1 (0 = 8) */
+    const spr_rects *rects;      /* domain-*: the domain primitives (SPEC 7.7) */
+    spr_sampling sampling;       /* domain-*: texture sampling (nearest, linear = explicit bilinear) */
+    float alpha_ref;             /* domain-overlap: pixels locked where alpha >= alpha_ref (0 = 0.1) */
     spr_pass_hook hook;
     void *hook_user;
 } spr_render_desc;
@@ -154,6 +173,7 @@ typedef struct spr__run {
 } spr__run;
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d);
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c);
+spr_result spr__run_rects(spr__run *run, const char *name, int target, const spr_rect_draw_desc *d);
 /* Enlarged radii of group k ([ZP] §4.4.2): radius[i] = scale_k·r_i for the
  * m members, rounded once on the host so both backends get the same bits. */
 void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius);
@@ -173,7 +193,7 @@ spr_result spr__run_target(spr__run *run, unsigned planes, int *target);
 spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra);
 spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask);
 /* The algorithms of the registry, one file each. */
-#define SPR__ALGO_DECL(e, name, uses, spec, summary) spr_result spr__algo_##name(spr__run *run, int *final_target);
+#define SPR__ALGO_DECL(e, fn, name, uses, spec, summary) spr_result spr__algo_##fn(spr__run *run, int *final_target);
 SPR_ALGO_LIST(SPR__ALGO_DECL)
 #undef SPR__ALGO_DECL
 

@@ -37,6 +37,10 @@
  *   spr_in_normal(px, k, ch) channel ch of input target k's normal plane
  *   spr_px_cx(px), spr_px_cy(px)  the pixel centre x + 0.5, y + 0.5 (exact)
  *   spr_in_env(px, f, i, j, ch)   channel ch of texel (i, j) of cube face f
+ *   spr_in_texel(px, k, ch)  channel ch of texel k of the rectangles' texels (SPEC 7.5)
+ *   spr_list_first(px), spr_list_next(px, node)  a pixel's fragment list (−1 ends it)
+ *   spr_list_t(px, node), spr_list_prim(px, node), spr_list_src(px, node, ch)  one node
+ *   spr_neighbour(px, a, b)  1 when rectangle b is a neighbour of rectangle a
  * Constants (SPR_DEPTH_*, SPR_KERNEL_*, SPR_OUT_*, spr_gauss_coef) come from
  * their C definitions; the GL backend emits them as exact bit patterns.
  */
@@ -404,6 +408,141 @@ SPR_FN void spr_zero4(SPR_OARR o[4])
     for (int ch = 0; ch < 4; ch++) o[ch] = 0.0f;
 }
 
+/* ---- domain primitives: textured rectangles (SPEC §7.7) ----
+ * R is a rectangle's float record (SPR_RECT_LIST, spr_backend.h). */
+
+/* Ray–rectangle: 1 when the ray meets R's plane at 0 ≤ t ≤ 1 inside the
+ * rectangle; gives t and the hit point's (s, w) along u and v. */
+SPR_FN int spr_rect_hit(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR R[SPR_RECT_FLOATS], SPR_OUT t_out, SPR_OUT s_out,
+                        SPR_OUT w_out)
+{
+    SPR_PRECISE float den = (d[0] * R[SPR_RECT_N] + d[1] * R[SPR_RECT_N + 1]) + d[2] * R[SPR_RECT_N + 2];
+    if (den == 0.0f) return 0;
+    SPR_PRECISE float a0 = R[SPR_RECT_C] - o0[0];
+    SPR_PRECISE float a1 = R[SPR_RECT_C + 1] - o0[1];
+    SPR_PRECISE float a2 = R[SPR_RECT_C + 2] - o0[2];
+    SPR_PRECISE float num = (a0 * R[SPR_RECT_N] + a1 * R[SPR_RECT_N + 1]) + a2 * R[SPR_RECT_N + 2];
+    SPR_PRECISE float t = num / den;
+    if (!(t >= 0.0f && t <= 1.0f)) return 0;
+    SPR_PRECISE float q0 = (o0[0] + t * d[0]) - R[SPR_RECT_C];
+    SPR_PRECISE float q1 = (o0[1] + t * d[1]) - R[SPR_RECT_C + 1];
+    SPR_PRECISE float q2 = (o0[2] + t * d[2]) - R[SPR_RECT_C + 2];
+    SPR_PRECISE float s = (q0 * R[SPR_RECT_U] + q1 * R[SPR_RECT_U + 1]) + q2 * R[SPR_RECT_U + 2];
+    SPR_PRECISE float w = (q0 * R[SPR_RECT_V] + q1 * R[SPR_RECT_V + 1]) + q2 * R[SPR_RECT_V + 2];
+    if (!(s >= R[SPR_RECT_UMIN] && s <= R[SPR_RECT_UMAX] && w >= R[SPR_RECT_VMIN] && w <= R[SPR_RECT_VMAX])) return 0;
+    SPR_SET(t_out) = t;
+    SPR_SET(s_out) = s;
+    SPR_SET(w_out) = w;
+    return 1;
+}
+
+/* Index i clamped to [0, n − 1] (GL's clamp-to-edge). */
+SPR_FN int spr_clampi(int i, int n)
+{
+    if (i < 0) return 0;
+    if (i > n - 1) return n - 1;
+    return i;
+}
+
+/* The texel coordinate of (s, w) along one axis: (s − min)/h, in texels. */
+SPR_FN float spr_texel_coord(float s, float smin, float h)
+{
+    SPR_PRECISE float g = (s - smin) / h;
+    return g;
+}
+
+/* The texture of rectangle R (tw × th texels from texel off) at (s, w):
+ * nearest, or bilinear with the weights computed here (clamp to edge):
+ * o = ((w00·t00 + w10·t10) + w01·t01) + w11·t11, w10 = fx·(1 − fy) etc. */
+SPR_FN void spr_rect_sample(SPR_PIXEL px, SPR_CARR R[SPR_RECT_FLOATS], int tw, int th, int off, int linear, float s, float w,
+                            SPR_OARR o[4])
+{
+    float gx = spr_texel_coord(s, R[SPR_RECT_UMIN], R[SPR_RECT_TEXEL]);
+    float gy = spr_texel_coord(w, R[SPR_RECT_VMIN], R[SPR_RECT_TEXEL]);
+    if (linear == 0) {
+        int ix = spr_clampi(SPR_INT(spr_floor(gx)), tw);
+        int iy = spr_clampi(SPR_INT(spr_floor(gy)), th);
+        for (int ch = 0; ch < 4; ch++) o[ch] = spr_in_texel(px, off + iy * tw + ix, ch);
+        return;
+    }
+    SPR_PRECISE float cx = gx - 0.5f;
+    SPR_PRECISE float cy = gy - 0.5f;
+    SPR_PRECISE float x0 = spr_floor(cx);
+    SPR_PRECISE float y0 = spr_floor(cy);
+    SPR_PRECISE float fx = cx - x0;
+    SPR_PRECISE float fy = cy - y0;
+    SPR_PRECISE float gx0 = 1.0f - fx;
+    SPR_PRECISE float gy0 = 1.0f - fy;
+    SPR_PRECISE float w00 = gx0 * gy0;
+    SPR_PRECISE float w10 = fx * gy0;
+    SPR_PRECISE float w01 = gx0 * fy;
+    SPR_PRECISE float w11 = fx * fy;
+    int ix0 = spr_clampi(SPR_INT(x0), tw);
+    int ix1 = spr_clampi(SPR_INT(x0) + 1, tw);
+    int iy0 = spr_clampi(SPR_INT(y0), th);
+    int iy1 = spr_clampi(SPR_INT(y0) + 1, th);
+    for (int ch = 0; ch < 4; ch++) {
+        SPR_PRECISE float a = w00 * spr_in_texel(px, off + iy0 * tw + ix0, ch);
+        SPR_PRECISE float b = w10 * spr_in_texel(px, off + iy0 * tw + ix1, ch);
+        SPR_PRECISE float c = w01 * spr_in_texel(px, off + iy1 * tw + ix0, ch);
+        SPR_PRECISE float e = w11 * spr_in_texel(px, off + iy1 * tw + ix1, ch);
+        SPR_PRECISE float v = ((a + b) + c) + e;
+        o[ch] = v;
+    }
+}
+
+/* Is a sampled texel a fragment?  α > 0 and α ≥ the alpha reference. */
+SPR_FN int spr_rect_alpha_passes(float alpha, float alpha_ref)
+{
+    if (alpha > 0.0f && alpha >= alpha_ref) return 1;
+    return 0;
+}
+
+/* What a rectangle fragment offers the colour plane (SPR_ROUT_*) from its
+ * texel tx = (c, α). */
+SPR_FN void spr_rect_fragment(int out_kind, SPR_CARR tx[4], SPR_OARR src[4])
+{
+    if (out_kind == SPR_ROUT_COLOR) {
+        src[0] = tx[0];
+        src[1] = tx[1];
+        src[2] = tx[2];
+        src[3] = 1.0f;
+    } else if (out_kind == SPR_ROUT_BLACK) {
+        spr_zero4(src);
+        src[3] = 1.0f;
+    } else if (out_kind == SPR_ROUT_LUMINANCE) {
+        src[0] = tx[3];
+        src[1] = tx[3];
+        src[2] = tx[3];
+        src[3] = 0.0f;
+    } else {
+        SPR_PRECISE float r = tx[3] * tx[0];
+        SPR_PRECISE float g = tx[3] * tx[1];
+        SPR_PRECISE float b = tx[3] * tx[2];
+        src[0] = r;
+        src[1] = g;
+        src[2] = b;
+        src[3] = tx[3];
+    }
+}
+
+/* The domain sum over the background: rgb + (1 − min(max(a, 0), 1))·bg,
+ * alpha 1 where a > 0 (SPEC 7.7). */
+SPR_FN void spr_domain_resolve(SPR_CARR acc[4], SPR_CARR bg[3], SPR_OARR o[4])
+{
+    float a = acc[3];
+    if (a < 0.0f) a = 0.0f;
+    if (a > 1.0f) a = 1.0f;
+    SPR_PRECISE float k = 1.0f - a;
+    for (int ch = 0; ch < 3; ch++) {
+        SPR_PRECISE float kb = k * bg[ch];
+        SPR_PRECISE float v = acc[ch] + kb;
+        o[ch] = v;
+    }
+    o[3] = 0.0f;
+    if (acc[3] > 0.0f) o[3] = 1.0f;
+}
+
 /* Does prm ask for the inputs' normals (shading or environment effects)? */
 SPR_FN int spr_wants_normal(SPR_CARR prm[SPR_PRM_COUNT])
 {
@@ -716,4 +855,83 @@ SPR_FN void spr_comp_peel(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_
     o[3] = covered;
     spr_zero4(on);
     SPR_SET(d) = spr_in_depth(px, 0);
+}
+
+/* §7.7: summed domain primitives of input 0 over the background; depth copied. */
+SPR_FN void spr_comp_domainsum(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                               SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
+{
+    float acc[4];
+    for (int ch = 0; ch < 4; ch++) acc[ch] = spr_in_color(px, 0, ch);
+    spr_domain_resolve(acc, bg, o);
+    spr_zero4(on);
+    SPR_SET(d) = spr_in_depth(px, 0);
+}
+
+/* §7.7 soft dark back faces: rgb of input 0 clamped below at 0 (+0 for
+ * −0 too), alpha and depth copied. */
+SPR_FN void spr_comp_clamp(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                           SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
+{
+    for (int ch = 0; ch < 3; ch++) {
+        float v = spr_in_color(px, 0, ch);
+        if (!(v > 0.0f)) v = 0.0f;
+        o[ch] = v;
+    }
+    o[3] = spr_in_color(px, 0, 3);
+    spr_zero4(on);
+    SPR_SET(d) = spr_in_depth(px, 0);
+}
+
+/* Does fragment (ta, pa) come before (tb, pb)?  Depth, then primitive. */
+SPR_FN int spr_frag_before(float ta, int pa, float tb, int pb)
+{
+    if (ta < tb) return 1;
+    if (ta == tb && pa < pb) return 1;
+    return 0;
+}
+
+/* §7.7 prefix: the pixel's fragment list (in any order) sorted by (t,
+ * primitive), at most SPR_LIST_MAX front-most kept; the front-most and,
+ * in that order, every later one whose rectangle is its neighbour are
+ * summed and resolved over the background; depth = the front-most t
+ * (1 when the list is empty). */
+SPR_FN void spr_comp_prefix(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SPR_CARR prm[SPR_PRM_COUNT],
+                            SPR_OARR o[4], SPR_OARR on[4], SPR_OUT d)
+{
+    float kt[SPR_LIST_MAX];
+    int kp[SPR_LIST_MAX];
+    int kn[SPR_LIST_MAX];
+    int m = 0;
+    int node = spr_list_first(px);
+    while (node >= 0) {
+        float t = spr_list_t(px, node);
+        int p = spr_list_prim(px, node);
+        int pos = m;
+        if (m == SPR_LIST_MAX) pos = -1;
+        if (pos < 0 && spr_frag_before(t, p, kt[m - 1], kp[m - 1]) != 0) pos = m - 1;
+        if (pos >= 0) {
+            while (pos > 0 && spr_frag_before(t, p, kt[pos - 1], kp[pos - 1]) != 0) {
+                kt[pos] = kt[pos - 1];
+                kp[pos] = kp[pos - 1];
+                kn[pos] = kn[pos - 1];
+                pos = pos - 1;
+            }
+            kt[pos] = t;
+            kp[pos] = p;
+            kn[pos] = node;
+            if (m < SPR_LIST_MAX) m = m + 1;
+        }
+        node = spr_list_next(px, node);
+    }
+    SPR_PRECISE float acc[4];
+    for (int ch = 0; ch < 4; ch++) acc[ch] = 0.0f;
+    for (int i = 0; i < m; i++) {
+        if (i > 0 && spr_neighbour(px, kp[0], kp[i]) == 0) continue;
+        for (int ch = 0; ch < 4; ch++) acc[ch] = acc[ch] + spr_list_src(px, kn[i], ch);
+    }
+    spr_domain_resolve(acc, bg, o);
+    spr_zero4(on);
+    SPR_SET(d) = 1.0f;
+    if (m > 0) SPR_SET(d) = kt[0];
 }

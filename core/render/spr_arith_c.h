@@ -10,6 +10,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include "spr_backend.h"
 #include "spr_kernel.h"
 
@@ -34,6 +35,10 @@ typedef struct spr_pixel_in {
     const float *const *opacity; /* opacity[k]: input k's opacity plane (ops that read it) */
     const float *const *normal; /* normal[k]: input k's normal plane, 4 per pixel (when shading) */
     const spr_envmap *env;     /* the cube map (environment effects) */
+    const float *texels;       /* the rectangles' texels, 4 per texel (rectangle draws) */
+    const struct spr_frag_lists *lists; /* input 0's fragment lists (the prefix op) */
+    const uint32_t *nbr;       /* neighbour bits of the rectangles (spr_rects.nbr) */
+    size_t nbr_words;
     size_t i;
     int x, y;                  /* the pixel: i = y·W + x */
 } spr_pixel_in;
@@ -47,6 +52,32 @@ static inline float spr_in_env(const spr_pixel_in *px, int face, int i, int j, i
 {
     const size_t S = (size_t)px->env->size;
     return px->env->texels[(((size_t)face * S + (size_t)j) * S + (size_t)i) * 4 + (size_t)ch];
+}
+
+/* Fragment lists on the CPU: the nodes of pixel i are first[i] … first[i+1]−1
+ * (made by counting, then filling: sw_rect.c). */
+typedef struct spr_frag_lists {
+    uint32_t *first;   /* W·H + 1 */
+    float *t;          /* per node: ray parameter */
+    uint32_t *prim;    /* per node: rectangle index */
+    float *src;        /* per node: 4 colour channels */
+    size_t n, cap;
+} spr_frag_lists;
+static inline float spr_in_texel(const spr_pixel_in *px, int k, int ch) { return px->texels[4 * (size_t)k + (size_t)ch]; }
+static inline int spr_list_first(const spr_pixel_in *px)
+{
+    return px->lists->first[px->i] < px->lists->first[px->i + 1] ? (int)px->lists->first[px->i] : -1;
+}
+static inline int spr_list_next(const spr_pixel_in *px, int node)
+{
+    return (uint32_t)node + 1 < px->lists->first[px->i + 1] ? node + 1 : -1;
+}
+static inline float spr_list_t(const spr_pixel_in *px, int node) { return px->lists->t[node]; }
+static inline int spr_list_prim(const spr_pixel_in *px, int node) { return (int)px->lists->prim[node]; }
+static inline float spr_list_src(const spr_pixel_in *px, int node, int ch) { return px->lists->src[4 * (size_t)node + (size_t)ch]; }
+static inline int spr_neighbour(const spr_pixel_in *px, int a, int b)
+{
+    return (int)(px->nbr[(size_t)a * px->nbr_words + (size_t)b / 32] >> ((unsigned)b % 32) & 1u);
 }
 
 #include "spr_arith.h"

@@ -90,6 +90,7 @@ typedef enum spr_blend {
     SPR_BLEND_REPLACE = 0, /* dst = src */
     SPR_BLEND_ADD,         /* dst = src + dst */
     SPR_BLEND_OVER,        /* dst = src·a + dst·(1 − a), a = the source's 4th channel */
+    SPR_BLEND_SUB,         /* dst = dst − src (colour of rectangle draws only: soft dark back faces, SPEC 7.7) */
     SPR_BLEND__COUNT
 } spr_blend;
 
@@ -181,7 +182,13 @@ typedef struct spr_draw_stats {
     X(TRANSPARENT2, transparent2, 2, SPR_PLANES_CD, SPR_PLANES_CD,                                                        \
       "alpha_F*C_F + (1-alpha_F)*C_O, with shading and environment effects when asked (SPEC 6.2, 6.3)")                 \
     X(PEEL, peel, SPR_MAX_COMPOSITE_INPUTS, SPR_PLANES_CD, SPR_PLANES_CD,                                                 \
-      "layers (c, alpha) blended back to front over the background, input 0 nearest (SPEC 6.4)")
+      "layers (c, alpha) blended back to front over the background, input 0 nearest (SPEC 6.4)")                        \
+    X(DOMAINSUM, domainsum, 1, SPR_PLANES_CD, SPR_PLANES_CD,                                                              \
+      "summed (alpha*c, alpha) of domain primitives over the background: rgb + (1 - min(alpha, 1))*bg (SPEC 7.7)")      \
+    X(CLAMP, clamp, 1, SPR_PLANES_CD, SPR_PLANES_CD,                                                                      \
+      "rgb clamped below at 0, alpha and depth copied: after soft dark back faces (SPEC 7.7)")                          \
+    X(PREFIX, prefix, 1, 0, SPR_PLANES_CD,                                                                                \
+      "the input's fragment lists sorted by (depth, primitive): front-most plus its neighbours summed (SPEC 7.7)")
 
 typedef enum spr_composite_op {
 #define SPR__COMP_ENUM(e, fn, max_in, reads, writes, summary) SPR_COMP_##e,
@@ -244,11 +251,86 @@ typedef struct spr_composite_desc {
     float background[3];
     const float *params;     /* SPR_PRM_COUNT floats, or NULL: no shading, no environment */
     const spr_envmap *env;   /* required when params[SPR_PRM_ENV] != 0 */
+    const struct spr_rects *rects; /* the prefix op: the rectangles the input's lists came from (neighbours) */
 } spr_composite_desc;
 
 /* Planes input `input` of op must have beyond the table's `reads` under these
  * parameters: the normal plane where shading or environment effects use it. */
 unsigned spr_composite_extra_reads(spr_composite_op op, const float *params, int input);
+
+
+/* ---- textured rectangles: domain primitives (SPEC §7.4, §7.5, §7.7) ----
+ * A rectangle is a float record (SPR_RECT_LIST: X(NAME, floats), offsets
+ * SPR_RECT_<NAME>) and an integer record of SPR_RECTI_COUNT values; both go
+ * unchanged to both backends, and spr_arith.h reads the floats.  The
+ * rectangle is {c + s·u + w·v : umin ≤ s ≤ umax, vmin ≤ w ≤ vmax} in the
+ * plane through c with normal n; its texture has tw × th square texels of
+ * side h, texel (x, y) centred at (umin + (x + ½)h, vmin + (y + ½)h), RGBA
+ * = colour and alpha (the basis function), row by row from y = 0. */
+#define SPR_RECT_LIST(X) X(C, 3) X(N, 3) X(U, 3) X(V, 3) X(UMIN, 1) X(UMAX, 1) X(VMIN, 1) X(VMAX, 1) X(TEXEL, 1)
+enum {
+#define SPR__RECT_OFF(name, n) SPR_RECT_##name, SPR_RECT__END_##name = SPR_RECT_##name + (n) - 1,
+    SPR_RECT_LIST(SPR__RECT_OFF)
+#undef SPR__RECT_OFF
+    SPR_RECT_FLOATS
+};
+enum { SPR_RECTI_TW = 0, SPR_RECTI_TH, SPR_RECTI_OFF, SPR_RECTI_DOMAIN, SPR_RECTI_COUNT };
+/* A per-pixel fragment list keeps at most this many fragments, the front-most
+ * by (depth, primitive) (the prefix op). */
+#define SPR_LIST_MAX 64
+
+typedef struct spr_rects {
+    size_t n;
+    float *f;          /* n·SPR_RECT_FLOATS */
+    uint32_t *i;       /* n·SPR_RECTI_COUNT: texels along u and v, first texel, domain number */
+    float *texels;     /* RGBA, n_texels·4 */
+    size_t n_texels;
+    uint32_t *nbr;     /* neighbour bits: primitive b is a neighbour of a when bit b of row a is set,
+                          rows of spr_rects_words(n) words; symmetric, a is its own neighbour */
+    uint64_t serial;   /* different for every set made (spr_rects_alloc): GL keeps uploads by it */
+} spr_rects;
+static inline size_t spr_rects_words(size_t n) { return (n + 31) / 32; }
+/* Arrays for n rectangles and n_texels texels, zeroed, with a new serial. */
+spr_result spr_rects_alloc(spr_rects *r, size_t n, size_t n_texels, spr_error *err);
+void spr_rects_free(spr_rects *r);
+
+/* What a rectangle fragment offers the colour plane, from its texel (c, α). */
+typedef enum spr_rect_output {
+    SPR_ROUT_WEIGHTED = 0, /* (α·c, α): summed, the partition of unity blends (SPEC 7.7) */
+    SPR_ROUT_COLOR,        /* (c, 1): opaque (noblend) */
+    SPR_ROUT_BLACK,        /* (0, 0, 0, 1): hard dark back face */
+    SPR_ROUT_LUMINANCE,    /* (α, α, α, 0): soft dark back face, under SPR_BLEND_SUB */
+    SPR_ROUT__COUNT
+} spr_rect_output;
+typedef enum spr_sampling {
+    SPR_SAMPLE_NEAREST = 0, /* the texel containing the hit point */
+    SPR_SAMPLE_LINEAR,      /* bilinear, weights computed in the shared arithmetic (Tier A) */
+    SPR_SAMPLE_HARDWARE,    /* GL's own texture() bilinear filter (Tier B, PARITY.md); the CPU does LINEAR */
+    SPR_SAMPLE__COUNT
+} spr_sampling;
+
+/* One draw of rectangles in the order of `indices` (all when NULL): the
+ * pixel's ray meets the plane at 0 ≤ t ≤ 1 inside the rectangle, the texel
+ * sampled there has α > 0 and α ≥ alpha_ref; then the test value (plain or
+ * eps-offset, from state), depth test, and the planes of state.write_mask
+ * (colour as `output` says, stored depth t, id = the rectangle's index,
+ * count).  With list = 1 nothing is tested or written: the draw makes the
+ * target's per-pixel fragment lists (t, index, (α·c, α)) from its
+ * fragments alone, for the prefix op. */
+typedef struct spr_rect_draw_desc {
+    const spr_rects *rects;
+    const uint32_t *indices;
+    size_t count;
+    spr_rect_output output;
+    spr_sampling sampling;
+    float alpha_ref;
+    int list;
+    spr_pass_state state;   /* depth_value PLAIN or EPS_OFFSET, eps_t, depth func/write, blends, write mask */
+} spr_rect_draw_desc;
+/* Pixel rectangle a rectangle may cover (host, double, one pixel of slack);
+ * 0 when it is off screen.  Both backends use it, so coverage is decided
+ * per pixel by the shared arithmetic alone. */
+int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int *x1, int *y1);
 
 typedef struct spr_backend spr_backend;
 struct spr_backend {
@@ -259,6 +341,7 @@ struct spr_backend {
     spr_result (*clear)(spr_backend *b, int target, const float color[4]);
     spr_result (*draw_splats)(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st);
     spr_result (*composite)(spr_backend *b, const spr_composite_desc *c);
+    spr_result (*draw_rects)(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
     /* float planes into float*, id/count planes into uint32_t*; W·H·channels values,
      * row 0 = bottom. */
     spr_result (*read_plane)(spr_backend *b, int target, spr_plane p, void *out);
@@ -278,6 +361,7 @@ void spr_backend_target_destroy(spr_backend *b, int target);
 spr_result spr_backend_clear(spr_backend *b, int target, const float color[4]);
 spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st);
 spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c);
+spr_result spr_backend_draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out);
 void spr_backend_destroy(spr_backend *b);
 

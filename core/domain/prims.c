@@ -1,0 +1,158 @@
+/* prims.c — domain primitives of one level (SPEC §7.3–7.5, §7.7): the
+ * domains of a basis, each with at least 3 points, become textured support
+ * rectangles (spr_rects, the primitive of the backend interface), with the
+ * neighbour relation of the overlap and prefix methods: a and b are
+ * neighbours when their shared points exceed `nbr_ratio` of either
+ * domain's points ([R] §4.4.4).  Domains are built in parallel, each into
+ * its own slot, and packed in domain order: the result does not depend on
+ * the thread count. */
+#include "spr_domain.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void spr_prims_defaults(spr_prims_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->K = 0.01;
+    d->enlarge = 0.05;
+    d->tex.texel_factor = 1.0;
+    d->tex.width = 1.0;
+    d->tex.shape = SPR_RBF_LINEAR;
+    d->tex.normalize = SPR_NORM_GT0;
+    d->nbr_ratio = 0.05;
+}
+
+typedef struct slot {
+    int ok;
+    spr_polygon pg;
+    spr_texture tex;
+    size_t triangles;
+    spr_error err;
+    int failed;
+} slot;
+
+spr_result spr_domain_prims(const spr_cloud *c, const spr_csr *B, const spr_prims_desc *d, spr_rects *out, spr_prims_stats *st,
+                            spr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    memset(st, 0, sizeof *st);
+    const double t0 = spr_now_ms();
+    spr_csr T;
+    if (spr_domain_members(B, d->strict, d->K, &T, err)) return err->code;
+    const size_t R = T.rows;
+    slot *sl = calloc(R ? R : 1, sizeof *sl);
+    if (!sl) {
+        spr_csr_free(&T);
+        return spr__fail(err, SPR_E_NOMEM, "domains: out of memory for %zu domains", R);
+    }
+#pragma omp parallel for schedule(dynamic, 1) num_threads(d->threads > 0 ? d->threads : 1)
+    for (long jj = 0; jj < (long)R; jj++) {
+        const size_t j = (size_t)jj, m = T.ptr[j + 1] - T.ptr[j];
+        slot *s = &sl[j];
+        if (m < 3) continue;
+        if (spr_support_polygon(c, T.col + T.ptr[j], T.val + T.ptr[j], m, d->enlarge, 1, &s->pg, &s->err)) continue; /* degenerate */
+        spr_result r = d->affine ? spr_texture_affine(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &s->pg, &d->tex, &s->tex, &s->triangles, &s->err)
+                                 : spr_texture_radial(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &s->pg, &d->tex, &s->tex, &s->err);
+        if (r) s->failed = 1;
+        else s->ok = 1;
+    }
+    spr_result res = SPR_OK;
+    size_t n = 0, texels = 0;
+    for (size_t j = 0; j < R; j++) {
+        if (sl[j].failed && !res) {
+            *err = sl[j].err;
+            res = err->code ? err->code : SPR_E_VALUE;
+        }
+        if (sl[j].ok) n++, texels += (size_t)sl[j].tex.w * (size_t)sl[j].tex.h;
+    }
+    uint32_t *prim_of = NULL; /* domain → primitive, UINT32_MAX: none */
+    if (!res) res = spr_rects_alloc(out, n, texels, err);
+    if (!res && !(prim_of = malloc((R ? R : 1) * sizeof *prim_of))) res = spr__fail(err, SPR_E_NOMEM, "domains: out of memory");
+    size_t k = 0, off = 0;
+    double e = 0.0, en = 0.0, pts = 0.0;
+    for (size_t j = 0; !res && j < R; j++) {
+        prim_of[j] = UINT32_MAX;
+        if (!sl[j].ok) continue;
+        const spr_polygon *pg = &sl[j].pg;
+        float *f = out->f + k * SPR_RECT_FLOATS;
+        uint32_t *I = out->i + k * SPR_RECTI_COUNT;
+        for (int a = 0; a < 3; a++) {
+            f[SPR_RECT_C + a] = (float)pg->centroid[a];
+            f[SPR_RECT_N + a] = (float)pg->normal[a];
+            f[SPR_RECT_U + a] = (float)pg->u[a];
+            f[SPR_RECT_V + a] = (float)pg->v[a];
+        }
+        f[SPR_RECT_UMIN] = (float)pg->umin;
+        f[SPR_RECT_UMAX] = (float)pg->umax;
+        f[SPR_RECT_VMIN] = (float)pg->vmin;
+        f[SPR_RECT_VMAX] = (float)pg->vmax;
+        f[SPR_RECT_TEXEL] = (float)sl[j].tex.texel;
+        I[SPR_RECTI_TW] = (uint32_t)sl[j].tex.w;
+        I[SPR_RECTI_TH] = (uint32_t)sl[j].tex.h;
+        I[SPR_RECTI_OFF] = (uint32_t)off;
+        I[SPR_RECTI_DOMAIN] = (uint32_t)j;
+        const size_t nt = (size_t)sl[j].tex.w * (size_t)sl[j].tex.h;
+        memcpy(out->texels + 4 * off, sl[j].tex.rgba, nt * 4 * sizeof(float));
+        off += nt;
+        e += pg->error, en += pg->error_norm, pts += (double)pg->points;
+        st->triangles += sl[j].triangles;
+        prim_of[j] = (uint32_t)k++;
+    }
+    /* neighbours: shared points counted per primitive over the points' domains */
+    if (!res) {
+        const size_t words = spr_rects_words(n);
+        size_t *pt_ptr = calloc(c->n + 1, sizeof *pt_ptr), *shared = calloc(n ? n : 1, sizeof *shared);
+        uint32_t *pt_prim = malloc((T.ptr[R] ? T.ptr[R] : 1) * sizeof *pt_prim), *touched = malloc((n ? n : 1) * sizeof *touched);
+        if (!pt_ptr || !shared || !pt_prim || !touched) res = spr__fail(err, SPR_E_NOMEM, "domains: out of memory for neighbours");
+        for (size_t j = 0; !res && j < R; j++) /* points → their primitives (transpose of the members) */
+            if (prim_of[j] != UINT32_MAX)
+                for (size_t q = T.ptr[j]; q < T.ptr[j + 1]; q++) pt_ptr[T.col[q] + 1]++;
+        for (size_t p = 0; !res && p < c->n; p++) pt_ptr[p + 1] += pt_ptr[p];
+        for (size_t j = 0; !res && j < R; j++)
+            if (prim_of[j] != UINT32_MAX)
+                for (size_t q = T.ptr[j]; q < T.ptr[j + 1]; q++) pt_prim[pt_ptr[T.col[q]]++] = prim_of[j];
+        for (size_t p = c->n; !res && p > 0; p--) pt_ptr[p] = pt_ptr[p - 1]; /* restore the starts */
+        if (!res) pt_ptr[0] = 0;
+        for (size_t j = 0; !res && j < R; j++) {
+            const uint32_t a = prim_of[j];
+            if (a == UINT32_MAX) continue;
+            size_t nt = 0;
+            for (size_t q = T.ptr[j]; q < T.ptr[j + 1]; q++)
+                for (size_t z = pt_ptr[T.col[q]]; z < pt_ptr[T.col[q] + 1]; z++)
+                    if (shared[pt_prim[z]]++ == 0) touched[nt++] = pt_prim[z];
+            const double ma = (double)(T.ptr[j + 1] - T.ptr[j]);
+            for (size_t z = 0; z < nt; z++) {
+                const uint32_t b = touched[z];
+                const double mb = (double)out->i[b * SPR_RECTI_COUNT + SPR_RECTI_DOMAIN];
+                const double mbn = (double)(T.ptr[(size_t)mb + 1] - T.ptr[(size_t)mb]);
+                const double sh = (double)shared[b];
+                if (b == a || sh / ma > d->nbr_ratio || sh / mbn > d->nbr_ratio) {
+                    out->nbr[(size_t)a * words + b / 32] |= 1u << (b % 32);
+                    out->nbr[(size_t)b * words + a / 32] |= 1u << (a % 32);
+                    if (b > a) st->neighbour_pairs++;
+                }
+                shared[b] = 0;
+            }
+        }
+        free(pt_ptr);
+        free(shared);
+        free(pt_prim);
+        free(touched);
+    }
+    if (!res) {
+        st->polygons = n;
+        st->texels = texels;
+        st->error = n ? e / (double)n : 0.0;
+        st->error_norm = n ? en / (double)n : 0.0;
+        st->points = n ? pts / (double)n : 0.0;
+        st->ms = spr_now_ms() - t0;
+    } else {
+        spr_rects_free(out);
+    }
+    for (size_t j = 0; j < R; j++) spr_texture_free(&sl[j].tex);
+    free(sl);
+    free(prim_of);
+    spr_csr_free(&T);
+    return res;
+}
