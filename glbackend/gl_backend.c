@@ -28,15 +28,6 @@ spr_result gl__check(spr_backend *b, const char *what)
     return spr__fail(&b->err, SPR_E_BACKEND, "gl: %s: GL error 0x%x", what, (unsigned)e);
 }
 
-/* One instance per submitted splat with a non-empty pixel rectangle. */
-typedef struct gl_instance {
-    int32_t rect[4];
-    float pr[4];
-    float na[4];
-    float c[4];
-    uint32_t id;
-} gl_instance;
-
 static void free_target(gl_target *t)
 {
     if (t->fbo) glDeleteFramebuffers(1, &t->fbo);
@@ -160,6 +151,7 @@ static spr_result gl_clear(spr_backend *b, int t, const float color[4])
     gl__make_current(c);
     gl_target *tg = &c->targets[t];
     unsigned planes = b->target_planes[t];
+    if (t == c->list_target) c->list_target = -1; /* a clear empties the fragment lists too */
     glBindFramebuffer(GL_FRAMEBUFFER, tg->fbo);
     for (int i = 0; i < SPR_PLANE__COUNT; i++) glColorMaski((GLuint)i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
@@ -198,13 +190,15 @@ static spr_result gl_target_create(spr_backend *b, unsigned planes, int *out)
 static void gl_target_destroy(spr_backend *b, int t)
 {
     gl__make_current(gl_ctx(b));
+    if (t == gl_ctx(b)->list_target) gl_ctx(b)->list_target = -1;
     free_target(&gl_ctx(b)->targets[t]);
 }
 
 static void blend_factors(spr_blend mode, GLenum *sf, GLenum *df)
 {
     switch (mode) {
-    case SPR_BLEND_ADD: *sf = GL_ONE; *df = GL_ONE; break;
+    case SPR_BLEND_ADD:
+    case SPR_BLEND_SUB: *sf = GL_ONE; *df = GL_ONE; break;
     case SPR_BLEND_OVER: *sf = GL_SRC_ALPHA; *df = GL_ONE_MINUS_SRC_ALPHA; break;
     case SPR_BLEND_REPLACE:
     default: *sf = GL_ONE; *df = GL_ZERO; break;
@@ -222,7 +216,8 @@ static void set_blend(GLuint buf, spr_blend rgb, spr_blend alpha)
     blend_factors(rgb, &s0, &d0);
     blend_factors(alpha, &s1, &d1);
     glEnablei(GL_BLEND, buf);
-    glBlendEquationSeparatei(buf, GL_FUNC_ADD, GL_FUNC_ADD);
+    glBlendEquationSeparatei(buf, rgb == SPR_BLEND_SUB ? GL_FUNC_REVERSE_SUBTRACT : GL_FUNC_ADD,
+                             alpha == SPR_BLEND_SUB ? GL_FUNC_REVERSE_SUBTRACT : GL_FUNC_ADD); /* dst − src */
     glBlendFuncSeparatei(buf, s0, d0, s1, d1);
 }
 
@@ -257,11 +252,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
         g->id = sid;
         m++;
     }
-    if (m * sizeof *inst > c->instances_cap) {
-        c->instances_cap = m * sizeof *inst;
-        glNamedBufferData(c->instances, (GLsizeiptr)c->instances_cap, NULL, GL_STREAM_DRAW);
-    }
-    glNamedBufferSubData(c->instances, 0, (GLsizeiptr)(m * sizeof *inst), inst);
+    gl__upload_instances(c, inst, m);
     free(inst);
 
     gl_target *tg = &c->targets[target];
@@ -288,6 +279,22 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
         glTextureBarrier();
     }
 
+    gl__pass_state(s);
+    gl__draw_instances(c, m, st);
+    return gl__check(b, "draw");
+}
+
+void gl__upload_instances(gl_context *c, const gl_instance *inst, size_t m)
+{
+    if (m * sizeof *inst > c->instances_cap) {
+        c->instances_cap = m * sizeof *inst;
+        glNamedBufferData(c->instances, (GLsizeiptr)c->instances_cap, NULL, GL_STREAM_DRAW);
+    }
+    if (m) glNamedBufferSubData(c->instances, 0, (GLsizeiptr)(m * sizeof *inst), inst);
+}
+
+void gl__pass_state(const spr_pass_state *s)
+{
     static const GLenum funcs[SPR_FUNC__COUNT] = {GL_LESS, GL_LEQUAL, GL_ALWAYS};
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(funcs[s->depth_func]);
@@ -304,14 +311,17 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
         else if (type == SPR_PLANE_COUNTER) set_blend((GLuint)a, SPR_BLEND_ADD, SPR_BLEND_ADD);
         else set_blend((GLuint)a, SPR_BLEND_REPLACE, SPR_BLEND_REPLACE);
     }
+}
 
+void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st)
+{
     static const GLuint zero = 0;
     glNamedBufferSubData(c->counters, 0, sizeof zero, &zero);
     GLuint q;
     glGenQueries(1, &q);
     glBeginQuery(GL_SAMPLES_PASSED, q);
     glBindVertexArray(c->vao);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)m);
+    if (m) glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)m);
     glEndQuery(GL_SAMPLES_PASSED);
     GLuint64 passed = 0;
     glGetQueryObjectui64v(q, GL_QUERY_RESULT, &passed);
@@ -320,7 +330,6 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
     glGetNamedBufferSubData(c->counters, 0, sizeof generated, &generated);
     st->generated = generated;
     st->passed = passed;
-    return gl__check(b, "draw");
 }
 
 /* The composite table's per-pixel function as a full-screen pass over the
@@ -355,6 +364,12 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     glUniform1i(u[GL_CU_OP], (int)cd->op);
     glUniform1f(u[GL_CU_EPS], cd->eps_t);
     glUniform1fv(u[GL_CU_BG], 3, cd->background);
+    if (cd->op == SPR_COMP_PREFIX) {
+        spr_result r = gl__bind_lists(c, cd);
+        if (r) return r;
+    }
+    glUniform1i(u[GL_CU_LISTW], b->view.width);
+    glUniform1i(u[GL_CU_NBRW], cd->rects ? (int)spr_rects_words(cd->rects->n) : 0);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
     glDepthMask(GL_TRUE);
@@ -409,11 +424,13 @@ static void gl_destroy(spr_backend *b)
         for (int t = 0; t < c->cap; t++) free_target(&c->targets[t]);
         drop_pool(c);
         if (c->env) glDeleteTextures(1, &c->env);
+        gl__rects_free(c);
         glDeleteBuffers(1, &c->instances);
         glDeleteBuffers(1, &c->counters);
         glDeleteVertexArrays(1, &c->vao);
         glDeleteProgram(c->prog_splat);
         glDeleteProgram(c->prog_comp);
+        glDeleteProgram(c->prog_rect);
     }
     gl__egl_close(c);
     free(c->targets);
@@ -452,6 +469,7 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     gl_context *c = calloc(1, sizeof *c);
     if (!c) { spr__fail(err, SPR_E_NOMEM, "gl: out of memory"); return NULL; }
     c->dpy = EGL_NO_DISPLAY;
+    c->list_target = -1;
     c->ctx = EGL_NO_CONTEXT;
     spr_backend *b = &c->base;
     b->name = "gl";
@@ -461,6 +479,7 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     b->clear = gl_clear;
     b->draw_splats = gl_draw;
     b->composite = gl_composite;
+    b->draw_rects = gl__draw_rects;
     b->read_plane = gl_read_plane;
     b->destroy = gl_destroy;
     if (gl__egl_open(c, d->device, err) || gl__build_programs(c, err)) {

@@ -24,12 +24,22 @@ typedef struct gl_target {
     X(M, "u_M") X(SIZE, "u_size") X(SX, "u_sx") X(SY, "u_sy") X(EPS, "u_eps") X(DMIN, "u_dmin") X(DMAX, "u_dmax") \
     X(N, "u_n") X(INVN, "u_invn") X(KERNEL, "u_kernel") X(DEPTH, "u_depth") X(OUTPUT, "u_output") X(CULL, "u_cull") \
     X(MASK, "u_mask") X(LAYER, "u_in_layer")
-#define GL_COMP_UNIFORMS(X) X(K, "u_K") X(OP, "u_op") X(EPS, "u_eps") X(BG, "u_bg") X(LAYER, "u_in_layer") X(PRM, "u_prm")
+#define GL_COMP_UNIFORMS(X) X(K, "u_K") X(OP, "u_op") X(EPS, "u_eps") X(BG, "u_bg") X(LAYER, "u_in_layer") X(PRM, "u_prm") \
+    X(LISTW, "u_list_width") X(NBRW, "u_nbr_words")
+#define GL_RECT_UNIFORMS(X)                                                                                    \
+    X(M, "u_M") X(SIZE, "u_size") X(SX, "u_sx") X(SY, "u_sy") X(EPS, "u_eps") X(AREF, "u_alpha_ref") X(DEPTH, "u_depth") \
+    X(OUTPUT, "u_output") X(SAMPLING, "u_sampling") X(LIST, "u_list") X(LISTW, "u_list_width") X(ATLAS, "u_atlas_size")
 enum {
 #define GL__E(e, name) GL_SU_##e,
     GL_SPLAT_UNIFORMS(GL__E)
 #undef GL__E
     GL_SU__COUNT
+};
+enum {
+#define GL__E(e, name) GL_RU_##e,
+    GL_RECT_UNIFORMS(GL__E)
+#undef GL__E
+    GL_RU__COUNT
 };
 enum {
 #define GL__E(e, name) GL_CU_##e,
@@ -43,8 +53,18 @@ typedef struct gl_context {
     EGLDisplay dpy;
     EGLContext ctx;
     char renderer[512];
-    GLuint prog_splat, prog_comp;
-    GLint su[GL_SU__COUNT], cu[GL_CU__COUNT];
+    GLuint prog_splat, prog_comp, prog_rect;
+    GLint su[GL_SU__COUNT], cu[GL_CU__COUNT], ru[GL_RU__COUNT];
+    /* rectangles (gl_rect.c): the set last uploaded, its buffers, the Tier B atlas */
+    uint64_t rects_serial;
+    size_t rects_n;
+    GLuint rect_buf[4];        /* texels, float records, integer records, neighbour bits */
+    GLuint atlas, atlas_org;   /* made on the first hardware-sampled draw of a set */
+    int atlas_w, atlas_h;
+    GLuint list_meta, list_src, list_head; /* fragment lists of target list_target */
+    GLuint list_tex[4];        /* buffer textures the prefix op reads them (and the neighbour bits) through */
+    size_t list_cap;
+    int list_target;
     GLuint vao, instances, counters;
     size_t instances_cap;
     GLuint pool[SPR_PLANE__COUNT]; /* one 2D array texture per plane, a layer per target handle */
@@ -66,6 +86,25 @@ void gl__make_current(gl_context *c);
 spr_result gl__build_programs(gl_context *c, spr_error *err);
 /* gl_backend.c */
 spr_result gl__check(spr_backend *b, const char *what);
+/* Depth test, depth write, colour masks and blends of a draw under s. */
+void gl__pass_state(const spr_pass_state *s);
+/* One instance per rectangle or splat: pixel rectangle and id (gl_splat.vert). */
+typedef struct gl_instance {
+    int32_t rect[4];
+    float pr[4];
+    float na[4];
+    float c[4];
+    uint32_t id;
+} gl_instance;
+/* Upload m instances to the instance buffer. */
+void gl__upload_instances(gl_context *c, const gl_instance *inst, size_t m);
+/* Draw m instances with the samples-passed query and the generated counter. */
+void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st);
+/* gl_rect.c */
+spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
+/* Bind the fragment lists and neighbours of cd for the prefix op. */
+spr_result gl__bind_lists(gl_context *c, const spr_composite_desc *cd);
+void gl__rects_free(gl_context *c);
 /* Colour attachment (= fragment output location) of plane p; −1 for the
  * depth-test plane, which is the depth attachment. */
 int gl__plane_attachment(spr_plane p);

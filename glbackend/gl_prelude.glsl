@@ -29,6 +29,20 @@ layout(binding = 2) uniform sampler2DArray u_in_opacity;
 layout(binding = 3) uniform sampler2DArray u_in_normal;
 layout(binding = 4) uniform sampler2DArray u_env; /* six layers: the cube faces, texel (i, j) of face f */
 uniform int u_in_layer[SPR_MAX_INPUTS];
+/* Rectangles (domain primitives) and fragment lists: shader storage, read
+ * and written as raw 32-bit values (gl_backend.c uploads them unchanged). */
+layout(std430, binding = 0) readonly buffer SprTexels { vec4 spr_texels[]; };
+layout(std430, binding = 1) readonly buffer SprRectF { float spr_rect_f[]; };
+layout(std430, binding = 2) readonly buffer SprRectI { uint spr_rect_i[]; };
+/* Fragment lists and neighbours are read through buffer textures: on
+ * llvmpipe 22.3 a shader-storage load inside a loop whose trip count it
+ * cannot see stopped a list walk after one node (measured; gl_rect.c). */
+layout(binding = 6) uniform usamplerBuffer u_list_meta;  /* (t bits, rectangle, next, 0) per node */
+layout(binding = 7) uniform samplerBuffer u_list_src;    /* colour per node */
+layout(binding = 8) uniform usamplerBuffer u_list_head;  /* first node per pixel */
+layout(binding = 9) uniform usamplerBuffer u_nbr;        /* neighbour bits */
+uniform int u_list_width;
+uniform int u_nbr_words;
 
 float spr_in_depth(ivec2 px, int k) { return texelFetch(u_in_depth, ivec3(px, u_in_layer[k]), 0).r; }
 float spr_in_color(ivec2 px, int k, int ch) { return texelFetch(u_in_color, ivec3(px, u_in_layer[k]), 0)[ch]; }
@@ -37,3 +51,19 @@ float spr_in_normal(ivec2 px, int k, int ch) { return texelFetch(u_in_normal, iv
 float spr_px_cx(ivec2 px) { return float(px.x) + 0.5; }
 float spr_px_cy(ivec2 px) { return float(px.y) + 0.5; }
 float spr_in_env(ivec2 px, int face, int i, int j, int ch) { return texelFetch(u_env, ivec3(i, j, face), 0)[ch]; }
+float spr_in_texel(ivec2 px, int k, int ch) { return spr_texels[k][ch]; }
+/* A list node: meta (t bits, rectangle, next, 0) and its colour; next 0xffffffff ends the list. */
+int spr_list_first(ivec2 px)
+{
+    uint h = texelFetch(u_list_head, px.y * u_list_width + px.x).r;
+    return h == 0xffffffffu ? -1 : int(h);
+}
+int spr_list_next(ivec2 px, int node)
+{
+    uint n = texelFetch(u_list_meta, node).z;
+    return n == 0xffffffffu ? -1 : int(n);
+}
+float spr_list_t(ivec2 px, int node) { return uintBitsToFloat(texelFetch(u_list_meta, node).x); }
+int spr_list_prim(ivec2 px, int node) { return int(texelFetch(u_list_meta, node).y); }
+float spr_list_src(ivec2 px, int node, int ch) { return texelFetch(u_list_src, node)[ch]; }
+int spr_neighbour(ivec2 px, int a, int b) { return int((texelFetch(u_nbr, a * u_nbr_words + b / 32).r >> uint(b % 32)) & 1u); }

@@ -22,7 +22,7 @@
 
 /* The embedded files (generated gl_sources.c). */
 extern const char spr__src_arith[], spr__src_prelude[], spr__src_splat_vert[], spr__src_splat_frag[],
-    spr__src_full_vert[], spr__src_composite_frag[];
+    spr__src_full_vert[], spr__src_composite_frag[], spr__src_rect_frag[];
 
 typedef struct strbuf { char *s; size_t n, cap; int oom; } strbuf;
 
@@ -54,6 +54,11 @@ static void add_constants(strbuf *b)
         {"SPR_DEPTH_LOWRES", SPR_DEPTH_LOWRES}, {"SPR_DEPTH_VORONOI", SPR_DEPTH_VORONOI},
         {"SPR_OUT_WEIGHTED", SPR_OUT_WEIGHTED}, {"SPR_OUT_ALPHA", SPR_OUT_ALPHA},
         {"SPR_GAUSS_DEGREE", SPR_GAUSS_DEGREE}, {"SPR_MAX_INPUTS", SPR_MAX_COMPOSITE_INPUTS},
+        {"SPR_ROUT_WEIGHTED", SPR_ROUT_WEIGHTED}, {"SPR_ROUT_COLOR", SPR_ROUT_COLOR}, {"SPR_ROUT_BLACK", SPR_ROUT_BLACK},
+        {"SPR_ROUT_LUMINANCE", SPR_ROUT_LUMINANCE}, {"SPR_SAMPLE_NEAREST", SPR_SAMPLE_NEAREST}, {"SPR_SAMPLE_LINEAR", SPR_SAMPLE_LINEAR},
+        {"SPR_SAMPLE_HARDWARE", SPR_SAMPLE_HARDWARE}, {"SPR_LIST_MAX", SPR_LIST_MAX}, {"SPR_RECT_FLOATS", SPR_RECT_FLOATS},
+        {"SPR_RECTI_TW", SPR_RECTI_TW}, {"SPR_RECTI_TH", SPR_RECTI_TH}, {"SPR_RECTI_OFF", SPR_RECTI_OFF},
+        {"SPR_RECTI_DOMAIN", SPR_RECTI_DOMAIN}, {"SPR_RECTI_COUNT", SPR_RECTI_COUNT},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) sb_add(b, "#define %s %d\n", k[i].name, k[i].value);
     /* fragment output location of each plane = its colour attachment */
@@ -73,6 +78,10 @@ static void add_constants(strbuf *b)
     SPR_PARAM_LIST(GL__PRM)
 #undef GL__PRM
     sb_add(b, "#define SPR_PRM_COUNT %d\n", SPR_PRM_COUNT);
+    /* offsets of a rectangle's float record (SPR_RECT_LIST) */
+#define GL__RECT(name, n) sb_add(b, "#define SPR_RECT_%s %d\n", #name, SPR_RECT_##name);
+    SPR_RECT_LIST(GL__RECT)
+#undef GL__RECT
     sb_add(b, "#define SPR_COMP_CALL(op, px, K, eps, bg, prm, o, on, d)");
 #define GL__COMP(e, fn, max_in, reads, writes, summary) sb_add(b, " if (op == %d) spr_comp_" #fn "(px, K, eps, bg, prm, o, on, d); else", SPR_COMP_##e);
     SPR_COMPOSITE_LIST(GL__COMP)
@@ -161,6 +170,11 @@ static const char *const splat_uniforms[GL_SU__COUNT + 1] = {
     GL_SPLAT_UNIFORMS(GL__NAME)
 #undef GL__NAME
     NULL};
+static const char *const rect_uniforms[GL_RU__COUNT + 1] = {
+#define GL__NAME(e, name) name,
+    GL_RECT_UNIFORMS(GL__NAME)
+#undef GL__NAME
+    NULL};
 static const char *const comp_uniforms[GL_CU__COUNT + 1] = {
 #define GL__NAME(e, name) name,
     GL_COMP_UNIFORMS(GL__NAME)
@@ -171,6 +185,8 @@ spr_result gl__build_programs(gl_context *c, spr_error *err)
 {
     c->prog_splat = link(spr__src_splat_vert, spr__src_splat_frag, "splat", err);
     if (!c->prog_splat || resolve(c->prog_splat, "splat", splat_uniforms, c->su, err)) return err->code;
+    c->prog_rect = link(spr__src_splat_vert, spr__src_rect_frag, "rect", err);
+    if (!c->prog_rect || resolve(c->prog_rect, "rect", rect_uniforms, c->ru, err)) return err->code;
     c->prog_comp = link(spr__src_full_vert, spr__src_composite_frag, "composite", err);
     if (!c->prog_comp || resolve(c->prog_comp, "composite", comp_uniforms, c->cu, err)) return err->code;
     return SPR_OK;
@@ -180,7 +196,7 @@ char *spr_gl_program_source(spr_backend *b, const char *program)
 {
     gl_context *c = gl_ctx(b);
     gl__make_current(c);
-    GLuint p = !strcmp(program, "splat") ? c->prog_splat : !strcmp(program, "composite") ? c->prog_comp : 0;
+    GLuint p = !strcmp(program, "splat") ? c->prog_splat : !strcmp(program, "composite") ? c->prog_comp : !strcmp(program, "rect") ? c->prog_rect : 0;
     if (!p) return NULL;
     GLuint sh[4];
     GLsizei n = 0;

@@ -25,6 +25,7 @@ static inline float sw_blend1(spr_blend b, float src, float dst, float a)
 {
     switch (b) {
     case SPR_BLEND_ADD: return src + dst;
+    case SPR_BLEND_SUB: return dst - src; /* GL_FUNC_REVERSE_SUBTRACT with (ONE, ONE) */
     case SPR_BLEND_OVER: {
         float oma = 1.0f - a;
         float t1 = src * a, t2 = dst * oma;

@@ -908,8 +908,10 @@ SPR_FN void spr_comp_prefix(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SP
         float t = spr_list_t(px, node);
         int p = spr_list_prim(px, node);
         int pos = m;
-        if (m == SPR_LIST_MAX) pos = -1;
-        if (pos < 0 && spr_frag_before(t, p, kt[m - 1], kp[m - 1]) != 0) pos = m - 1;
+        if (m == SPR_LIST_MAX) {
+            pos = -1;
+            if (spr_frag_before(t, p, kt[SPR_LIST_MAX - 1], kp[SPR_LIST_MAX - 1]) != 0) pos = SPR_LIST_MAX - 1;
+        }
         if (pos >= 0) {
             while (pos > 0 && spr_frag_before(t, p, kt[pos - 1], kp[pos - 1]) != 0) {
                 kt[pos] = kt[pos - 1];
