@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "spr_domain.h"
+#include "spr_algo.h"
+#include "spr_swrast.h"
 #include "test_util.h"
 
 /* [[1 2] [0 3]] · [[4 0] [5 6]] = [[14 12] [15 18]] exactly; the row
@@ -391,6 +393,105 @@ START_TEST(affine_texture_reproduces_a_ramp)
 }
 END_TEST
 
+/* One rectangle of the hand scenes: centre (0, 0, z), half side 1, normal
+ * ±z, one texel (colour, alpha) over the whole rectangle. */
+static void hand_rect(spr_rects *r, int k, float z, float nz, const float rgba[4])
+{
+    float *f = r->f + (size_t)k * SPR_RECT_FLOATS;
+    f[SPR_RECT_C + 2] = z;
+    f[SPR_RECT_N + 2] = nz;
+    f[SPR_RECT_U] = 1.0f;
+    f[SPR_RECT_V + 1] = nz; /* v = n × u */
+    f[SPR_RECT_UMIN] = f[SPR_RECT_VMIN] = -1.0f;
+    f[SPR_RECT_UMAX] = f[SPR_RECT_VMAX] = 1.0f;
+    f[SPR_RECT_TEXEL] = 2.0f;
+    uint32_t *I = r->i + (size_t)k * SPR_RECTI_COUNT;
+    I[SPR_RECTI_TW] = I[SPR_RECTI_TH] = 1;
+    I[SPR_RECTI_OFF] = (uint32_t)k;
+    I[SPR_RECTI_DOMAIN] = (uint32_t)k;
+    memcpy(r->texels + 4 * (size_t)k, rgba, 4 * sizeof(float));
+    r->nbr[(size_t)k * spr_rects_words(r->n)] |= 1u << k; /* its own neighbour */
+}
+
+/* Render the hand rectangles with algo on the CPU, 9×9 from (0, 0, 5)
+ * towards the origin; the centre pixel's colour into px. */
+static void hand_render(const spr_rects *r, spr_algo algo, const float bg[3], float px[4])
+{
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.width = cam.height = 9;
+    cam.eye[2] = 5.0;
+    cam.have_eye = cam.have_target = 1;
+    cam.near_plane = 1.0;
+    cam.far_plane = 10.0;
+    spr_view v;
+    spr_error err = {0};
+    ck_assert_msg(spr_view_make(&cam, &v, &err) == SPR_OK, "%s", err.msg);
+    spr_cloud c = tu_builtin("builtin:sphere", 100);
+    spr_backend *b = spr_swrast_create(1, &err);
+    ck_assert_ptr_nonnull(b);
+    spr_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.algo = algo;
+    d.rects = r;
+    d.sampling = SPR_SAMPLE_NEAREST;
+    memcpy(d.background, bg, sizeof d.background);
+    spr_render_result out;
+    ck_assert_msg(spr_render(b, &v, &c, &d, &out, &err) == SPR_OK, "%s", err.msg);
+    memcpy(px, out.rgba + 4 * (4 * 9 + 4), 4 * sizeof(float));
+    spr_render_result_free(&out);
+    spr_backend_destroy(b);
+    spr_cloud_free(&c);
+}
+
+/* SPEC 7.7 prefix by hand: A (z = 0, red, α ½) and B (z = −0.1, green,
+ * α ½) are neighbours, C (z = −0.5, blue, α 1) is not; the centre pixel
+ * is A + B = (½·1, ½·1, 0) exactly, C left out, whatever the order. */
+START_TEST(prefix_sums_the_front_and_its_neighbour)
+{
+    spr_rects r;
+    spr_error err = {0};
+    ck_assert_int_eq(spr_rects_alloc(&r, 3, 3, &err), SPR_OK);
+    hand_rect(&r, 0, -0.5f, 1.0f, (const float[4]){0, 0, 1, 1}); /* C first in the set: the order must not matter */
+    hand_rect(&r, 1, 0.0f, 1.0f, (const float[4]){1, 0, 0, 0.5f});
+    hand_rect(&r, 2, -0.1f, 1.0f, (const float[4]){0, 1, 0, 0.5f});
+    r.nbr[1 * spr_rects_words(3)] |= 1u << 2;
+    r.nbr[2 * spr_rects_words(3)] |= 1u << 1;
+    float px[4];
+    hand_render(&r, SPR_ALGO_DOMAIN_PREFIX, (const float[3]){0, 0, 0}, px);
+    ck_assert_msg(px[0] == 0.5f && px[1] == 0.5f && px[2] == 0.0f && px[3] == 1.0f, "prefix: %g %g %g %g", px[0], px[1], px[2], px[3]);
+    /* blendall sums all three: (½, ½, 1) */
+    hand_render(&r, SPR_ALGO_DOMAIN_BLENDALL, (const float[3]){0, 0, 0}, px);
+    ck_assert_msg(px[0] == 0.5f && px[1] == 0.5f && px[2] == 1.0f, "blendall: %g %g %g", px[0], px[1], px[2]);
+    spr_rects_free(&r);
+}
+END_TEST
+
+/* SPEC 7.7 darkback by hand: a front face (z = −0.5, white, α 1) behind a
+ * back face (z = 0, normal −z): back to front, the front face adds white,
+ * then the back face resets the pixel to black — black, not the
+ * background; soft subtracts α = 1 and clamps: black too. */
+START_TEST(darkback_hard_blackens_behind_a_back_face)
+{
+    spr_rects r;
+    spr_error err = {0};
+    ck_assert_int_eq(spr_rects_alloc(&r, 2, 2, &err), SPR_OK);
+    hand_rect(&r, 0, -0.5f, 1.0f, (const float[4]){1, 1, 1, 1});
+    hand_rect(&r, 1, 0.0f, -1.0f, (const float[4]){1, 1, 1, 1});
+    const float bg[3] = {0.25f, 0.5f, 0.75f};
+    float px[4];
+    hand_render(&r, SPR_ALGO_DOMAIN_DARKBACK_HARD, bg, px);
+    ck_assert_msg(px[0] == 0.0f && px[1] == 0.0f && px[2] == 0.0f && px[3] == 1.0f, "hard: %g %g %g %g", px[0], px[1], px[2], px[3]);
+    hand_render(&r, SPR_ALGO_DOMAIN_DARKBACK_SOFT, bg, px);
+    ck_assert_msg(px[0] == 0.0f && px[1] == 0.0f && px[2] == 0.0f, "soft: %g %g %g", px[0], px[1], px[2]);
+    r.n = 1; /* without the back face the pixel is white */
+    hand_render(&r, SPR_ALGO_DOMAIN_DARKBACK_HARD, bg, px);
+    ck_assert_msg(px[0] == 1.0f && px[1] == 1.0f && px[2] == 1.0f, "front only: %g %g %g", px[0], px[1], px[2]);
+    r.n = 2;
+    spr_rects_free(&r);
+}
+END_TEST
+
 Suite *make_domain_suite(void)
 {
     Suite *s = suite_create("domain");
@@ -404,6 +505,8 @@ Suite *make_domain_suite(void)
     tcase_add_test(tc, radial_texture_of_one_point);
     tcase_add_test(tc, merge_flat_domains_of_the_cube);
     tcase_add_test(tc, affine_texture_reproduces_a_ramp);
+    tcase_add_test(tc, prefix_sums_the_front_and_its_neighbour);
+    tcase_add_test(tc, darkback_hard_blackens_behind_a_back_face);
     suite_add_tcase(s, tc);
     return s;
 }

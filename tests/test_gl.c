@@ -9,6 +9,7 @@
 #include "spr_glbackend.h"
 #include "spr_parity.h"
 #include "spr_envmap.h"
+#include "spr_domain.h"
 #include "test_util.h"
 
 static spr_backend *cpu, *gl;
@@ -583,6 +584,47 @@ END_TEST
  * expect_exact (bunny views × configurations, built-ins, adversarial
  * scenes: bunny 12 + 5·5, built-ins 5·12, adversarial 6·12 = 169 since the
  * transparency and shading rows). */
+/* SPEC 7.7: every domain method, Tier A, on the cube's level-2 primitives
+ * (thresholded and strict, nearest and explicit bilinear). */
+START_TEST(domain_methods_match)
+{
+    spr_cloud c = tu_builtin("builtin:cube", 4000);
+    spr_decomp_desc dd;
+    spr_decomp_defaults(&dd);
+    spr_decomp dc = {0};
+    spr_error err = {0};
+    ck_assert_msg(spr_decompose(&c, &dd, &dc, &err) == SPR_OK, "%s", err.msg);
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.width = cam.height = 96;
+    cam.eye[0] = 3.0; cam.eye[1] = 2.2; cam.eye[2] = 4.5;
+    spr_view v;
+    view_for(&c, &cam, &v);
+    for (int variant = 0; variant < 2; variant++) {
+        spr_prims_desc pd;
+        spr_prims_defaults(&pd);
+        pd.strict = variant;
+        pd.tex.extend_color = 1;
+        spr_rects r;
+        spr_prims_stats st;
+        ck_assert_msg(spr_domain_prims(&c, &dc.basis[dc.levels > 2 ? 2 : 0], &pd, &r, &st, &err) == SPR_OK, "%s", err.msg);
+        for (int al = SPR_ALGO_DOMAIN_BLENDALL; al <= SPR_ALGO_DOMAIN_PREFIX; al++) {
+            spr_render_desc d;
+            memset(&d, 0, sizeof d);
+            d.algo = (spr_algo)al;
+            d.rects = &r;
+            d.sampling = variant ? SPR_SAMPLE_NEAREST : SPR_SAMPLE_LINEAR;
+            char label[64];
+            snprintf(label, sizeof label, "cube %s %s", spr_algo_name((spr_algo)al), variant ? "strict nearest" : "thresholded linear");
+            expect_exact(label, &v, &c, &d);
+        }
+        spr_rects_free(&r);
+    }
+    spr_decomp_free(&dc);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 START_TEST(summary)
 {
     printf("gl: %s — %d parity cases, %d planes compared, all bit-exact\n", spr_gl_renderer(gl), cases, planes_checked);
@@ -605,6 +647,7 @@ Suite *make_gl_suite(void)
     tcase_add_test(tc, depth_mask_and_composites_match);
     tcase_add_test(tc, programs_embed_the_shared_arithmetic);
     tcase_add_test(tc, two_gl_backends_in_one_process);
+    tcase_add_test(tc, domain_methods_match);
     tcase_add_test(tc, summary);
     suite_add_tcase(s, tc);
     return s;

@@ -47,6 +47,10 @@ typedef struct rscene {
     spr_envmap env;
     const char *env_name;
     int layers;              /* depthpeel */
+    spr_rects rects;         /* domain-*: primitives of one level of the scene's decomposition (n 0: none) */
+    int has_rects;
+    spr_sampling sampling;
+    float alpha_ref;
     char features[256];
 } rscene;
 
@@ -54,6 +58,7 @@ static void rscene_free(rscene *s)
 {
     spr_cloud_free(&s->cloud);
     spr_envmap_free(&s->env);
+    spr_rects_free(&s->rects);
     free(s->labels);
     memset(s, 0, sizeof *s);
 }
@@ -231,6 +236,43 @@ static void render_desc(const rscene *s, spr_algo algo, spr_groups *g, spr_rende
     rd->layers = ai->uses & SPR_USES_LAYERS ? s->layers : 0;
     memcpy(rd->background, s->background, sizeof rd->background);
     rd->groups = ai->uses & SPR_USES_GROUPS ? g : NULL;
+    rd->rects = ai->uses & SPR_USES_RECTS ? &s->rects : NULL;
+    rd->sampling = s->sampling;
+    rd->alpha_ref = ai->uses & SPR_USES_ALPHAREF ? s->alpha_ref : 0.0f;
+}
+
+/* Domain primitives of the scene (SPEC 7): a random level of its
+ * decomposition, random texel size and sampling; none when the scene is
+ * too small or degenerate to decompose (the domain-* algorithms are then
+ * left out of this scene). */
+static void scene_rects(rscene *s, uint64_t seed, int i)
+{
+    uint64_t r = seed * 0x9E3779B97F4A7C15ull + (uint64_t)i * 7919u + 17u;
+    spr_decomp_desc dd;
+    spr_decomp_defaults(&dd);
+    dd.threads = 1;
+    spr_decomp dc = {0};
+    spr_error err = {0};
+    s->has_rects = 0;
+    if (s->cloud.n < 32 || spr_decompose(&s->cloud, &dd, &dc, &err)) return;
+    spr_prims_desc pd;
+    spr_prims_defaults(&pd);
+    const int l = (int)(spr__splitmix64(&r) % (uint64_t)dc.levels);
+    pd.tex.texel_factor = 0.5 + (double)(spr__splitmix64(&r) % 4) * 0.5;
+    pd.strict = spr__splitmix64(&r) % 4 == 0;
+    s->sampling = spr__splitmix64(&r) % 2 ? SPR_SAMPLE_LINEAR : SPR_SAMPLE_NEAREST;
+    s->alpha_ref = (float)(spr__splitmix64(&r) % 5) * 0.05f;
+    spr_prims_stats st;
+    if (!spr_domain_prims(&s->cloud, &dc.basis[l], &pd, &s->rects, &st, &err) && s->rects.n > 0) {
+        s->has_rects = 1;
+        char f[96];
+        snprintf(f, sizeof f, "%sdomains L%d %zu rects %s", s->features[0] ? ", " : "", l, s->rects.n,
+                 s->sampling == SPR_SAMPLE_LINEAR ? "linear" : "nearest");
+        strncat(s->features, f, sizeof s->features - strlen(s->features) - 1);
+    } else {
+        spr_rects_free(&s->rects);
+    }
+    spr_decomp_free(&dc);
 }
 
 /* The splats keep[0..m) of s as a cloud of their own, with their labels. */
@@ -372,9 +414,11 @@ int cli_parity_random(cli_args *a, int count, uint64_t seed, const char *dir, in
             failed = 1;
             break;
         }
+        scene_rects(&s, seed, i);
         uint32_t *keep = malloc(s.cloud.n * sizeof *keep);
         for (size_t k = 0; keep && k < s.cloud.n; k++) keep[k] = (uint32_t)k;
         for (int al = 0; keep && al < SPR_ALGO__COUNT && !failed; al++) {
+            if ((spr_algo_info_of((spr_algo)al)->uses & SPR_USES_RECTS) && !s.has_rects) continue;
             spr_parity_report rep;
             int d = differs(cpu, gl, &s, keep, s.cloud.n, (spr_algo)al, &rep, &err);
             comparisons++;

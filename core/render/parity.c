@@ -128,6 +128,10 @@ static void compare_plane(compare_ctx *cc, int pass, const char *pname, int grou
                 if (u > d.max_ulp) d.max_ulp = u;
                 double ad = fabs(a - b);
                 if (ad > d.max_abs || isnan(ad)) d.max_abs = isnan(ad) ? INFINITY : ad;
+                if (!is_uint) { /* the 8-bit PNG value both would write (PARITY.md rule 8) */
+                    int la = spr_to_u8((float)a), lb = spr_to_u8((float)b), l = la > lb ? la - lb : lb - la;
+                    if (l > d.max_lsb) d.max_lsb = l;
+                }
                 double lu = log2((double)u + 1.0);
                 if (lu > worst) worst = lu;
             }

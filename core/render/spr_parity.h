@@ -22,6 +22,7 @@ typedef struct spr_plane_diff {
     size_t values, differing_pixels;
     uint64_t max_ulp;      /* float planes: ulp distance; id/count planes: integer difference */
     double max_abs;
+    int max_lsb;           /* float planes: largest difference of the 8-bit values (spr_to_u8) */
     int first_x, first_y, first_channel;  /* first differing pixel, row 0 = bottom; −1 if none */
     double first_ref, first_test;
     char heatmap[256];     /* file name (in heatmap_dir) of the PNG written for a differing plane, "" otherwise */
