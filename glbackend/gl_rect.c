@@ -60,58 +60,35 @@ static void upload(gl_context *c, const spr_rects *r)
     c->rects_n = r->n;
 }
 
-/* The Tier B atlas: shelves of blocks (w+2)×(h+2), at most 4096 wide. */
+/* The Tier B atlas (spr_rects_atlas), blocks' corners in shader storage. */
 static spr_result make_atlas(gl_context *c, const spr_rects *r)
 {
     if (c->atlas) return SPR_OK;
     int32_t *org = malloc((r->n ? r->n : 1) * 2 * sizeof *org);
     if (!org) return spr__fail(&c->base.err, SPR_E_NOMEM, "gl: out of memory for the atlas");
-    int W = 1, H = 0, x = 0, rowh = 0;
-    for (size_t k = 0; k < r->n; k++) {
-        const int bw = (int)r->i[k * SPR_RECTI_COUNT + SPR_RECTI_TW] + 2, bh = (int)r->i[k * SPR_RECTI_COUNT + SPR_RECTI_TH] + 2;
-        if (x > 0 && x + bw > 4096) H += rowh, x = 0, rowh = 0;
-        org[2 * k] = x;
-        org[2 * k + 1] = H;
-        x += bw;
-        if (x > W) W = x;
-        if (bh > rowh) rowh = bh;
-    }
-    H += rowh;
-    if (H < 1) H = 1;
+    float *img = NULL;
+    int W, H;
     GLint maxs = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxs);
-    if (W > maxs || H > maxs) {
-        free(org);
-        return spr__fail(&c->base.err, SPR_E_TOO_LARGE, "gl: a %dx%d texture atlas exceeds GL_MAX_TEXTURE_SIZE %d", W, H, maxs);
+    spr_result res = spr_rects_atlas(r, maxs < 4096 ? maxs : 4096, &img, &W, &H, org, &c->base.err);
+    if (!res && (W > maxs || H > maxs))
+        res = spr__fail(&c->base.err, SPR_E_TOO_LARGE, "gl: a %dx%d texture atlas exceeds GL_MAX_TEXTURE_SIZE %d", W, H, maxs);
+    if (!res) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &c->atlas);
+        glTextureStorage2D(c->atlas, 1, GL_RGBA32F, W, H);
+        glTextureSubImage2D(c->atlas, 0, 0, 0, W, H, GL_RGBA, GL_FLOAT, img);
+        glTextureParameteri(c->atlas, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(c->atlas, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(c->atlas, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(c->atlas, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        buffer_data(&c->atlas_org, r->n * 2 * sizeof *org, org);
+        c->atlas_w = W;
+        c->atlas_h = H;
+        res = gl__check(&c->base, "atlas");
     }
-    float *img = calloc((size_t)W * H * 4, sizeof *img);
-    if (!img) {
-        free(org);
-        return spr__fail(&c->base.err, SPR_E_NOMEM, "gl: out of memory for a %dx%d atlas", W, H);
-    }
-    for (size_t k = 0; k < r->n; k++) {
-        const uint32_t *I = r->i + k * SPR_RECTI_COUNT;
-        const int tw = (int)I[SPR_RECTI_TW], th = (int)I[SPR_RECTI_TH];
-        for (int y = -1; y <= th; y++)
-            for (int xx = -1; xx <= tw; xx++) {
-                const int sx = xx < 0 ? 0 : xx >= tw ? tw - 1 : xx, sy = y < 0 ? 0 : y >= th ? th - 1 : y;
-                memcpy(img + 4 * ((size_t)(org[2 * k + 1] + 1 + y) * W + (size_t)(org[2 * k] + 1 + xx)),
-                       r->texels + 4 * ((size_t)I[SPR_RECTI_OFF] + (size_t)sy * tw + sx), 4 * sizeof(float));
-            }
-    }
-    glCreateTextures(GL_TEXTURE_2D, 1, &c->atlas);
-    glTextureStorage2D(c->atlas, 1, GL_RGBA32F, W, H);
-    glTextureSubImage2D(c->atlas, 0, 0, 0, W, H, GL_RGBA, GL_FLOAT, img);
-    glTextureParameteri(c->atlas, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(c->atlas, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(c->atlas, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(c->atlas, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    buffer_data(&c->atlas_org, r->n * 2 * sizeof *org, org);
-    c->atlas_w = W;
-    c->atlas_h = H;
     free(img);
     free(org);
-    return gl__check(&c->base, "atlas");
+    return res;
 }
 
 /* Empty lists with room for cap nodes. */
@@ -170,7 +147,7 @@ spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *
     glUniform1i(u[GL_RU_LIST], d->list != 0);
     glUniform1i(u[GL_RU_LISTW], v->width);
     glUniform2f(u[GL_RU_ATLAS], (float)c->atlas_w, (float)c->atlas_h);
-    for (int k = 0; k < 4; k++) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)k, c->rect_buf[k] ? c->rect_buf[k] : 0);
+    for (int k = 0; k < 3; k++) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)k, c->rect_buf[k]); /* texels, records */
     if (d->sampling == SPR_SAMPLE_HARDWARE) {
         glBindTextureUnit(5, c->atlas);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c->atlas_org);

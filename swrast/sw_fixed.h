@@ -7,7 +7,7 @@
 #ifndef SW_FIXED_H
 #define SW_FIXED_H
 
-#include "spr_backend.h"
+#include "sw_internal.h"
 
 static inline int sw_depth_passes(spr_depth_func f, float z, float zbuf)
 {
@@ -42,6 +42,27 @@ static inline void sw_blend4(const spr_pass_state *s, const float src[4], float 
     float a = src[3];
     for (int c = 0; c < 3; c++) dst[c] = sw_blend1(s->blend, src[c], dst[c], a);
     dst[3] = sw_blend1(s->blend_alpha, src[3], dst[3], a);
+}
+
+/* The depth test of a fragment with test value z at pixel pix and the test
+ * plane's write; 1 when it passes. */
+static inline int sw_depth_stage(const spr_pass_state *s, float *test, size_t pix, float z)
+{
+    if (!sw_depth_passes(s->depth_func, z, test[pix])) return 0;
+    if (s->depth_write) test[pix] = z;
+    return 1;
+}
+
+/* The writes every draw makes after the depth test, as s->write_mask says:
+ * stored depth t, colour src under the blend, id, count (splats add the
+ * opacity and normal planes themselves). */
+static inline void sw_plane_writes(const spr_pass_state *s, sw_target *tg, size_t pix, float t, const float src[4], uint32_t id)
+{
+    const unsigned mask = s->write_mask;
+    if (mask & SPR_WRITE_DEPTH) SW_F(tg, DEPTH)[pix] = t;
+    if (mask & SPR_WRITE_COLOR) sw_blend4(s, src, SW_F(tg, COLOR) + 4 * pix);
+    if (mask & SPR_WRITE_ID) SW_U(tg, ID)[pix] = id;
+    if (mask & SPR_WRITE_COUNT) SW_U(tg, COUNT)[pix]++;
 }
 
 #endif

@@ -39,8 +39,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     const int W = c->base.view.width;
     const int tx0 = (tile % job->tiles_x) * SW_TILE, ty0 = (tile / job->tiles_x) * SW_TILE;
     const unsigned mask = s->write_mask;
-    float *color = SW_F(tg, COLOR), *depth = SW_F(tg, DEPTH), *test = SW_F(tg, TEST);
-    uint32_t *id = SW_U(tg, ID), *count = SW_U(tg, COUNT);
+    float *test = SW_F(tg, TEST);
     float *opacity = SW_F(tg, OPACITY), *normal = SW_F(tg, NORMAL);
     const float *z_near = d->depth_mask ? SW_F(&c->targets[d->mask_target], DEPTH) : NULL;
     uint64_t gen = 0, passed = 0;
@@ -63,16 +62,12 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                                       s->eps_t, &t, &rho2, &rho))
                     continue;
                 gen++;
-                float z = spr_test_value(s, t, rho);
-                if (!sw_depth_passes(s->depth_func, z, test[pix])) continue;
+                if (!sw_depth_stage(s, test, pix, spr_test_value(s, t, rho))) continue;
                 passed++;
-                if (s->depth_write) test[pix] = z;
-                if (mask & SPR_WRITE_DEPTH) depth[pix] = t;
+                float src[4] = {0.0f, 0.0f, 0.0f, 0.0f};
                 if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY | SPR_WRITE_NORMAL)) {
-                    float src[4];
                     const float alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
                     spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, alpha, src);
-                    if (mask & SPR_WRITE_COLOR) sw_blend4(s, src, color + 4 * pix);
                     if (mask & SPR_WRITE_OPACITY) /* replace or add (core refuses over) */
                         opacity[pix] = sw_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, alpha), opacity[pix], 1.0f);
                     if (mask & SPR_WRITE_NORMAL) { /* (w·n, w) under the rgb blend: replace or add (core refuses over) */
@@ -81,8 +76,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                         for (int ch = 0; ch < 4; ch++) normal[4 * pix + ch] = sw_blend1(s->blend, nw[ch], normal[4 * pix + ch], 1.0f);
                     }
                 }
-                if (mask & SPR_WRITE_ID) id[pix] = sid;
-                if (mask & SPR_WRITE_COUNT) count[pix]++;
+                sw_plane_writes(s, tg, pix, t, src, sid);
             }
         }
     }

@@ -44,9 +44,7 @@ static void rect_tile(sw_context *c, sw_target *tg, const sw_rect_job *job, int 
     const spr_rects *rs = d->rects;
     const int W = c->base.view.width;
     const int tx0 = (tile % job->tiles_x) * SW_TILE, ty0 = (tile / job->tiles_x) * SW_TILE;
-    const unsigned mask = s->write_mask;
-    float *color = SW_F(tg, COLOR), *depth = SW_F(tg, DEPTH), *test = SW_F(tg, TEST);
-    uint32_t *id = SW_U(tg, ID), *count = SW_U(tg, COUNT);
+    float *test = SW_F(tg, TEST);
     spr_frag_lists *L = &tg->lists;
     const spr_pixel_in px = {.texels = rs->texels};
     const int linear = d->sampling != SPR_SAMPLE_NEAREST;
@@ -78,14 +76,9 @@ static void rect_tile(sw_context *c, sw_target *tg, const sw_rect_job *job, int 
                     memcpy(L->src + 4 * node, src, sizeof src);
                     continue;
                 }
-                const float z = spr_test_depth((int)s->depth_value, s->eps_t, 0.0f, 1.0f, 1.0f, 1.0f, t, 0.0f);
-                if (!sw_depth_passes(s->depth_func, z, test[pix])) continue;
+                if (!sw_depth_stage(s, test, pix, spr_test_depth((int)s->depth_value, s->eps_t, 0.0f, 1.0f, 1.0f, 1.0f, t, 0.0f))) continue;
                 passed++;
-                if (s->depth_write) test[pix] = z;
-                if (mask & SPR_WRITE_DEPTH) depth[pix] = t;
-                if (mask & SPR_WRITE_COLOR) sw_blend4(s, src, color + 4 * pix);
-                if (mask & SPR_WRITE_ID) id[pix] = k;
-                if (mask & SPR_WRITE_COUNT) count[pix]++;
+                sw_plane_writes(s, tg, pix, t, src, k);
             }
         }
     }

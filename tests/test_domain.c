@@ -410,7 +410,7 @@ static void hand_rect(spr_rects *r, int k, float z, float nz, const float rgba[4
     I[SPR_RECTI_OFF] = (uint32_t)k;
     I[SPR_RECTI_DOMAIN] = (uint32_t)k;
     memcpy(r->texels + 4 * (size_t)k, rgba, 4 * sizeof(float));
-    r->nbr[(size_t)k * spr_rects_words(r->n)] |= 1u << k; /* its own neighbour */
+    spr_rects_link(r, (size_t)k, (size_t)k); /* its own neighbour */
 }
 
 /* Render the hand rectangles with algo on the CPU, 9×9 from (0, 0, 5)
@@ -455,8 +455,7 @@ START_TEST(prefix_sums_the_front_and_its_neighbour)
     hand_rect(&r, 0, -0.5f, 1.0f, (const float[4]){0, 0, 1, 1}); /* C first in the set: the order must not matter */
     hand_rect(&r, 1, 0.0f, 1.0f, (const float[4]){1, 0, 0, 0.5f});
     hand_rect(&r, 2, -0.1f, 1.0f, (const float[4]){0, 1, 0, 0.5f});
-    r.nbr[1 * spr_rects_words(3)] |= 1u << 2;
-    r.nbr[2 * spr_rects_words(3)] |= 1u << 1;
+    spr_rects_link(&r, 1, 2);
     float px[4];
     hand_render(&r, SPR_ALGO_DOMAIN_PREFIX, (const float[3]){0, 0, 0}, px);
     ck_assert_msg(px[0] == 0.5f && px[1] == 0.5f && px[2] == 0.0f && px[3] == 1.0f, "prefix: %g %g %g %g", px[0], px[1], px[2], px[3]);

@@ -94,36 +94,18 @@ static int render_stats(const spr_cloud *c, const spr_rects *rs, int threads, do
     return rc;
 }
 
-/* The textures of a level side by side, rows of at most 1024 texels,
- * one texel gap, colour with the basis function as alpha. */
+/* The textures of a level side by side (spr_rects_atlas, rows of at most
+ * 1024 texels), colour with the basis function as alpha. */
 static int write_atlas(const char *path, const spr_rects *rs, spr_error *err)
 {
-    int W = 1, H = 0, x = 0, rowh = 0;
-    for (size_t k = 0; k < rs->n; k++) {
-        const int tw = (int)rs->i[k * SPR_RECTI_COUNT + SPR_RECTI_TW], th = (int)rs->i[k * SPR_RECTI_COUNT + SPR_RECTI_TH];
-        if (x > 0 && x + tw > 1024) H += rowh + 1, x = 0, rowh = 0;
-        x += tw + 1;
-        if (x > W) W = x;
-        if (th > rowh) rowh = th;
-    }
-    H += rowh;
-    if (H < 1) H = 1;
-    float *img = calloc((size_t)W * H * 4, sizeof *img);
-    if (!img) return spr__fail(err, SPR_E_NOMEM, "domains: out of memory for a %dx%d atlas", W, H);
-    int y = 0;
-    x = 0, rowh = 0;
-    for (size_t k = 0; k < rs->n; k++) {
-        const uint32_t *I = rs->i + k * SPR_RECTI_COUNT;
-        const int tw = (int)I[SPR_RECTI_TW], th = (int)I[SPR_RECTI_TH];
-        if (x > 0 && x + tw > 1024) y += rowh + 1, x = 0, rowh = 0;
-        for (int ty = 0; ty < th; ty++) /* texture row 0 (vmin) at the bottom, as images here are stored */
-            memcpy(img + 4 * ((size_t)(H - 1 - (y + th - 1 - ty)) * W + x), rs->texels + 4 * ((size_t)I[SPR_RECTI_OFF] + (size_t)ty * tw),
-                   (size_t)tw * 4 * sizeof(float));
-        x += tw + 1;
-        if (th > rowh) rowh = th;
-    }
-    spr_result r = spr_write_png(path, img, W, H, 4, err);
+    int32_t *org = malloc((rs->n ? rs->n : 1) * 2 * sizeof *org);
+    float *img = NULL;
+    int W, H;
+    if (!org) return spr__fail(err, SPR_E_NOMEM, "domains: out of memory for the atlas");
+    spr_result r = spr_rects_atlas(rs, 1024, &img, &W, &H, org, err);
+    if (!r) r = spr_write_png(path, img, W, H, 4, err);
     free(img);
+    free(org);
     return r;
 }
 

@@ -99,47 +99,36 @@ spr_result spr_domain_prims(const spr_cloud *c, const spr_csr *B, const spr_prim
         st->triangles += sl[j].triangles;
         prim_of[j] = (uint32_t)k++;
     }
-    /* neighbours: shared points counted per primitive over the points' domains */
-    if (!res) {
-        const size_t words = spr_rects_words(n);
-        size_t *pt_ptr = calloc(c->n + 1, sizeof *pt_ptr), *shared = calloc(n ? n : 1, sizeof *shared);
-        uint32_t *pt_prim = malloc((T.ptr[R] ? T.ptr[R] : 1) * sizeof *pt_prim), *touched = malloc((n ? n : 1) * sizeof *touched);
-        if (!pt_ptr || !shared || !pt_prim || !touched) res = spr__fail(err, SPR_E_NOMEM, "domains: out of memory for neighbours");
-        for (size_t j = 0; !res && j < R; j++) /* points → their primitives (transpose of the members) */
-            if (prim_of[j] != UINT32_MAX)
-                for (size_t q = T.ptr[j]; q < T.ptr[j + 1]; q++) pt_ptr[T.col[q] + 1]++;
-        for (size_t p = 0; !res && p < c->n; p++) pt_ptr[p + 1] += pt_ptr[p];
-        for (size_t j = 0; !res && j < R; j++)
-            if (prim_of[j] != UINT32_MAX)
-                for (size_t q = T.ptr[j]; q < T.ptr[j + 1]; q++) pt_prim[pt_ptr[T.col[q]]++] = prim_of[j];
-        for (size_t p = c->n; !res && p > 0; p--) pt_ptr[p] = pt_ptr[p - 1]; /* restore the starts */
-        if (!res) pt_ptr[0] = 0;
-        for (size_t j = 0; !res && j < R; j++) {
-            const uint32_t a = prim_of[j];
-            if (a == UINT32_MAX) continue;
-            size_t nt = 0;
-            for (size_t q = T.ptr[j]; q < T.ptr[j + 1]; q++)
-                for (size_t z = pt_ptr[T.col[q]]; z < pt_ptr[T.col[q] + 1]; z++)
-                    if (shared[pt_prim[z]]++ == 0) touched[nt++] = pt_prim[z];
-            const double ma = (double)(T.ptr[j + 1] - T.ptr[j]);
-            for (size_t z = 0; z < nt; z++) {
-                const uint32_t b = touched[z];
-                const double mb = (double)out->i[b * SPR_RECTI_COUNT + SPR_RECTI_DOMAIN];
-                const double mbn = (double)(T.ptr[(size_t)mb + 1] - T.ptr[(size_t)mb]);
-                const double sh = (double)shared[b];
-                if (b == a || sh / ma > d->nbr_ratio || sh / mbn > d->nbr_ratio) {
-                    out->nbr[(size_t)a * words + b / 32] |= 1u << (b % 32);
-                    out->nbr[(size_t)b * words + a / 32] |= 1u << (a % 32);
-                    if (b > a) st->neighbour_pairs++;
-                }
-                shared[b] = 0;
+    /* neighbours (thresholded domains; strict ones share no point): for
+     * each domain, its points' other domains are B's rows filtered by K */
+    for (size_t k = 0; !res && k < n; k++) spr_rects_link(out, k, k);
+    size_t *shared = NULL;
+    uint32_t *touched = NULL;
+    if (!res && !d->strict && (!(shared = calloc(R ? R : 1, sizeof *shared)) || !(touched = malloc((R ? R : 1) * sizeof *touched))))
+        res = spr__fail(err, SPR_E_NOMEM, "domains: out of memory for neighbours");
+    for (size_t j = 0; !res && !d->strict && j < R; j++) {
+        if (prim_of[j] == UINT32_MAX) continue;
+        size_t nt = 0;
+        for (size_t q = T.ptr[j]; q < T.ptr[j + 1]; q++) {
+            const size_t p = T.col[q];
+            for (size_t z = B->ptr[p]; z < B->ptr[p + 1]; z++) {
+                const uint32_t h = B->col[z];
+                if (h > j && prim_of[h] != UINT32_MAX && B->val[z] >= d->K && shared[h]++ == 0) touched[nt++] = h;
             }
         }
-        free(pt_ptr);
-        free(shared);
-        free(pt_prim);
-        free(touched);
+        const double mj = (double)(T.ptr[j + 1] - T.ptr[j]);
+        for (size_t z = 0; z < nt; z++) {
+            const uint32_t h = touched[z];
+            const double sh = (double)shared[h], mh = (double)(T.ptr[h + 1] - T.ptr[h]);
+            if (sh / mj > d->nbr_ratio || sh / mh > d->nbr_ratio) {
+                spr_rects_link(out, prim_of[j], prim_of[h]);
+                st->neighbour_pairs++;
+            }
+            shared[h] = 0;
+        }
     }
+    free(shared);
+    free(touched);
     if (!res) {
         st->polygons = n;
         st->texels = texels;

@@ -27,14 +27,12 @@
 typedef struct dom_order {
     size_t n;
     uint32_t *idx;   /* rectangles sorted by distance (see make_order) */
-    double *dist;
     uint8_t *front;  /* by rectangle: 1 when its normal faces the eye */
 } dom_order;
 
 static void order_free(dom_order *o)
 {
     free(o->idx);
-    free(o->dist);
     free(o->front);
 }
 
@@ -57,9 +55,10 @@ static spr_result make_order(spr__run *run, int back_to_front, dom_order *o)
     memset(o, 0, sizeof *o);
     o->n = n;
     o->idx = malloc((n ? n : 1) * sizeof *o->idx);
-    o->dist = malloc((n ? n : 1) * sizeof *o->dist);
     o->front = malloc(n ? n : 1);
-    if (!o->idx || !o->dist || !o->front) {
+    keyed *key = malloc((n ? n : 1) * sizeof *key);
+    if (!o->idx || !o->front || !key) {
+        free(key);
         order_free(o);
         return spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory ordering %zu rectangles", spr_algo_name(run->desc->algo), n);
     }
@@ -77,17 +76,11 @@ static spr_result make_order(spr__run *run, int back_to_front, dom_order *o)
         for (int k = 0; k < 3; k++) facing += (run->b->view.ortho ? V[8 + k] : to_eye[k]) * R[SPR_RECT_N + k];
         o->front[i] = facing > 0.0;
         const double dist = run->b->view.ortho ? -zeye : sqrt(d2);
-        o->dist[i] = back_to_front ? -dist : dist;
+        key[i] = (keyed){back_to_front ? -dist : dist, (uint32_t)i};
     }
-    keyed *k = malloc((n ? n : 1) * sizeof *k);
-    if (!k) {
-        order_free(o);
-        return spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory ordering %zu rectangles", spr_algo_name(run->desc->algo), n);
-    }
-    for (size_t i = 0; i < n; i++) k[i] = (keyed){o->dist[i], (uint32_t)i};
-    qsort(k, n, sizeof *k, by_key);
-    for (size_t i = 0; i < n; i++) o->idx[i] = k[i].i;
-    free(k);
+    qsort(key, n, sizeof *key, by_key);
+    for (size_t i = 0; i < n; i++) o->idx[i] = key[i].i;
+    free(key);
     return SPR_OK;
 }
 
@@ -194,11 +187,6 @@ static spr_result darkback(spr__run *run, int soft, int *final_target)
 spr_result spr__algo_domain_darkback_hard(spr__run *run, int *final_target) { return darkback(run, 0, final_target); }
 spr_result spr__algo_domain_darkback_soft(spr__run *run, int *final_target) { return darkback(run, 1, final_target); }
 
-static int neighbours(const spr_rects *rs, uint32_t a, uint32_t b)
-{
-    return (int)(rs->nbr[(size_t)a * spr_rects_words(rs->n) + b / 32] >> (b % 32) & 1u);
-}
-
 /* Overlapping domains ([R] §4.4.4, its pseudocode): front to back, for
  * each front-facing rectangle: it (unless drawn) and its not yet drawn
  * neighbours, nearest first, added under LESS against the locked depth;
@@ -211,6 +199,7 @@ spr_result spr__algo_domain_overlap(spr__run *run, int *final_target)
     dom_order o;
     if ((r = make_order(run, 0, &o))) return r;
     const spr_rects *rs = run->desc->rects;
+    const size_t words = spr_rects_words(rs->n);
     uint8_t *drawn = calloc(o.n ? o.n : 1, 1);
     uint32_t *batch = malloc((o.n ? o.n : 1) * sizeof *batch);
     if (!drawn || !batch) r = spr__fail(run->err, SPR_E_NOMEM, "domain-overlap: out of memory");
@@ -222,7 +211,7 @@ spr_result spr__algo_domain_overlap(spr__run *run, int *final_target)
         if (!drawn[i]) batch[m++] = i, drawn[i] = 1;
         for (size_t b = 0; b < o.n; b++) {
             const uint32_t j = o.idx[b];
-            if (!drawn[j] && neighbours(rs, i, j)) batch[m++] = j, drawn[j] = 1;
+            if (!drawn[j] && spr_rects_neighbours(rs->nbr, words, i, j)) batch[m++] = j, drawn[j] = 1;
         }
         char name[32];
         if (m) {

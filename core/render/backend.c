@@ -170,10 +170,10 @@ spr_result spr_backend_draw_rects(spr_backend *b, int target, const spr_rect_dra
     for (int p = 0; p < SPR_PLANE__COUNT; p++)
         if (!d->list && (s->write_mask & SPR_PLANE_BIT(p)) && !has(b, target, (spr_plane)p))
             return spr__fail(&b->err, SPR_E_ARG, "rects: writes plane %s, which target %d does not have", spr_plane_name((spr_plane)p), target);
-    size_t count = d->indices ? d->count : r->n;
-    for (size_t i = 0; d->indices && i < count; i++)
-        if (d->indices[i] >= r->n) return bad(b, "rects: index %d beyond the set", (int)d->indices[i]);
-    for (size_t k = 0; k < r->n; k++) { /* every texel a rectangle reads lies in the set */
+    const size_t count = d->indices ? d->count : r->n;
+    for (size_t i = 0; i < count; i++) { /* the drawn rectangles: in the set, their texels too */
+        const size_t k = d->indices ? d->indices[i] : i;
+        if (k >= r->n) return bad(b, "rects: index %d beyond the set", (int)k);
         const uint32_t *I = r->i + k * SPR_RECTI_COUNT;
         if (I[SPR_RECTI_TW] < 1 || I[SPR_RECTI_TH] < 1 ||
             (uint64_t)I[SPR_RECTI_OFF] + (uint64_t)I[SPR_RECTI_TW] * I[SPR_RECTI_TH] > (uint64_t)r->n_texels)
@@ -213,6 +213,36 @@ void spr_rects_free(spr_rects *r)
     free(r->texels);
     free(r->nbr);
     memset(r, 0, sizeof *r);
+}
+
+spr_result spr_rects_atlas(const spr_rects *r, int max_w, float **img, int *w, int *h, int32_t *org, spr_error *err)
+{
+    int W = 1, H = 0, x = 0, rowh = 0;
+    for (size_t k = 0; k < r->n; k++) { /* shelves: blocks left to right, a new row when one is full */
+        const int bw = (int)r->i[k * SPR_RECTI_COUNT + SPR_RECTI_TW] + 2, bh = (int)r->i[k * SPR_RECTI_COUNT + SPR_RECTI_TH] + 2;
+        if (x > 0 && x + bw > max_w) H += rowh, x = 0, rowh = 0;
+        org[2 * k] = x;
+        org[2 * k + 1] = H;
+        x += bw;
+        if (x > W) W = x;
+        if (bh > rowh) rowh = bh;
+    }
+    H += rowh;
+    if (H < 1) H = 1;
+    if (!(*img = calloc((size_t)W * H * 4, sizeof **img))) return spr__fail(err, SPR_E_NOMEM, "rectangles: out of memory for a %dx%d atlas", W, H);
+    for (size_t k = 0; k < r->n; k++) {
+        const uint32_t *I = r->i + k * SPR_RECTI_COUNT;
+        const int tw = (int)I[SPR_RECTI_TW], th = (int)I[SPR_RECTI_TH];
+        for (int y = -1; y <= th; y++)
+            for (int xx = -1; xx <= tw; xx++) {
+                const int sx = xx < 0 ? 0 : xx >= tw ? tw - 1 : xx, sy = y < 0 ? 0 : y >= th ? th - 1 : y;
+                memcpy(*img + 4 * ((size_t)(org[2 * k + 1] + 1 + y) * W + (size_t)(org[2 * k] + 1 + xx)),
+                       r->texels + 4 * ((size_t)I[SPR_RECTI_OFF] + (size_t)sy * tw + sx), 4 * sizeof(float));
+            }
+    }
+    *w = W;
+    *h = H;
+    return SPR_OK;
 }
 
 unsigned spr_composite_extra_reads(spr_composite_op op, const float *params, int input)

@@ -176,12 +176,27 @@ void spr_lowres_make(const spr_view *v, const spr_bounds *b, float eps_t, double
     out->inv_n = (float)(1.0 / n);
 }
 
+/* Grow the NDC box by world point q; 0 when q is not in front of the eye. */
+static int ndc_extend(const spr_view *v, const double q[3], double box[4])
+{
+    const double *PV = v->PV;
+    double cw = PV[12] * q[0] + PV[13] * q[1] + PV[14] * q[2] + PV[15];
+    if (!(cw > 1e-9 * (v->far_plane))) return 0;
+    double cx = (PV[0] * q[0] + PV[1] * q[1] + PV[2] * q[2] + PV[3]) / cw;
+    double cy = (PV[4] * q[0] + PV[5] * q[1] + PV[6] * q[2] + PV[7]) / cw;
+    if (cx < box[0]) box[0] = cx;
+    if (cx > box[1]) box[1] = cx;
+    if (cy < box[2]) box[2] = cy;
+    if (cy > box[3]) box[3] = cy;
+    return 1;
+}
+
 /* Pixels whose centres an NDC box may cover (everything when `full`: a
  * corner behind the eye); 0 when none is on screen. */
-static int spr__pixel_bounds(const spr_view *v, int full, double xmin, double xmax, double ymin, double ymax, int *x0, int *y0, int *x1,
-                             int *y1)
+static int spr__pixel_bounds(const spr_view *v, int full, const double box[4], int *x0, int *y0, int *x1, int *y1)
 {
     const int W = v->width, H = v->height;
+    const double xmin = box[0], xmax = box[1], ymin = box[2], ymax = box[3];
     if (full) { *x0 = 0; *y0 = 0; *x1 = W - 1; *y1 = H - 1; return 1; }
     /* ndc → pixel-centre coordinate: x + 0.5 = (ndc + 1)·W/2; one pixel of slack. */
     double fx0 = floor((xmin + 1.0) * 0.5 * W - 0.5) - 1.0, fx1 = ceil((xmax + 1.0) * 0.5 * W - 0.5) + 1.0;
@@ -197,46 +212,30 @@ static int spr__pixel_bounds(const spr_view *v, int full, double xmin, double xm
 int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], float r,
                          int *x0, int *y0, int *x1, int *y1)
 {
-    const double *PV = v->PV;
     double ext[3];
     for (int k = 0; k < 3; k++) {
         double nk = n[k], s = 1.0 - nk * nk;
         ext[k] = (double)r * sqrt(s > 0.0 ? s : 0.0) * 1.001 + 1e-7 * (double)r;
     }
-    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    double box[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY}; /* NDC x min, max, y min, max */
     int full = 0;
-    for (int corner = 0; corner < 8 && !full; corner++) {
+    for (int corner = 0; corner < 8; corner++) {
         double q[3];
         for (int k = 0; k < 3; k++) q[k] = (double)p[k] + ((corner >> k & 1) ? ext[k] : -ext[k]);
-        double cw = PV[12] * q[0] + PV[13] * q[1] + PV[14] * q[2] + PV[15];
-        if (!(cw > 1e-9 * (v->far_plane))) { full = 1; break; }
-        double cx = (PV[0] * q[0] + PV[1] * q[1] + PV[2] * q[2] + PV[3]) / cw;
-        double cy = (PV[4] * q[0] + PV[5] * q[1] + PV[6] * q[2] + PV[7]) / cw;
-        if (cx < xmin) xmin = cx;
-        if (cx > xmax) xmax = cx;
-        if (cy < ymin) ymin = cy;
-        if (cy > ymax) ymax = cy;
+        if (!ndc_extend(v, q, box)) { full = 1; break; }
     }
-    return spr__pixel_bounds(v, full, xmin, xmax, ymin, ymax, x0, y0, x1, y1);
+    return spr__pixel_bounds(v, full, box, x0, y0, x1, y1);
 }
 
 int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int *x1, int *y1)
 {
-    const double *PV = v->PV;
-    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    double box[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY}; /* NDC x min, max, y min, max */
     int full = 0;
-    for (int corner = 0; corner < 4 && !full; corner++) {
+    for (int corner = 0; corner < 4; corner++) {
         const double s = (corner & 1) ? f[SPR_RECT_UMAX] : f[SPR_RECT_UMIN], w = (corner & 2) ? f[SPR_RECT_VMAX] : f[SPR_RECT_VMIN];
         double q[3];
         for (int k = 0; k < 3; k++) q[k] = (double)f[SPR_RECT_C + k] + s * f[SPR_RECT_U + k] + w * f[SPR_RECT_V + k];
-        double cw = PV[12] * q[0] + PV[13] * q[1] + PV[14] * q[2] + PV[15];
-        if (!(cw > 1e-9 * (v->far_plane))) { full = 1; break; }
-        double cx = (PV[0] * q[0] + PV[1] * q[1] + PV[2] * q[2] + PV[3]) / cw;
-        double cy = (PV[4] * q[0] + PV[5] * q[1] + PV[6] * q[2] + PV[7]) / cw;
-        if (cx < xmin) xmin = cx;
-        if (cx > xmax) xmax = cx;
-        if (cy < ymin) ymin = cy;
-        if (cy > ymax) ymax = cy;
+        if (!ndc_extend(v, q, box)) { full = 1; break; }
     }
-    return spr__pixel_bounds(v, full, xmin, xmax, ymin, ymax, x0, y0, x1, y1);
+    return spr__pixel_bounds(v, full, box, x0, y0, x1, y1);
 }

@@ -83,11 +83,12 @@ SPR_FN void spr_ray_of_pixel(SPR_CARR M[16], float sx, float sy, float cx, float
     d[2] = d2;
 }
 
-/* Ray–disk intersection: 1 when the closed disk (p, n, r) covers the ray
- * within 0 ≤ t ≤ 1 (ρ² ≤ 1), with t, ρ² and den = d·n (den > 0: back-facing;
- * den is set even when the result is 0). */
-SPR_FN int spr_ray_disk(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR p[3], SPR_CARR n[3], float r, SPR_OUT t_out,
-                        SPR_OUT rho2_out, SPR_OUT den_out)
+/* Ray–plane intersection: 1 when the ray meets the plane through p with
+ * normal n at 0 ≤ t ≤ 1; gives t, the hit point relative to p
+ * (q = o0 + t·d − p) and den = d·n (den > 0: back-facing; set even when
+ * the result is 0).  Shared by disks and rectangles. */
+SPR_FN int spr_ray_plane(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR p[3], SPR_CARR n[3], SPR_OUT t_out, SPR_OARR q[3],
+                         SPR_OUT den_out)
 {
     SPR_PRECISE float den = (d[0] * n[0] + d[1] * n[1]) + d[2] * n[2];
     SPR_SET(den_out) = den;
@@ -101,7 +102,23 @@ SPR_FN int spr_ray_disk(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR p[3], SPR_CARR n
     SPR_PRECISE float q0 = (o0[0] + t * d[0]) - p[0];
     SPR_PRECISE float q1 = (o0[1] + t * d[1]) - p[1];
     SPR_PRECISE float q2 = (o0[2] + t * d[2]) - p[2];
-    SPR_PRECISE float qq = (q0 * q0 + q1 * q1) + q2 * q2;
+    SPR_SET(t_out) = t;
+    q[0] = q0;
+    q[1] = q1;
+    q[2] = q2;
+    return 1;
+}
+
+/* Ray–disk intersection: 1 when the closed disk (p, n, r) covers the ray
+ * within 0 ≤ t ≤ 1 (ρ² ≤ 1), with t, ρ² and den = d·n (den > 0: back-facing;
+ * den is set even when the result is 0). */
+SPR_FN int spr_ray_disk(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR p[3], SPR_CARR n[3], float r, SPR_OUT t_out,
+                        SPR_OUT rho2_out, SPR_OUT den_out)
+{
+    float t;
+    float q[3];
+    if (spr_ray_plane(o0, d, p, n, SPR_REF(t), q, den_out) == 0) return 0;
+    SPR_PRECISE float qq = (q[0] * q[0] + q[1] * q[1]) + q[2] * q[2];
     SPR_PRECISE float rho2 = qq / (r * r);
     if (!(rho2 <= 1.0f)) return 0;
     SPR_SET(t_out) = t;
@@ -416,19 +433,18 @@ SPR_FN void spr_zero4(SPR_OARR o[4])
 SPR_FN int spr_rect_hit(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR R[SPR_RECT_FLOATS], SPR_OUT t_out, SPR_OUT s_out,
                         SPR_OUT w_out)
 {
-    SPR_PRECISE float den = (d[0] * R[SPR_RECT_N] + d[1] * R[SPR_RECT_N + 1]) + d[2] * R[SPR_RECT_N + 2];
-    if (den == 0.0f) return 0;
-    SPR_PRECISE float a0 = R[SPR_RECT_C] - o0[0];
-    SPR_PRECISE float a1 = R[SPR_RECT_C + 1] - o0[1];
-    SPR_PRECISE float a2 = R[SPR_RECT_C + 2] - o0[2];
-    SPR_PRECISE float num = (a0 * R[SPR_RECT_N] + a1 * R[SPR_RECT_N + 1]) + a2 * R[SPR_RECT_N + 2];
-    SPR_PRECISE float t = num / den;
-    if (!(t >= 0.0f && t <= 1.0f)) return 0;
-    SPR_PRECISE float q0 = (o0[0] + t * d[0]) - R[SPR_RECT_C];
-    SPR_PRECISE float q1 = (o0[1] + t * d[1]) - R[SPR_RECT_C + 1];
-    SPR_PRECISE float q2 = (o0[2] + t * d[2]) - R[SPR_RECT_C + 2];
-    SPR_PRECISE float s = (q0 * R[SPR_RECT_U] + q1 * R[SPR_RECT_U + 1]) + q2 * R[SPR_RECT_U + 2];
-    SPR_PRECISE float w = (q0 * R[SPR_RECT_V] + q1 * R[SPR_RECT_V + 1]) + q2 * R[SPR_RECT_V + 2];
+    float c[3];
+    float n[3];
+    for (int i = 0; i < 3; i++) {
+        c[i] = R[SPR_RECT_C + i];
+        n[i] = R[SPR_RECT_N + i];
+    }
+    float t;
+    float q[3];
+    float den;
+    if (spr_ray_plane(o0, d, c, n, SPR_REF(t), q, SPR_REF(den)) == 0) return 0;
+    SPR_PRECISE float s = (q[0] * R[SPR_RECT_U] + q[1] * R[SPR_RECT_U + 1]) + q[2] * R[SPR_RECT_U + 2];
+    SPR_PRECISE float w = (q[0] * R[SPR_RECT_V] + q[1] * R[SPR_RECT_V + 1]) + q[2] * R[SPR_RECT_V + 2];
     if (!(s >= R[SPR_RECT_UMIN] && s <= R[SPR_RECT_UMAX] && w >= R[SPR_RECT_VMIN] && w <= R[SPR_RECT_VMAX])) return 0;
     SPR_SET(t_out) = t;
     SPR_SET(s_out) = s;

@@ -77,7 +77,7 @@ static inline int spr_list_prim(const spr_pixel_in *px, int node) { return (int)
 static inline float spr_list_src(const spr_pixel_in *px, int node, int ch) { return px->lists->src[4 * (size_t)node + (size_t)ch]; }
 static inline int spr_neighbour(const spr_pixel_in *px, int a, int b)
 {
-    return (int)(px->nbr[(size_t)a * px->nbr_words + (size_t)b / 32] >> ((unsigned)b % 32) & 1u);
+    return spr_rects_neighbours(px->nbr, px->nbr_words, (size_t)a, (size_t)b);
 }
 
 #include "spr_arith.h"

@@ -290,9 +290,26 @@ typedef struct spr_rects {
     uint64_t serial;   /* different for every set made (spr_rects_alloc): GL keeps uploads by it */
 } spr_rects;
 static inline size_t spr_rects_words(size_t n) { return (n + 31) / 32; }
+/* Is b a neighbour of a?  Make a and b neighbours (both ways). */
+static inline int spr_rects_neighbours(const uint32_t *nbr, size_t words, size_t a, size_t b)
+{
+    return (int)(nbr[a * words + b / 32] >> (b % 32) & 1u);
+}
+static inline void spr_rects_link(spr_rects *r, size_t a, size_t b)
+{
+    const size_t words = spr_rects_words(r->n);
+    r->nbr[a * words + b / 32] |= 1u << (b % 32);
+    r->nbr[b * words + a / 32] |= 1u << (a % 32);
+}
 /* Arrays for n rectangles and n_texels texels, zeroed, with a new serial. */
 spr_result spr_rects_alloc(spr_rects *r, size_t n, size_t n_texels, spr_error *err);
 void spr_rects_free(spr_rects *r);
+/* The textures of r in one RGBA image (*img, w × h, row 0 = texture row 0):
+ * shelves at most max_w texels wide, each texture in a block with a
+ * one-texel border repeating its edge (what clamp-to-edge reads);
+ * org[2k], org[2k+1] = corner of rectangle k's block, its texel (0, 0) at
+ * org + (1, 1).  Used by GL's Tier B atlas and by `domains --dump`. */
+spr_result spr_rects_atlas(const spr_rects *r, int max_w, float **img, int *w, int *h, int32_t *org, spr_error *err);
 
 /* What a rectangle fragment offers the colour plane, from its texel (c, α). */
 typedef enum spr_rect_output {
