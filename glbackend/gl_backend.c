@@ -340,8 +340,10 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     gl__make_current(c);
     gl_target *out = &c->targets[cd->output];
     glBindFramebuffer(GL_FRAMEBUFFER, out->fbo);
-    glUseProgram(c->prog_comp);
-    const GLint *u = c->cu;
+    spr_result pr = gl__comp_program(c, cd->op, &b->err);
+    if (pr) return pr;
+    glUseProgram(c->prog_comp[cd->op]);
+    const GLint *u = c->cu[cd->op];
     glBindTextureUnit(0, c->pool[SPR_PLANE_COLOR]);
     glBindTextureUnit(1, c->pool[SPR_PLANE_DEPTH]);
     glBindTextureUnit(2, c->pool[SPR_PLANE_OPACITY]);
@@ -361,7 +363,6 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     glUniform1fv(u[GL_CU_PRM], SPR_PRM_COUNT, prm);
     glUniform1iv(u[GL_CU_LAYER], cd->n_inputs, cd->inputs);
     glUniform1i(u[GL_CU_K], cd->n_inputs);
-    glUniform1i(u[GL_CU_OP], (int)cd->op);
     glUniform1f(u[GL_CU_EPS], cd->eps_t);
     glUniform1fv(u[GL_CU_BG], 3, cd->background);
     if (cd->op == SPR_COMP_PREFIX) {
@@ -429,7 +430,8 @@ static void gl_destroy(spr_backend *b)
         glDeleteBuffers(1, &c->counters);
         glDeleteVertexArrays(1, &c->vao);
         glDeleteProgram(c->prog_splat);
-        glDeleteProgram(c->prog_comp);
+        for (int op = 0; op < SPR_COMP__COUNT; op++)
+            if (c->prog_comp[op]) glDeleteProgram(c->prog_comp[op]);
         glDeleteProgram(c->prog_rect);
     }
     gl__egl_close(c);

@@ -24,7 +24,7 @@ typedef struct gl_target {
     X(M, "u_M") X(SIZE, "u_size") X(SX, "u_sx") X(SY, "u_sy") X(EPS, "u_eps") X(DMIN, "u_dmin") X(DMAX, "u_dmax") \
     X(N, "u_n") X(INVN, "u_invn") X(KERNEL, "u_kernel") X(DEPTH, "u_depth") X(OUTPUT, "u_output") X(CULL, "u_cull") \
     X(MASK, "u_mask") X(LAYER, "u_in_layer")
-#define GL_COMP_UNIFORMS(X) X(K, "u_K") X(OP, "u_op") X(EPS, "u_eps") X(BG, "u_bg") X(LAYER, "u_in_layer") X(PRM, "u_prm") \
+#define GL_COMP_UNIFORMS(X) X(K, "u_K") X(EPS, "u_eps") X(BG, "u_bg") X(LAYER, "u_in_layer") X(PRM, "u_prm") \
     X(LISTW, "u_list_width") X(NBRW, "u_nbr_words")
 #define GL_RECT_UNIFORMS(X)                                                                                    \
     X(M, "u_M") X(SIZE, "u_size") X(SX, "u_sx") X(SY, "u_sy") X(EPS, "u_eps") X(AREF, "u_alpha_ref") X(DEPTH, "u_depth") \
@@ -53,8 +53,9 @@ typedef struct gl_context {
     EGLDisplay dpy;
     EGLContext ctx;
     char renderer[512];
-    GLuint prog_splat, prog_comp, prog_rect;
-    GLint su[GL_SU__COUNT], cu[GL_CU__COUNT], ru[GL_RU__COUNT];
+    GLuint prog_splat, prog_rect;
+    GLuint prog_comp[SPR_COMP__COUNT];       /* one program per composite op, linked on first use */
+    GLint su[GL_SU__COUNT], cu[SPR_COMP__COUNT][GL_CU__COUNT], ru[GL_RU__COUNT];
     /* rectangles (gl_rect.c): the set last uploaded, its buffers, the Tier B atlas */
     uint64_t rects_serial;
     size_t rects_n;
@@ -84,6 +85,8 @@ void gl__egl_close(gl_context *c);
 void gl__make_current(gl_context *c);
 /* gl_shaders.c */
 spr_result gl__build_programs(gl_context *c, spr_error *err);
+/* The program of composite op `op`, linked on its first use. */
+spr_result gl__comp_program(gl_context *c, spr_composite_op op, spr_error *err);
 /* gl_backend.c */
 spr_result gl__check(spr_backend *b, const char *what);
 /* Depth test, depth write, colour masks and blends of a draw under s. */

@@ -2,14 +2,16 @@
  *
  * Every program is "#version 450 core", then the shared constants emitted
  * here from their C definitions (enum values, plane output locations, the
- * gauss coefficients as exact bit patterns, the composite dispatch from
- * SPR_COMPOSITE_LIST), then glbackend/gl_prelude.glsl, the shared arithmetic
+ * gauss coefficients as exact bit patterns; for a composite program the
+ * function of its row of SPR_COMPOSITE_LIST, one program per op, linked on
+ * first use), then glbackend/gl_prelude.glsl, the shared arithmetic
  * core/render/spr_arith.h verbatim, and the stage's main file.  The build
  * embeds those files as byte arrays (cmake/embed.cmake): no GLSL lives in a
  * C string literal here, only #define lines generated from C values.
  *
  * Uniform locations are resolved once when a program is linked; a uniform
- * the program does not have is a build failure, never a silent read of 0.
+ * the splat or rectangle program does not have is a build failure, never a
+ * silent read of 0; a composite program has the uniforms its op reads.
  */
 #include "gl_internal.h"
 #include "spr_algo.h"
@@ -82,19 +84,24 @@ static void add_constants(strbuf *b)
 #define GL__RECT(name, n) sb_add(b, "#define SPR_RECT_%s %d\n", #name, SPR_RECT_##name);
     SPR_RECT_LIST(GL__RECT)
 #undef GL__RECT
-    sb_add(b, "#define SPR_COMP_CALL(op, px, K, eps, bg, prm, o, on, d)");
-#define GL__COMP(e, fn, max_in, reads, writes, summary) sb_add(b, " if (op == %d) spr_comp_" #fn "(px, K, eps, bg, prm, o, on, d); else", SPR_COMP_##e);
-    SPR_COMPOSITE_LIST(GL__COMP)
-#undef GL__COMP
-    sb_add(b, " {}\n");
 }
 
-static char *assemble(const char *main_src, int fragment)
+/* The composite programs' one op: SPR_COMP_ONE calls its row's function
+ * (gl_composite.frag), so each program holds the code of its op alone. */
+static const char *const comp_fn[SPR_COMP__COUNT] = {
+#define GL__FN(e, fn, max_in, reads, writes, summary) "spr_comp_" #fn,
+    SPR_COMPOSITE_LIST(GL__FN)
+#undef GL__FN
+};
+
+/* op ≥ 0: a composite program for that op. */
+static char *assemble(const char *main_src, int fragment, int op)
 {
     strbuf b = {0};
     sb_add(&b, "#version 450 core\n");
     if (fragment) {
         add_constants(&b);
+        if (op >= 0) sb_add(&b, "#define SPR_COMP_ONE %s\n", comp_fn[op]);
         sb_add(&b, "%s", spr__src_prelude);
         sb_add(&b, "%s", spr__src_arith);
     }
@@ -124,9 +131,9 @@ static GLuint compile(GLenum type, const char *src, const char *name, spr_error 
 
 /* Link; the shaders stay attached (flagged for deletion with the program),
  * so spr_gl_program_source() can ask GL for the text it compiled. */
-static GLuint link(const char *vs_main, const char *fs_main, const char *name, spr_error *err)
+static GLuint link(const char *vs_main, const char *fs_main, int op, const char *name, spr_error *err)
 {
-    char *vs = assemble(vs_main, 0), *fs = assemble(fs_main, 1);
+    char *vs = assemble(vs_main, 0, -1), *fs = assemble(fs_main, 1, op);
     GLuint v = vs && fs ? compile(GL_VERTEX_SHADER, vs, name, err) : 0, f = v ? compile(GL_FRAGMENT_SHADER, fs, name, err) : 0;
     if (!vs || !fs) spr__fail(err, SPR_E_NOMEM, "gl: out of memory assembling %s", name);
     free(vs);
@@ -155,12 +162,13 @@ static GLuint link(const char *vs_main, const char *fs_main, const char *name, s
     return p;
 }
 
-/* Resolve `names` (NULL-terminated) into locs; a missing one fails. */
-static spr_result resolve(GLuint p, const char *prog, const char *const *names, GLint *locs, spr_error *err)
+/* Resolve `names` (NULL-terminated) into locs; a missing one fails unless
+ * `optional` (a composite op reads only some: −1 makes glUniform a no-op). */
+static spr_result resolve(GLuint p, const char *prog, const char *const *names, GLint *locs, int optional, spr_error *err)
 {
     for (int i = 0; names[i]; i++) {
         locs[i] = glGetUniformLocation(p, names[i]);
-        if (locs[i] < 0) return spr__fail(err, SPR_E_BACKEND, "gl: program %s has no active uniform %s", prog, names[i]);
+        if (locs[i] < 0 && !optional) return spr__fail(err, SPR_E_BACKEND, "gl: program %s has no active uniform %s", prog, names[i]);
     }
     return SPR_OK;
 }
@@ -183,20 +191,30 @@ static const char *const comp_uniforms[GL_CU__COUNT + 1] = {
 
 spr_result gl__build_programs(gl_context *c, spr_error *err)
 {
-    c->prog_splat = link(spr__src_splat_vert, spr__src_splat_frag, "splat", err);
-    if (!c->prog_splat || resolve(c->prog_splat, "splat", splat_uniforms, c->su, err)) return err->code;
-    c->prog_rect = link(spr__src_splat_vert, spr__src_rect_frag, "rect", err);
-    if (!c->prog_rect || resolve(c->prog_rect, "rect", rect_uniforms, c->ru, err)) return err->code;
-    c->prog_comp = link(spr__src_full_vert, spr__src_composite_frag, "composite", err);
-    if (!c->prog_comp || resolve(c->prog_comp, "composite", comp_uniforms, c->cu, err)) return err->code;
+    c->prog_splat = link(spr__src_splat_vert, spr__src_splat_frag, -1, "splat", err);
+    if (!c->prog_splat || resolve(c->prog_splat, "splat", splat_uniforms, c->su, 0, err)) return err->code;
+    c->prog_rect = link(spr__src_splat_vert, spr__src_rect_frag, -1, "rect", err);
+    if (!c->prog_rect || resolve(c->prog_rect, "rect", rect_uniforms, c->ru, 0, err)) return err->code;
     return SPR_OK;
+}
+
+spr_result gl__comp_program(gl_context *c, spr_composite_op op, spr_error *err)
+{
+    if (c->prog_comp[op]) return SPR_OK;
+    char name[64];
+    snprintf(name, sizeof name, "composite %s", spr_composite_info_of(op)->name);
+    c->prog_comp[op] = link(spr__src_full_vert, spr__src_composite_frag, (int)op, name, err);
+    if (!c->prog_comp[op]) return err->code;
+    return resolve(c->prog_comp[op], name, comp_uniforms, c->cu[op], 1, err);
 }
 
 char *spr_gl_program_source(spr_backend *b, const char *program)
 {
     gl_context *c = gl_ctx(b);
     gl__make_current(c);
-    GLuint p = !strcmp(program, "splat") ? c->prog_splat : !strcmp(program, "composite") ? c->prog_comp : !strcmp(program, "rect") ? c->prog_rect : 0;
+    spr_error err = {0};
+    if (!strcmp(program, "composite") && gl__comp_program(c, (spr_composite_op)0, &err)) return NULL;
+    GLuint p = !strcmp(program, "splat") ? c->prog_splat : !strcmp(program, "composite") ? c->prog_comp[0] : !strcmp(program, "rect") ? c->prog_rect : 0;
     if (!p) return NULL;
     GLuint sh[4];
     GLsizei n = 0;
