@@ -86,6 +86,7 @@ static int run_set(spr_backend *b[3], const cli_scene *s, const spr_render_desc 
 }
 
 static spr_backend *bench_gl;     /* NULL when no GL context could be made */
+enum { BENCH_DOMAIN_LEVEL = 9 };  /* the domain rows: level 9, 465 rectangles on the bunny, near [R] Table 5.1's 383 */
 static const char *bench_gl_reason;
 
 static int bench_scene(cli_args *a, const char *label, cli_scene *s, int reps, int quiet)
@@ -101,6 +102,28 @@ static int bench_scene(cli_args *a, const char *label, cli_scene *s, int reps, i
     gd.progress = cli_progress(quiet);
     if (cli_make_groups(a, s, &gd, NULL)) return -1;
     printf("\nscene %s: %zu splats, %dx%d\n", label, s->cloud.n, s->view.width, s->view.height);
+    /* the domain pipeline (SPEC 7) for the domain-* rows: its phases timed */
+    {
+        spr_decomp_desc dd;
+        spr_decomp_defaults(&dd);
+        dd.progress = cli_progress(quiet);
+        spr_decomp dc = {0};
+        double t0 = spr_now_ms();
+        if (spr_decompose(&s->cloud, &dd, &dc, &err)) { fprintf(stderr, "splatref bench: %s: %s\n", label, err.msg); return -1; }
+        const double ms_decomp = spr_now_ms() - t0;
+        spr_prims_desc pd;
+        spr_prims_defaults(&pd);
+        pd.tex.extend_color = 1;
+        pd.threads = 0;
+        const int l = dc.levels > BENCH_DOMAIN_LEVEL ? BENCH_DOMAIN_LEVEL : dc.levels - 1;
+        int r = spr_domain_prims(&s->cloud, &dc.basis[l], &pd, &s->rects, &s->prims, &err);
+        if (!r)
+            printf("  domain pipeline (SPEC 7, CPU, all cores): local analysis %.0f ms, coarsening and basis %.0f ms (%d levels, all %.0f ms);\n"
+                   "    level %d: %zu regions -> %zu textured rectangles, %zu texels, in %.0f ms (polygons, textures, neighbours)\n",
+                   dc.ms_analysis, dc.ms_coarsen, dc.levels, ms_decomp, l, dc.regions[l], s->prims.polygons, s->prims.texels, s->prims.ms);
+        spr_decomp_free(&dc);
+        if (r) { fprintf(stderr, "splatref bench: %s: %s\n", label, err.msg); return -1; }
+    }
     printf("  %-32s %7s %10s %12s %14s %7s %9s  %s\n", "algorithm", "backend", "ms", "splats/s", "fragments/s", "passes", "/pbr2p1",
            "ms per pass");
     /* every algorithm of the registry, then the variants the transparency
@@ -122,6 +145,8 @@ static int bench_scene(cli_args *a, const char *label, cli_scene *s, int reps, i
         rd.alpha = ai->uses & SPR_USES_ALPHA ? 0.5f : 0.0f;
         spr_shading_defaults(&rd.shade);
         rd.layers = row == SPR_ALGO__COUNT ? 3 : 8;
+        rd.rects = ai->uses & SPR_USES_RECTS ? &s->rects : NULL;
+        rd.sampling = SPR_SAMPLE_LINEAR;
         if (row == SPR_ALGO__COUNT + 1) rd.shade.model = SPR_SHADE_PHONG, rd.shade.env = &sky;
         snprintf(names[row], sizeof names[row], "%s%s%s%s%s", ai->name, rd.groups ? " hash K=8" : "", rd.voronoi ? " +vor" : "",
                  ai->uses & SPR_USES_LAYERS ? (rd.layers == 3 ? " L=3" : " L=8") : "", rd.shade.env ? " +env" : "");
@@ -146,8 +171,8 @@ static int bench_scene(cli_args *a, const char *label, cli_scene *s, int reps, i
         if (bench_gl) printf("; time CPU (2 threads) / GL: %.2f", run[row][1].ms / run[row][2].ms);
         printf("\n");
     }
-    printf("  (passes: splats submitted per frame / splats in the model, the geometry passes over the data;\n"
-           "   /pbr2p1: frame time over pbr2p1's on the same backend)\n");
+    printf("  (passes: splats submitted per frame / splats in the model, the geometry passes over the data (domain-*:\n"
+           "   rectangles submitted / splats); /pbr2p1: frame time over pbr2p1's on the same backend and view)\n");
     return 0;
 }
 

@@ -55,13 +55,13 @@ spr_result spr__run_composite(spr__run *run, const char *name, const spr_composi
     return record(run, name, -1, NULL, c->output, &st, spr_now_ms() - t0);
 }
 
-spr_result spr__run_rects(spr__run *run, const char *name, int target, const spr_rect_draw_desc *d)
+spr_result spr__run_rects(spr__run *run, const char *name, int group, int target, const spr_rect_draw_desc *d)
 {
     spr_draw_stats st;
     double t0 = spr_now_ms();
     spr_result r = spr_backend_draw_rects(run->b, target, d, &st);
     if (r) return backend_failed(run, r);
-    return record(run, name, -1, &d->state, target, &st, spr_now_ms() - t0);
+    return record(run, name, group, &d->state, target, &st, spr_now_ms() - t0);
 }
 
 void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius)

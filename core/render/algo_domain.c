@@ -20,7 +20,6 @@
 #include "spr_algo.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -123,7 +122,7 @@ spr_result spr__algo_domain_blendall(spr__run *run, int *final_target)
     spr_result r;
     if ((r = dom_targets(run, &acc, 1, &out))) return r;
     spr_rect_draw_desc d = rect_desc(run, SPR_ROUT_WEIGHTED, SPR_BLEND_ADD, SPR_FUNC_ALWAYS, SPR_WRITE_COLOR | SPR_WRITE_COUNT);
-    if ((r = spr__run_rects(run, "blend", acc, &d))) return r;
+    if ((r = spr__run_rects(run, "blend", -1, acc, &d))) return r;
     return dom_finish(run, acc, out, final_target);
 }
 
@@ -134,7 +133,7 @@ spr_result spr__algo_domain_noblend(spr__run *run, int *final_target)
     if ((r = dom_targets(run, &acc, 1, &out))) return r;
     spr_rect_draw_desc d = rect_desc(run, SPR_ROUT_COLOR, SPR_BLEND_REPLACE, SPR_FUNC_LESS, SPR_WRITE_ALL);
     d.state.depth_write = 1;
-    if ((r = spr__run_rects(run, "opaque", acc, &d))) return r;
+    if ((r = spr__run_rects(run, "opaque", -1, acc, &d))) return r;
     return dom_finish(run, acc, out, final_target);
 }
 
@@ -147,9 +146,9 @@ spr_result spr__algo_domain_twopass(spr__run *run, int *final_target)
     d.state.depth_value = SPR_DEPTH_EPS_OFFSET;
     d.state.eps_t = run->eps_t;
     d.state.depth_write = 1;
-    if ((r = spr__run_rects(run, "visibility", acc, &d))) return r;
+    if ((r = spr__run_rects(run, "visibility", -1, acc, &d))) return r;
     d = rect_desc(run, SPR_ROUT_WEIGHTED, SPR_BLEND_ADD, SPR_FUNC_LEQUAL, SPR_WRITE_COLOR | SPR_WRITE_COUNT);
-    if ((r = spr__run_rects(run, "blend", acc, &d))) return r;
+    if ((r = spr__run_rects(run, "blend", -1, acc, &d))) return r;
     return dom_finish(run, acc, out, final_target);
 }
 
@@ -172,7 +171,7 @@ static spr_result darkback(spr__run *run, int soft, int *final_target)
         else d = rect_desc(run, SPR_ROUT_BLACK, SPR_BLEND_REPLACE, SPR_FUNC_ALWAYS, SPR_WRITE_COLOR);
         d.indices = o.idx + a;
         d.count = b - a;
-        if ((r = spr__run_rects(run, front ? "front" : "back", acc[cur], &d))) break;
+        if ((r = spr__run_rects(run, front ? "front" : "back", -1, acc[cur], &d))) break;
         if (!front && soft) { /* a run of subtractions, then one clamp: the same as clamping after each (α ≥ 0) */
             spr_composite_desc c = spr__run_comp(run, SPR_COMP_CLAMP, &acc[cur], 1, acc[1 - cur]);
             if ((r = spr__run_composite(run, "clamp", &c))) break;
@@ -213,21 +212,18 @@ spr_result spr__algo_domain_overlap(spr__run *run, int *final_target)
             const uint32_t j = o.idx[b];
             if (!drawn[j] && spr_rects_neighbours(rs->nbr, words, i, j)) batch[m++] = j, drawn[j] = 1;
         }
-        char name[32];
         if (m) {
             spr_rect_draw_desc d = rect_desc(run, SPR_ROUT_WEIGHTED, SPR_BLEND_ADD, SPR_FUNC_LESS, SPR_WRITE_COLOR | SPR_WRITE_COUNT);
             d.indices = batch;
             d.count = m;
-            snprintf(name, sizeof name, "blend %u", i);
-            if ((r = spr__run_rects(run, name, acc, &d))) break;
+            if ((r = spr__run_rects(run, "blend", (int)i, acc, &d))) break;
         }
         spr_rect_draw_desc l = rect_desc(run, SPR_ROUT_WEIGHTED, SPR_BLEND_REPLACE, SPR_FUNC_LESS, SPR_WRITE_DEPTH | SPR_WRITE_ID);
         l.state.depth_write = 1;
         l.alpha_ref = ref;
         l.indices = &o.idx[a];
         l.count = 1;
-        snprintf(name, sizeof name, "lock %u", i);
-        r = spr__run_rects(run, name, acc, &l);
+        r = spr__run_rects(run, "lock", (int)i, acc, &l);
     }
     free(drawn);
     free(batch);
@@ -244,7 +240,7 @@ spr_result spr__algo_domain_prefix(spr__run *run, int *final_target)
     if ((r = dom_targets(run, &acc, 1, &out))) return r;
     spr_rect_draw_desc d = rect_desc(run, SPR_ROUT_WEIGHTED, SPR_BLEND_REPLACE, SPR_FUNC_ALWAYS, 0);
     d.list = 1;
-    if ((r = spr__run_rects(run, "lists", acc, &d))) return r;
+    if ((r = spr__run_rects(run, "lists", -1, acc, &d))) return r;
     spr_composite_desc c = spr__run_comp(run, SPR_COMP_PREFIX, &acc, 1, out);
     c.rects = run->desc->rects;
     if ((r = spr__run_composite(run, "prefix", &c))) return r;

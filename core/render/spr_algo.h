@@ -93,7 +93,7 @@ const char *spr_algo_names(const char *sep);
 typedef struct spr_pass_info {
     int index;                    /* 0-based, in execution order */
     const char *name;             /* "visibility", "blend", "normalize", "geometry", "composite" */
-    int group;                    /* k of a geometry pass, −1 otherwise */
+    int group;                    /* k of a geometry pass, the rectangle of a domain-overlap pass, −1 otherwise */
     const spr_pass_state *state;  /* NULL for compositing passes */
     int target;                   /* the target the pass wrote */
     spr_draw_stats stats;
@@ -173,7 +173,8 @@ typedef struct spr__run {
 } spr__run;
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d);
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c);
-spr_result spr__run_rects(spr__run *run, const char *name, int target, const spr_rect_draw_desc *d);
+/* A rectangle draw recorded as pass `name`; group: the rectangle a pass is about (overlap), −1 otherwise. */
+spr_result spr__run_rects(spr__run *run, const char *name, int group, int target, const spr_rect_draw_desc *d);
 /* Enlarged radii of group k ([ZP] §4.4.2): radius[i] = scale_k·r_i for the
  * m members, rounded once on the host so both backends get the same bits. */
 void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius);
