@@ -384,6 +384,25 @@ START_TEST(domains_command)
     const char *bad[] = {"domains", "--model", "builtin:octahedron", "--points", "500", "--basis-out", out, NULL};
     rc = run_args(bad, NULL, err, sizeof err);
     ck_assert_msg(rc == 2 && strstr(err, "--level") && strchr(err, '\n') == err + strlen(err) - 1, "exit %d: %s", rc, err);
+    /* --dump: the coloured cloud and the level's textures, 8 faces side by side in one atlas */
+    const char *ply = path_in("dom.ply"), *atlas = path_in("dom-atlas.png");
+    const char *dump[] = {"domains", "--model", "builtin:octahedron", "--points", "2000", "--level", "2", "--domain", "strict", "--dump", ply, NULL};
+    rc = run_args(dump, NULL, err, sizeof err);
+    ck_assert_msg(rc == 0, "domains --dump: exit %d: %s", rc, err);
+    float *img = NULL;
+    int w = 0, h = 0, ch = 0;
+    spr_error e = {0};
+    ck_assert_msg(spr_read_png(atlas, &img, &w, &h, &ch, &e) == SPR_OK, "%s", e.msg);
+    ck_assert_msg(w > 8 * 3 && h > 2 && ch == 4, "atlas %dx%d, %d channels", w, h, ch);
+    free(img);
+    /* a domain method renders; domain options are refused where no domain algorithm reads them */
+    const char *png = path_in("dom.png");
+    const char *draw[] = {"render", "--model", "builtin:octahedron", "--points", "2000", "--algo", "domain-prefix", "--level", "2", "--size", "64x64", NULL};
+    rc = run_args(draw, png, err, sizeof err);
+    ck_assert_msg(rc == 0 && access(png, F_OK) == 0, "render domain-prefix: exit %d: %s", rc, err);
+    const char *unused[] = {"render", "--model", "builtin:octahedron", "--points", "500", "--algo", "pbr2p1", "--level", "2", NULL};
+    rc = run_args(unused, png, err, sizeof err);
+    ck_assert_msg(rc == 2 && strstr(err, "--level"), "exit %d: %s", rc, err);
 }
 END_TEST
 

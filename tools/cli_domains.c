@@ -103,7 +103,7 @@ static int write_atlas(const char *path, const spr_rects *rs, spr_error *err)
     int W, H;
     if (!org) return spr__fail(err, SPR_E_NOMEM, "domains: out of memory for the atlas");
     spr_result r = spr_rects_atlas(rs, 1024, &img, &W, &H, org, err);
-    if (!r) r = spr_write_png(path, img, W, H, 4, err);
+    if (!r) r = spr_write_png_rgba(path, img, W, H, err);
     free(img);
     free(org);
     return r;

@@ -15,24 +15,25 @@ uint8_t spr_to_u8(float v)
     return (uint8_t)lrintf(c * 255.0f);
 }
 
-typedef struct { const float *img; int w, h, ch; } img_ref;
+typedef struct { const float *img; int w, h, ch, alpha; } img_ref;
 
 static int png_body(FILE *f, const void *user)
 {
     const img_ref *im = user;
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
     png_infop info = png ? png_create_info_struct(png) : NULL;
-    uint8_t *row = malloc((size_t)im->w * 3);
+    const int oc = im->alpha ? 4 : 3;
+    uint8_t *row = malloc((size_t)im->w * oc);
     if (!png || !info || !row) { png_destroy_write_struct(&png, &info); free(row); return -1; }
     if (setjmp(png_jmpbuf(png))) { png_destroy_write_struct(&png, &info); free(row); return -1; }
     png_init_io(png, f);
-    png_set_IHDR(png, info, (png_uint_32)im->w, (png_uint_32)im->h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+    png_set_IHDR(png, info, (png_uint_32)im->w, (png_uint_32)im->h, 8, im->alpha ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
     for (int y = im->h - 1; y >= 0; y--) {
         const float *src = im->img + (size_t)y * im->w * im->ch;
         for (int x = 0; x < im->w; x++)
-            for (int c = 0; c < 3; c++) row[3 * x + c] = spr_to_u8(src[(size_t)x * im->ch + (im->ch == 1 ? 0 : c)]);
+            for (int c = 0; c < oc; c++) row[(size_t)oc * x + c] = spr_to_u8(src[(size_t)x * im->ch + (im->ch == 1 ? 0 : c)]);
         png_write_row(png, row);
     }
     png_write_end(png, NULL);
@@ -43,7 +44,13 @@ static int png_body(FILE *f, const void *user)
 
 spr_result spr_write_png(const char *path, const float *img, int w, int h, int channels, spr_error *err)
 {
-    img_ref r = {img, w, h, channels};
+    img_ref r = {img, w, h, channels, 0};
+    return spr__write_atomic(path, png_body, &r, err);
+}
+
+spr_result spr_write_png_rgba(const char *path, const float *img, int w, int h, spr_error *err)
+{
+    img_ref r = {img, w, h, 4, 1};
     return spr__write_atomic(path, png_body, &r, err);
 }
 
@@ -66,7 +73,7 @@ static int pfm_body(FILE *f, const void *user)
 
 spr_result spr_write_pfm(const char *path, const float *img, int w, int h, int channels, spr_error *err)
 {
-    img_ref r = {img, w, h, channels};
+    img_ref r = {img, w, h, channels, 0};
     return spr__write_atomic(path, pfm_body, &r, err);
 }
 

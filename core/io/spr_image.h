@@ -16,6 +16,8 @@ uint8_t spr_to_u8(float v);
 
 /* RGB(A) float image with `channels` values per pixel (first 3 used) → PNG. */
 spr_result spr_write_png(const char *path, const float *img, int w, int h, int channels, spr_error *err);
+/* RGBA float image → PNG with its alpha channel (texture atlases). */
+spr_result spr_write_png_rgba(const char *path, const float *img, int w, int h, spr_error *err);
 /* channels = 1 → "Pf", 3 or 4 → "PF" (first 3); little-endian scale −1. */
 spr_result spr_write_pfm(const char *path, const float *img, int w, int h, int channels, spr_error *err);
 /* Read a PFM (either endianness) into RGB or grey floats (malloc'd). */
