@@ -200,6 +200,18 @@ SPR_FN float spr_kernel_weight(int kernel, float rho2, float rho)
     return w;
 }
 
+/* o = (w·v, w): a weighted colour or normal and its weight. */
+SPR_FN void spr_weighted4(float w, SPR_CARR v[3], SPR_OARR o[4])
+{
+    SPR_PRECISE float x = w * v[0];
+    SPR_PRECISE float y = w * v[1];
+    SPR_PRECISE float z = w * v[2];
+    o[0] = x;
+    o[1] = y;
+    o[2] = z;
+    o[3] = w;
+}
+
 /* What a fragment offers the colour plane: (w·c, w) or (c, α) (SPEC §3.4). */
 SPR_FN void spr_fragment_color(int out_kind, int kernel, float rho2, float rho, SPR_CARR c[3], float alpha,
                                SPR_OARR src[4])
@@ -211,14 +223,8 @@ SPR_FN void spr_fragment_color(int out_kind, int kernel, float rho2, float rho, 
         src[3] = alpha;
         return;
     }
-    SPR_PRECISE float w = spr_kernel_weight(kernel, rho2, rho);
-    SPR_PRECISE float wr = w * c[0];
-    SPR_PRECISE float wg = w * c[1];
-    SPR_PRECISE float wb = w * c[2];
-    src[0] = wr;
-    src[1] = wg;
-    src[2] = wb;
-    src[3] = w;
+    float w = spr_kernel_weight(kernel, rho2, rho);
+    spr_weighted4(w, c, src);
 }
 
 /* What a fragment offers the opacity plane (SPEC §6.2): w·α for the
@@ -234,13 +240,7 @@ SPR_FN float spr_fragment_opacity(int out_kind, SPR_CARR src[4], float alpha)
  * src[3] = w of spr_fragment_color's weighted output. */
 SPR_FN void spr_fragment_normal(SPR_CARR src[4], SPR_CARR n[3], SPR_OARR o[4])
 {
-    SPR_PRECISE float x = src[3] * n[0];
-    SPR_PRECISE float y = src[3] * n[1];
-    SPR_PRECISE float z = src[3] * n[2];
-    o[0] = x;
-    o[1] = y;
-    o[2] = z;
-    o[3] = src[3];
+    spr_weighted4(src[3], n, o);
 }
 
 /* ---- deferred shading and environment effects (SPEC §4.3, §6.3) ----
@@ -532,13 +532,9 @@ SPR_FN void spr_rect_fragment(int out_kind, SPR_CARR tx[4], SPR_OARR src[4])
         src[2] = tx[3];
         src[3] = 0.0f;
     } else {
-        SPR_PRECISE float r = tx[3] * tx[0];
-        SPR_PRECISE float g = tx[3] * tx[1];
-        SPR_PRECISE float b = tx[3] * tx[2];
-        src[0] = r;
-        src[1] = g;
-        src[2] = b;
-        src[3] = tx[3];
+        float c[3];
+        for (int ch = 0; ch < 3; ch++) c[ch] = tx[ch];
+        spr_weighted4(tx[3], c, src);
     }
 }
 
