@@ -68,24 +68,53 @@ static spr_result t_clear(spr_backend *b, int target, const float c[4])
     return pass_on(b, spr_backend_clear(tr(b)->inner, target, c));
 }
 
+static const char *const depth_names[SPR_DEPTH__COUNT] = {"d_f", "d_f+eps_t", "z_lowres", "voronoi"};
+static const char *const func_names[SPR_FUNC__COUNT] = {"LESS", "LEQUAL", "ALWAYS"};
+static const char *const blend_names[SPR_BLEND__COUNT] = {"replace", "add", "over", "sub"};
+
+/* The depth test, write and blends of a pass state, then the planes written. */
+static void print_state(FILE *f, const spr_pass_state *s)
+{
+    fprintf(f, "test %s %s, depth write %s, blend rgb %s alpha %s, writes ", func_names[s->depth_func], depth_names[s->depth_value],
+            s->depth_write ? "on" : "off", blend_names[s->blend], blend_names[s->blend_alpha]);
+    planes(f, s->write_mask);
+    fprintf(f, ", eps_t %.9g", s->eps_t);
+}
+
+static void print_result(trace_backend *t, spr_result r, const spr_draw_stats *st)
+{
+    if (!r) fprintf(t->out, " -> %llu fragments, %llu passed\n", (unsigned long long)st->generated, (unsigned long long)st->passed);
+    else fprintf(t->out, " -> failed: %s\n", t->base.err.msg);
+}
+
 static spr_result t_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
 {
-    static const char *const depth[] = {"d_f", "d_f+eps_t", "z_lowres", "voronoi"}, *const func[] = {"LESS", "LEQUAL", "ALWAYS"},
-                             *const blend[] = {"replace", "add", "over"}, *const outk[] = {"(w*c, w)", "(c, alpha)"};
+    static const char *const outk[] = {"(w*c, w)", "(c, alpha)"};
     const spr_pass_state *s = &d->state;
     spr_result r = pass_on(b, spr_backend_draw(tr(b)->inner, target, d, st));
     FILE *f = tr(b)->out;
-    fprintf(f, "draw t%d: %zu splats%s, kernel %s, output %s, test %s %s, depth write %s, blend rgb %s alpha %s, writes ", target,
-            d->indices ? d->count : d->cloud->n, d->radius_override ? " (radii overridden)" : "", spr_kernel_name(s->kernel),
-            outk[s->output], func[s->depth_func], depth[s->depth_value], s->depth_write ? "on" : "off", blend[s->blend],
-            blend[s->blend_alpha]);
-    planes(f, s->write_mask);
-    fprintf(f, ", eps_t %.9g, lowres d_min %.9g d_max %.9g n %.9g%s", s->eps_t, s->lowres.d_min, s->lowres.d_max, s->lowres.n,
+    fprintf(f, "draw t%d: %zu splats%s, kernel %s, output %s, ", target, d->indices ? d->count : d->cloud->n,
+            d->radius_override ? " (radii overridden)" : "", spr_kernel_name(s->kernel), outk[s->output]);
+    print_state(f, s);
+    fprintf(f, ", lowres d_min %.9g d_max %.9g n %.9g%s", s->lowres.d_min, s->lowres.d_max, s->lowres.n,
             s->cull_backfaces ? ", back faces culled" : "");
     if (d->alpha > 0.0f) fprintf(f, ", every opacity %.9g", d->alpha);
     if (d->depth_mask) fprintf(f, ", masked by t%d", d->mask_target);
-    if (!r) fprintf(f, " -> %llu fragments, %llu passed\n", (unsigned long long)st->generated, (unsigned long long)st->passed);
-    else fprintf(f, " -> failed: %s\n", b->err.msg);
+    print_result(tr(b), r, st);
+    return r;
+}
+
+static spr_result t_draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st)
+{
+    static const char *const outk[SPR_ROUT__COUNT] = {"(alpha*c, alpha)", "(c, 1)", "(0, 0, 0, 1)", "(alpha, alpha, alpha, 0)"};
+    static const char *const smp[SPR_SAMPLE__COUNT] = {"nearest", "linear", "hardware"};
+    spr_result r = pass_on(b, spr_backend_draw_rects(tr(b)->inner, target, d, st));
+    FILE *f = tr(b)->out;
+    fprintf(f, "draw_rects t%d: %zu rectangles, sampling %s, alpha >= %.9g, ", target, d->indices ? d->count : d->rects->n, smp[d->sampling],
+            d->alpha_ref);
+    if (d->list) fprintf(f, "into the fragment lists");
+    else fprintf(f, "output %s, ", outk[d->output]), print_state(f, &d->state);
+    print_result(tr(b), r, st);
     return r;
 }
 
@@ -129,6 +158,7 @@ spr_backend *spr_trace_create(spr_backend *inner, FILE *out, spr_error *err)
     b->target_destroy = t_target_destroy;
     b->clear = t_clear;
     b->draw_splats = t_draw;
+    b->draw_rects = t_draw_rects;
     b->composite = t_composite;
     b->read_plane = t_read;
     b->destroy = t_destroy;
