@@ -2,6 +2,8 @@
  * 1, 2 and 7 threads, both algorithms, on the real bunny. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include "spr_domain.h"
 #include "test_util.h"
 
 typedef struct hasher {
@@ -76,6 +78,54 @@ START_TEST(mgc_labels_independent_of_threads)
 }
 END_TEST
 
+/* SPEC 7: the bunny's level-6 primitives built with 1, 2 and 7 threads are
+ * the same bytes, and every domain method renders the same bits on 1, 2
+ * and 7 CPU threads (the fragment lists of prefix included). */
+START_TEST(domain_bits_independent_of_threads)
+{
+    tu_bunny bn;
+    tu_bunny_scene(&bn, 200, 160, 0.4);
+    spr_decomp_desc dd;
+    spr_decomp_defaults(&dd);
+    spr_decomp dc = {0};
+    spr_error err = {0};
+    ck_assert_msg(spr_decompose(&bn.cloud, &dd, &dc, &err) == SPR_OK, "%s", err.msg);
+    ck_assert_int_gt(dc.levels, 6);
+    spr_rects r[3];
+    static const int thread_counts[3] = {1, 2, 7};
+    for (int ti = 0; ti < 3; ti++) {
+        spr_prims_desc pd;
+        spr_prims_defaults(&pd);
+        pd.threads = thread_counts[ti];
+        spr_prims_stats st;
+        ck_assert_msg(spr_domain_prims(&bn.cloud, &dc.basis[6], &pd, &r[ti], &st, &err) == SPR_OK, "%s", err.msg);
+        if (ti == 0) continue;
+        ck_assert(r[ti].n == r[0].n && r[ti].n_texels == r[0].n_texels);
+        ck_assert(!memcmp(r[ti].f, r[0].f, r[0].n * SPR_RECT_FLOATS * sizeof(float)));
+        ck_assert(!memcmp(r[ti].i, r[0].i, r[0].n * SPR_RECTI_COUNT * sizeof(uint32_t)));
+        ck_assert(!memcmp(r[ti].texels, r[0].texels, r[0].n_texels * 4 * sizeof(float)));
+        ck_assert(!memcmp(r[ti].nbr, r[0].nbr, r[0].n * spr_rects_words(r[0].n) * sizeof(uint32_t)));
+    }
+    for (int al = SPR_ALGO_DOMAIN_BLENDALL; al <= SPR_ALGO_DOMAIN_PREFIX; al++) {
+        uint64_t first = 0;
+        for (int ti = 0; ti < 3; ti++) {
+            hasher hs = {0xcbf29ce484222325ull, 0};
+            spr_render_desc d = {.algo = (spr_algo)al, .rects = &r[0], .sampling = SPR_SAMPLE_LINEAR, .hook = hash_hook, .hook_user = &hs};
+            spr_render_result res;
+            tu_render(&bn.view, &bn.cloud, &d, thread_counts[ti], &res);
+            fnv(&hs.h, res.rgba, (size_t)res.width * res.height * 4 * sizeof(float));
+            if (ti == 0) first = hs.h;
+            else ck_assert_msg(hs.h == first, "%s: %d threads differ from 1 thread", spr_algo_name(d.algo), thread_counts[ti]);
+            spr_render_result_free(&res);
+        }
+        printf("determinism: %s, %zu rectangles, 1/2/7 threads: hash %016llx\n", spr_algo_name((spr_algo)al), r[0].n, (unsigned long long)first);
+    }
+    for (int ti = 0; ti < 3; ti++) spr_rects_free(&r[ti]);
+    spr_decomp_free(&dc);
+    tu_bunny_free(&bn);
+}
+END_TEST
+
 Suite *make_determinism_suite(void)
 {
     Suite *s = suite_create("determinism");
@@ -83,6 +133,7 @@ Suite *make_determinism_suite(void)
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, bunny_bits_independent_of_threads);
     tcase_add_test(tc, mgc_labels_independent_of_threads);
+    tcase_add_test(tc, domain_bits_independent_of_threads);
     suite_add_tcase(s, tc);
     return s;
 }
