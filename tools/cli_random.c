@@ -49,6 +49,8 @@ typedef struct rscene {
     int layers;              /* depthpeel */
     spr_rects rects;         /* domain-*: primitives of one level of the scene's decomposition (n 0: none) */
     int has_rects;
+    int dom_level, dom_strict; /* the level asked for (clamped to a subset's levels) and the domain kind */
+    double dom_texel;
     spr_sampling sampling;
     float alpha_ref;
     char features[256];
@@ -241,38 +243,50 @@ static void render_desc(const rscene *s, spr_algo algo, spr_groups *g, spr_rende
     rd->alpha_ref = ai->uses & SPR_USES_ALPHAREF ? s->alpha_ref : 0.0f;
 }
 
-/* Domain primitives of the scene (SPEC 7): a random level of its
- * decomposition, random texel size and sampling; none when the scene is
- * too small or degenerate to decompose (the domain-* algorithms are then
- * left out of this scene). */
-static void scene_rects(rscene *s, uint64_t seed, int i)
+/* The domain primitives of cloud c with the scene's domain options, as
+ * `render --level L --texel T [--domain strict]` builds them (the level
+ * clamped to c's levels, *level set to the one used); −1 when c does not
+ * decompose or yields no rectangle. */
+static int build_rects(const spr_cloud *c, const rscene *s, spr_rects *out, int *level)
 {
-    uint64_t r = seed * 0x9E3779B97F4A7C15ull + (uint64_t)i * 7919u + 17u;
     spr_decomp_desc dd;
     spr_decomp_defaults(&dd);
     dd.threads = 1;
     spr_decomp dc = {0};
     spr_error err = {0};
-    s->has_rects = 0;
-    if (s->cloud.n < 32 || spr_decompose(&s->cloud, &dd, &dc, &err)) return;
+    memset(out, 0, sizeof *out);
+    if (c->n < 32 || spr_decompose(c, &dd, &dc, &err)) return -1;
     spr_prims_desc pd;
     spr_prims_defaults(&pd);
-    const int l = (int)(spr__splitmix64(&r) % (uint64_t)dc.levels);
-    pd.tex.texel_factor = 0.5 + (double)(spr__splitmix64(&r) % 4) * 0.5;
-    pd.strict = spr__splitmix64(&r) % 4 == 0;
+    pd.tex.texel_factor = s->dom_texel;
+    pd.strict = s->dom_strict;
+    *level = s->dom_level < dc.levels ? s->dom_level : dc.levels - 1;
+    spr_prims_stats st;
+    int rc = spr_domain_prims(c, &dc.basis[*level], &pd, out, &st, &err) || out->n == 0 ? -1 : 0;
+    if (rc) spr_rects_free(out);
+    spr_decomp_free(&dc);
+    return rc;
+}
+
+/* Domain primitives of the scene (SPEC 7): a random level, texel size,
+ * domain kind and sampling; none when the scene is too small or degenerate
+ * to decompose (the domain-* algorithms are then left out of this scene). */
+static void scene_rects(rscene *s, uint64_t seed, int i)
+{
+    uint64_t r = seed * 0x9E3779B97F4A7C15ull + (uint64_t)i * 7919u + 17u;
+    s->dom_level = (int)(spr__splitmix64(&r) % 16);
+    s->dom_texel = 0.5 + (double)(spr__splitmix64(&r) % 4) * 0.5;
+    s->dom_strict = spr__splitmix64(&r) % 4 == 0;
     s->sampling = spr__splitmix64(&r) % 2 ? SPR_SAMPLE_LINEAR : SPR_SAMPLE_NEAREST;
     s->alpha_ref = (float)(spr__splitmix64(&r) % 5) * 0.05f;
-    spr_prims_stats st;
-    if (!spr_domain_prims(&s->cloud, &dc.basis[l], &pd, &s->rects, &st, &err) && s->rects.n > 0) {
-        s->has_rects = 1;
+    int l;
+    s->has_rects = !build_rects(&s->cloud, s, &s->rects, &l);
+    if (s->has_rects) {
         char f[96];
         snprintf(f, sizeof f, "%sdomains L%d %zu rects %s", s->features[0] ? ", " : "", l, s->rects.n,
                  s->sampling == SPR_SAMPLE_LINEAR ? "linear" : "nearest");
         strncat(s->features, f, sizeof s->features - strlen(s->features) - 1);
-    } else {
-        spr_rects_free(&s->rects);
     }
-    spr_decomp_free(&dc);
 }
 
 /* The splats keep[0..m) of s as a cloud of their own, with their labels. */
@@ -305,6 +319,16 @@ static int differs(spr_backend *cpu, spr_backend *gl, const rscene *s, const uin
     int rc = -1;
     spr_render_desc rd;
     render_desc(s, algo, &g, &rd);
+    spr_rects sub = {0};
+    int level;
+    if (rd.rects && m != s->cloud.n) { /* a subset gets the primitives its replay command builds */
+        if (build_rects(&c, s, &sub, &level)) {
+            spr_cloud_free(&c);
+            free(lab);
+            return 0; /* no primitives: nothing to compare */
+        }
+        rd.rects = &sub;
+    }
     spr_parity_report rep;
     if (!spr_groups_from_labels(lab, m, 0, &g, err) && !spr_parity_run(cpu, gl, &s->view, &c, &rd, &rd, NULL, "random", &rep, err)) {
         rc = !spr_parity_exact(&rep);
@@ -312,6 +336,7 @@ static int differs(spr_backend *cpu, spr_backend *gl, const rscene *s, const uin
         else spr_parity_report_free(&rep);
     }
     spr_groups_free(&g);
+    spr_rects_free(&sub);
     spr_cloud_free(&c);
     free(lab);
     return rc;
@@ -328,6 +353,11 @@ static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, 
     snprintf(ply, sizeof ply, "%s.ply", name);
     snprintf(grp, sizeof grp, "%s.groups", name);
     int bad = spr_write_ply(ply, &c, err) || spr_groups_write(grp, lab, m, err);
+    int level = -1;
+    if (!bad && (spr_algo_info_of(algo)->uses & SPR_USES_RECTS)) {
+        spr_rects r;
+        if (!build_rects(&c, s, &r, &level)) spr_rects_free(&r);
+    }
     spr_cloud_free(&c);
     free(lab);
     if (bad) return -1;
@@ -357,6 +387,10 @@ static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, 
         printf(" --env %s --env-size %d --eta %.17g,%.17g,%.17g --env-layers %s", s->env_name, sh->env->size, sh->eta[0], sh->eta[1],
                sh->eta[2], sh->multilayer ? "multi" : "single");
     if (ai->uses & SPR_USES_LAYERS) printf(" --layers %d", s->layers);
+    if (level >= 0)
+        printf(" --level %d --texel %.17g%s --sampling %s", level, s->dom_texel, s->dom_strict ? " --domain strict" : "",
+               s->sampling == SPR_SAMPLE_LINEAR ? "linear" : "nearest");
+    if ((ai->uses & SPR_USES_ALPHAREF) && s->alpha_ref > 0.0f) printf(" --alpha-ref %.9g", s->alpha_ref);
     printf("\n");
     return 0;
 }
