@@ -96,6 +96,7 @@ static void check_levels(const char *name, const spr_cloud *c, int (*face_of)(co
     char counts[2048] = "";
     size_t o = 0;
     int32_t *dom = malloc(c->n * sizeof *dom);
+    double worst_all = 0.0;
     for (int l = 0; l < dc.levels; l++) {
         const spr_csr *B = &dc.basis[l];
         ck_assert_uint_eq(B->rows, c->n);
@@ -111,6 +112,7 @@ static void check_levels(const char *name, const spr_cloud *c, int (*face_of)(co
             if (fabs(s - 1.0) > worst) worst = fabs(s - 1.0);
         }
         ck_assert_msg(worst <= 1e-6, "%s level %d: partition of unity off by %g", name, l, worst);
+        if (worst > worst_all) worst_all = worst;
         spr_domain_strict(B, dom);
         for (size_t i = 0; i < c->n; i++) ck_assert(dom[i] >= 0 && (size_t)dom[i] < dc.regions[l]);
         spr_csr T;
@@ -143,8 +145,8 @@ static void check_levels(const char *name, const spr_cloud *c, int (*face_of)(co
         if (impure >= 0) o += (size_t)snprintf(counts + o, sizeof counts - o, "(%d mixed)", impure);
         if (faces && dc.regions[l] == faces && impure == 0) found = 1;
     }
-    printf("domain: %s, %zu points: %d levels, regions %s (analysis %.0f ms, coarsening and basis %.0f ms)\n", name, c->n, dc.levels,
-           counts, dc.ms_analysis, dc.ms_coarsen);
+    printf("domain: %s, %zu points: %d levels, regions %s, largest |sum phi - 1| %.2g (analysis %.0f ms, coarsening and basis %.0f ms)\n",
+           name, c->n, dc.levels, counts, worst_all, dc.ms_analysis, dc.ms_coarsen);
     free(dom);
     spr_decomp_free(&dc);
     /* issue 11: at the level with one region per flat face, no strict domain crosses a crease */
