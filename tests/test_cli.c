@@ -36,37 +36,7 @@ static void write_text(const char *name, const char *s, size_t n)
     fclose(f);
 }
 
-/* Run `prog` (the CLI unless given) with NAME=VALUE set in its environment
- * when env is not NULL; returns the exit status, stderr (and stdout when
- * out_too) in err. */
-static int run_in(const char *prog, const char *env, int out_too, char *const argv[], char *err, size_t cap)
-{
-    int pipefd[2];
-    ck_assert_int_eq(pipe(pipefd), 0);
-    fflush(stdout);
-    fflush(stderr);
-    pid_t pid = fork();
-    if (pid == 0) {
-        dup2(pipefd[1], 2);
-        close(pipefd[0]);
-        if (out_too) dup2(pipefd[1], 1);
-        else freopen("/dev/null", "w", stdout);
-        if (env) putenv((char *)env);
-        execv(prog ? prog : SPR_CLI, argv);
-        _exit(127);
-    }
-    close(pipefd[1]);
-    size_t n = 0;
-    ssize_t got;
-    while ((got = read(pipefd[0], err + n, cap - 1 - n)) > 0) n += (size_t)got;
-    err[n] = 0;
-    close(pipefd[0]);
-    int st;
-    waitpid(pid, &st, 0);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-}
-
-static int run(char *const argv[], char *err, size_t cap) { return run_in(NULL, NULL, 0, argv, err, cap); }
+static int run(char *const argv[], char *err, size_t cap) { return tu_run(NULL, NULL, 0, argv, err, cap); }
 
 /* `splatref ARGS… [--out OUT] --quiet` (args NULL-terminated, at most 12). */
 static int run_args(const char *const *args, const char *out, char *err, size_t cap)
@@ -197,14 +167,14 @@ START_TEST(sample_then_info)
     spr_cloud_free(&c);
     /* info describes the file it was given: the count and where each attribute came from */
     char *info[] = {"splatref", "info", "--model", (char *)ply, NULL};
-    ck_assert_int_eq(run_in(NULL, NULL, 1, info, err, sizeof err), 0);
+    ck_assert_int_eq(tu_run(NULL, NULL, 1, info, err, sizeof err), 0);
     static const char *const lines[] = {"splats:   5000\n", "normals:  from the file\n", "colours:  from the file\n",
                                         "radii:    from the file\n", "opacity:  from the file\n"};
     for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++)
         ck_assert_msg(strstr(err, lines[i]) != NULL, "info lacks \"%s\":\n%s", lines[i], err);
     /* without a model it lists the registries */
     char *reg[] = {"splatref", "info", NULL};
-    ck_assert_int_eq(run_in(NULL, NULL, 1, reg, err, sizeof err), 0);
+    ck_assert_int_eq(tu_run(NULL, NULL, 1, reg, err, sizeof err), 0);
     for (int al = 0; al < SPR_ALGO__COUNT; al++) ck_assert_ptr_nonnull(strstr(err, spr_algo_name((spr_algo)al)));
     for (int op = 0; op < SPR_COMP__COUNT; op++) ck_assert_ptr_nonnull(strstr(err, spr_composite_info_of((spr_composite_op)op)->name));
     char *bad[] = {"splatref", "sample", "--model", (char *)tu_data("points_3/kitten.xyz"), "--points", "10", "--out", (char *)path_in("x.ply"), NULL};
@@ -500,7 +470,7 @@ START_TEST(no_gl_context)
     char err[4096];
     const char *out = path_in("gl.png");
     char *argv[] = {"splatref", "render", "--backend", "gl", "--out", (char *)out, "--quiet", NULL};
-    int rc = run_in(NULL, "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent", 0, argv, err, sizeof err);
+    int rc = tu_run(NULL, "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent", 0, argv, err, sizeof err);
     printf("cli: no GL context: exit %d: %s", rc, err);
     ck_assert_int_eq(rc, 2);
     ck_assert_ptr_nonnull(strstr(err, "gl: "));
@@ -508,12 +478,12 @@ START_TEST(no_gl_context)
     ck_assert_int_ne(access(out, F_OK), 0);
     char *targv[] = {"splatref_tests", "gl", NULL};
     setenv("SPLATREF_REQUIRE_GL", "0", 1); /* this process runs forked: CI's setting is restored after */
-    rc = run_in("/proc/self/exe", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent", 1, targv, err, sizeof err);
+    rc = tu_run("/proc/self/exe", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent", 1, targv, err, sizeof err);
     ck_assert_int_eq(rc, 77);
     ck_assert_ptr_nonnull(strstr(err, "gl: skipped (no device"));
     /* where a context is required (CI), the same situation is a failure */
     setenv("SPLATREF_REQUIRE_GL", "1", 1);
-    rc = run_in("/proc/self/exe", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent", 1, targv, err, sizeof err);
+    rc = tu_run("/proc/self/exe", "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent", 1, targv, err, sizeof err);
     ck_assert_int_eq(rc, 1);
     ck_assert_ptr_nonnull(strstr(err, "gl: FAILED (no device"));
 }

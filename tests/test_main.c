@@ -19,6 +19,7 @@ Suite *make_gl_suite(void);
 Suite *make_grouping_suite(void);
 Suite *make_shade_suite(void);
 Suite *make_domain_suite(void);
+Suite *make_tools_suite(void);
 
 static const struct { const char *name; Suite *(*make)(void); int gl; } suites[] = {
     {"kernel", make_kernel_suite, 0}, {"camera", make_camera_suite, 0}, {"raster", make_raster_suite, 0},
@@ -26,6 +27,7 @@ static const struct { const char *name; Suite *(*make)(void); int gl; } suites[]
     {"cli", make_cli_suite, 0},       {"determinism", make_determinism_suite, 0}, {"grouping", make_grouping_suite, 0},
     {"shade", make_shade_suite, 0},
     {"domain", make_domain_suite, 0},
+    {"tools", make_tools_suite, 0},
     {"gl", make_gl_suite, 1},
 };
 

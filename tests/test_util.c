@@ -2,6 +2,8 @@
 #include "test_util.h"
 
 #include <stdio.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <stdlib.h>
 #include <string.h>
 #include <string.h>
@@ -131,4 +133,31 @@ void tu_load(const char *rel, spr_cloud *c)
     spr_load_defaults(&d);
     spr_result r = spr_load(tu_data(rel), &d, c, &err);
     ck_assert_msg(r == SPR_OK, "%s (run tools/install-deps.sh to extract the CGAL data)", err.msg);
+}
+
+int tu_run(const char *prog, const char *env, int out_too, char *const argv[], char *err, size_t cap)
+{
+    int pipefd[2];
+    ck_assert_int_eq(pipe(pipefd), 0);
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid == 0) {
+        dup2(pipefd[1], 2);
+        close(pipefd[0]);
+        if (out_too) dup2(pipefd[1], 1);
+        else if (!freopen("/dev/null", "w", stdout)) _exit(126);
+        if (env) putenv((char *)env);
+        execv(prog ? prog : SPR_CLI, argv);
+        _exit(127);
+    }
+    close(pipefd[1]);
+    size_t n = 0;
+    ssize_t got;
+    while ((got = read(pipefd[0], err + n, cap - 1 - n)) > 0) n += (size_t)got;
+    err[n] = 0;
+    close(pipefd[0]);
+    int st;
+    waitpid(pid, &st, 0);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }

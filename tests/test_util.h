@@ -42,4 +42,9 @@ typedef struct tu_bunny {
 void tu_bunny_scene(tu_bunny *s, int W, int H, double c);
 void tu_bunny_free(tu_bunny *s);
 
+/* Run `prog` (the splatref CLI when NULL) with NAME=VALUE added to its
+ * environment when env is not NULL; the exit status, stderr (and stdout
+ * when out_too) in err. */
+int tu_run(const char *prog, const char *env, int out_too, char *const argv[], char *err, size_t cap);
+
 #endif

@@ -25,6 +25,9 @@ typedef struct cli_args {
     const cli_opt *opts;
     const char *value[CLI_MAX_OPTS]; /* NULL = not given; flags get "1" */
     unsigned char used[CLI_MAX_OPTS]; /* read by the command (cli_get) */
+    unsigned char from_scene[CLI_MAX_OPTS]; /* value read from --scene (never refused as unused) */
+    char scene_hash[32];  /* the scene's model.fnv1a64 while its model is used ("" otherwise) */
+    char scene_file[1024];
     const char *positional[4];
     int n_positional;
 } cli_args;
@@ -103,6 +106,16 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
 /* "cpu" or "gl" backend, or NULL after printing the reason. */
 spr_backend *cli_backend(cli_args *a, const char *name, int threads, int gl_device);
 void cli_scene_free(cli_scene *s);
+
+/* Scene files (cli_scenefile.c, docs/scene-format.md).  cli_parse reads
+ * --scene F itself: its values fill the options the command line did not
+ * give.  0, or −1 after one line naming the file and the key. */
+int cli_scene_read(cli_args *a, const char *file);
+/* −1 after one line when the model file differs from the scene's hash. */
+int cli_scene_check_model(cli_args *a, const char *model);
+/* Write what determines s's image to path; matrices: the camera as raw
+ * view and projection matrices instead of eye/target/up/fov. */
+int cli_scene_save(cli_args *a, const cli_scene *s, const spr_render_desc *rd, const char *path, int matrices);
 
 /* Print root (consumed) to path through a temporary file; 0 or −1 after a line. */
 int cli_write_json(cli_args *a, const char *path, cJSON *root);

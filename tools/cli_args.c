@@ -11,12 +11,18 @@
 
 void cli_error(cli_args *a, const char *fmt, ...)
 {
+    char msg[2048];
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "splatref %s: ", a->cmd);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
+    /* a bad value read from --scene: say which file it came from */
+    const char *where = "";
+    for (int k = 0; a->opts && a->opts[k].name; k++) {
+        size_t L = strlen(a->opts[k].name);
+        if (a->from_scene[k] && !strncmp(msg, "--", 2) && !strncmp(msg + 2, a->opts[k].name, L) && msg[2 + L] == ':') where = a->scene_file;
+    }
+    fprintf(stderr, "splatref %s: %s%s%s%s\n", a->cmd, msg, *where ? " (from " : "", where, *where ? ")" : "");
 }
 
 static void print_help(const char *cmd, const cli_opt *opts, const char *usage)
@@ -81,6 +87,8 @@ int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usa
             a->value[k] = argv[++i];
         }
     }
+    for (int k = 0; opts[k].name; k++) /* a scene file fills what the command line left out */
+        if (!strcmp(opts[k].name, "scene") && a->value[k] && (a->used[k] = 1, cli_scene_read(a, a->value[k]))) return 2;
     return 0;
 }
 
@@ -97,7 +105,7 @@ const char *cli_get(cli_args *a, const char *name)
 int cli_reject_unused(cli_args *a)
 {
     for (int k = 0; a->opts[k].name; k++)
-        if (a->value[k] && !a->used[k]) {
+        if (a->value[k] && !a->used[k] && !a->from_scene[k]) {
             cli_error(a, "--%s is not used here: the command, algorithm or grouping chosen does not read it (see splatref %s --help)",
                       a->opts[k].name, a->cmd);
             return -1;

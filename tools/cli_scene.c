@@ -6,6 +6,7 @@
 #include "spr_swrast.h"
 #include "spr_envmap.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -161,12 +162,41 @@ int cli_model_opts(cli_args *a, cli_scene *s, spr_load_desc *ld)
 int cli_load_model(cli_args *a, cli_scene *s, const spr_load_desc *ld)
 {
     spr_error err = {0};
+    if (cli_scene_check_model(a, s->model)) return -1;
     double t0 = spr_now_ms();
     if (spr_load(s->model, ld, &s->cloud, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
     s->load_ms = spr_now_ms() - t0;
     spr_bounds bd;
     spr_cloud_bounds(&s->cloud, &bd);
     spr_camera_frame(&s->cam, &bd);
+    return 0;
+}
+
+/* --view-matrix and --projection-matrix: both or neither, not with eye/target/up/fov/ortho. */
+static int camera_matrices(cli_args *a, spr_camera_desc *c)
+{
+    const char *vm = cli_get(a, "view-matrix"), *pm = cli_get(a, "projection-matrix");
+    if (!vm && !pm) return 0;
+    if (!vm || !pm) { cli_error(a, "--view-matrix and --projection-matrix go together"); return -1; }
+    static const char *const lookat[] = {"eye", "target", "up", "fov", "ortho", NULL};
+    for (int i = 0; lookat[i]; i++)
+        if (cli_get(a, lookat[i])) { cli_error(a, "--%s and the raw matrices both place the camera: give one form", lookat[i]); return -1; }
+    for (int m = 0; m < 2; m++) {
+        const char *v = m ? pm : vm;
+        double *out = m ? c->P : c->V;
+        const char *p = v;
+        for (int i = 0; i < 16; i++) {
+            char *e;
+            errno = 0;
+            out[i] = strtod(p, &e);
+            if (e == p || errno || !isfinite(out[i]) || (i < 15 && *e != ',') || (i == 15 && *e)) {
+                cli_error(a, "--%s: element %d of '%s' is not a number: give 16 finite numbers, row by row", m ? "projection-matrix" : "view-matrix", i + 1, v);
+                return -1;
+            }
+            p = e + (i < 15);
+        }
+    }
+    c->have_matrices = 1;
     return 0;
 }
 
@@ -189,6 +219,12 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
         return -1;
     s->cam.have_eye = cli_get(a, "eye") != NULL;
     s->cam.have_target = cli_get(a, "target") != NULL;
+    if (camera_matrices(a, &s->cam)) return -1;
+    const char *save = cli_get(a, "save-scene"), *save_form = save ? cli_get(a, "scene-camera") : NULL;
+    if (save_form && strcmp(save_form, "lookat") && strcmp(save_form, "matrices")) {
+        cli_error(a, "--scene-camera: '%s' is not lookat or matrices", save_form);
+        return -1;
+    }
     for (int k = 0; k < 3; k++) {
         if (bg[k] < 0.0 || bg[k] > 1.0) { cli_error(a, "--background: components must lie in [0,1]"); return -1; }
         rd->background[k] = (float)bg[k];
@@ -245,6 +281,7 @@ int cli_scene_setup(cli_args *a, cli_scene *s, spr_render_desc *rd, int allow_al
         if (cli_domain_prims(a, s->model, &s->cloud, &s->dom, s->threads, &pg, &s->rects, &s->prims)) return -1;
         rd->rects = &s->rects;
     }
+    if (save && cli_scene_save(a, s, rd, save, save_form && !strcmp(save_form, "matrices"))) return -1;
     return 0;
 }
 

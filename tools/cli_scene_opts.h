@@ -25,6 +25,8 @@
     {"near", "N", "near plane (default: tight around the model)"}, \
     {"far", "F", "far plane (default: tight around the model)"}, \
     {"size", "WxH", "image size (default 512x512)"}, \
+    {"view-matrix", "M16", "raw 4x4 view matrix, 16 numbers row by row (with --projection-matrix; replaces eye/target/up)"}, \
+    {"projection-matrix", "M16", "raw 4x4 projection matrix, row by row, bottom row 0,0,-1,0 or 0,0,0,1 (replaces fov/ortho)"}, \
     {"background", "R,G,B", "background colour in [0,1] (default 0,0,0)"}
 
 /* The algorithm and its parameters (which ones an algorithm reads: the registry). */
@@ -79,6 +81,9 @@
 
 /* Everything that determines a rendered scene (render, parity, reference). */
 #define CLI_SCENE_OPTS \
+    {"scene", "F.json", "read the scene from F (docs/scene-format.md); options given here override it"}, \
+    {"save-scene", "F.json", "write everything that determines the image to F (camera resolved)"}, \
+    {"scene-camera", "FORM", "save-scene: the camera as lookat (eye/target/up/fov, default) | matrices"}, \
     CLI_MODEL_OPTS, CLI_CAMERA_OPTS, CLI_ALGO_OPTS, CLI_DOMAIN_OPTS, \
     {"groups", "METHOD", "grouping of the algorithms that use groups: none | mgc | wgc | hash (default mgc)"}, \
     CLI_GROUP_OPTS

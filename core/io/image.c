@@ -2,7 +2,9 @@
 #include "spr_image.h"
 #include "spr_io.h"
 
+#include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,10 +116,11 @@ spr_result spr_read_pfm(const char *path, float **img, int *w, int *h, int *chan
     return SPR_OK;
 }
 
-uint64_t spr_hash64(const void *data, size_t n)
+uint64_t spr_hash64(const void *data, size_t n) { return spr_hash64_continue(SPR_HASH64_INIT, data, n); }
+
+uint64_t spr_hash64_continue(uint64_t h, const void *data, size_t n)
 {
     const unsigned char *p = data;
-    uint64_t h = 0xcbf29ce484222325ull;
     for (size_t i = 0; i < n; i++) {
         h ^= p[i];
         h *= 0x100000001b3ull;
@@ -253,5 +256,20 @@ spr_result spr_image_diff(const float *a, int ch_a, const float *b, int ch_b, in
             o[2] = (float)(t < 2.0 / 3 ? 0.0 : 3 * t - 2);
         }
     }
+    return SPR_OK;
+}
+
+spr_result spr_hash_file(const char *path, uint64_t *out, spr_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return spr__fail(err, SPR_E_IO, "%s: cannot open: %s", path, strerror(errno));
+    unsigned char buf[1 << 16];
+    uint64_t h = SPR_HASH64_INIT;
+    size_t got;
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0) h = spr_hash64_continue(h, buf, got);
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) return spr__fail(err, SPR_E_IO, "%s: read error", path);
+    *out = h;
     return SPR_OK;
 }

@@ -23,7 +23,6 @@ spr_result spr_write_pfm(const char *path, const float *img, int w, int h, int c
 /* Read a PFM (either endianness) into RGB or grey floats (malloc'd). */
 spr_result spr_read_pfm(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
 
-/* FNV-1a 64 of a byte buffer: the hash of a float image in the reference manifest. */
 /* 8- or 16-bit PNG (grey, RGB, with or without alpha, palette) as floats in
  * [0, 1], 3 or 4 channels, row 0 = the bottom row. */
 spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
@@ -48,6 +47,12 @@ typedef struct spr_image_diff_stats {
 spr_result spr_image_diff(const float *a, int ch_a, const float *b, int ch_b, int w, int h, const float *bg,
                           spr_image_diff_stats *st, float *heat);
 
+/* FNV-1a 64 of a byte buffer: the hash of a float image in the reference manifest. */
 uint64_t spr_hash64(const void *data, size_t n);
+/* The same hash over data given in pieces: h = SPR_HASH64_INIT, then each piece. */
+#define SPR_HASH64_INIT 0xcbf29ce484222325ull
+uint64_t spr_hash64_continue(uint64_t h, const void *data, size_t n);
+/* FNV-1a 64 of a whole file, read in pieces (a model's identity in scene files). */
+spr_result spr_hash_file(const char *path, uint64_t *out, spr_error *err);
 
 #endif

@@ -16,8 +16,31 @@ void spr_camera_defaults(spr_camera_desc *c)
 
 static double len3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
+void spr_view_matrix_eye(const double V[16], double eye[3])
+{
+    for (int k = 0; k < 3; k++) eye[k] = -(V[k] * V[3] + V[4 + k] * V[7] + V[8 + k] * V[11]);
+}
+
+/* near/far of a projection matrix: the eye depths P maps to NDC z = −1, +1. */
+static void planes_of_projection(const double P[16], double *n, double *f)
+{
+    if (P[15] == 1.0) { /* orthographic: z_ndc = P10·z + P11 */
+        *n = (P[11] + 1.0) / P[10];
+        *f = (P[11] - 1.0) / P[10];
+    } else { /* perspective: z_ndc = (P10·z + P11)/(−z) */
+        *n = P[11] / (P[10] - 1.0);
+        *f = P[11] / (P[10] + 1.0);
+    }
+}
+
 void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b)
 {
+    if (c->have_matrices) { /* the matrices place the camera: only the eye (hash mode 3) and missing planes */
+        spr_view_matrix_eye(c->V, c->eye);
+        c->have_eye = 1;
+        if (c->near_plane == 0.0 && c->far_plane == 0.0) planes_of_projection(c->P, &c->near_plane, &c->far_plane);
+        return;
+    }
     double center[3], radius = 0.0;
     for (int k = 0; k < 3; k++) {
         center[k] = 0.5 * (b->lo[k] + b->hi[k]);
@@ -82,12 +105,54 @@ int spr__mat4_inverse(const double m[16], double out[16])
     return 0;
 }
 
+/* Everything after V and P: M = (P·V)^-1 rounded to float once (SPEC §2). */
+static spr_result view_finish(const spr_camera_desc *c, const double V[16], const double P[16], double n, double fa, spr_view *v,
+                              spr_error *err)
+{
+    double PV[16], Minv[16];
+    spr__mat4_mul(P, V, PV);
+    if (spr__mat4_inverse(PV, Minv) != 0) return spr__fail(err, SPR_E_ARG, "camera: P·V is singular");
+    for (int i = 0; i < 16; i++) v->M[i] = (float)Minv[i];
+    memcpy(v->PV, PV, sizeof PV);
+    memcpy(v->V, V, sizeof v->V);
+    memcpy(v->P, P, sizeof v->P);
+    v->width = c->width;
+    v->height = c->height;
+    v->ndc_sx = (float)(2.0 / c->width);
+    v->ndc_sy = (float)(2.0 / c->height);
+    v->near_plane = n;
+    v->far_plane = fa;
+    return SPR_OK;
+}
+
+static spr_result view_from_matrices(const spr_camera_desc *c, spr_view *v, spr_error *err)
+{
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(c->V[i]) || !isfinite(c->P[i]))
+            return spr__fail(err, SPR_E_ARG, "camera: %s-matrix element %d (row %d, column %d) is not finite",
+                             isfinite(c->V[i]) ? "projection" : "view", i, i / 4 + 1, i % 4 + 1);
+    if (!(c->V[12] == 0.0 && c->V[13] == 0.0 && c->V[14] == 0.0 && c->V[15] == 1.0))
+        return spr__fail(err, SPR_E_ARG, "camera: view-matrix row 4 must be 0,0,0,1 (got %g,%g,%g,%g)", c->V[12], c->V[13], c->V[14], c->V[15]);
+    const int persp = c->P[12] == 0.0 && c->P[13] == 0.0 && c->P[14] == -1.0 && c->P[15] == 0.0;
+    const int ortho = c->P[12] == 0.0 && c->P[13] == 0.0 && c->P[14] == 0.0 && c->P[15] == 1.0;
+    if (!persp && !ortho)
+        return spr__fail(err, SPR_E_ARG, "camera: projection-matrix row 4 must be 0,0,-1,0 (perspective) or 0,0,0,1 (orthographic), got %g,%g,%g,%g",
+                         c->P[12], c->P[13], c->P[14], c->P[15]);
+    double n = c->near_plane, fa = c->far_plane;
+    if (n == 0.0 && fa == 0.0) planes_of_projection(c->P, &n, &fa);
+    if (!(fa > n) || !isfinite(n) || !isfinite(fa) || (persp && !(n > 0.0)))
+        return spr__fail(err, SPR_E_ARG, "camera: the projection's planes near %g, far %g are not 0 < near < far", n, fa);
+    v->ortho = ortho;
+    return view_finish(c, c->V, c->P, n, fa, v, err);
+}
+
 spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err)
 {
     memset(v, 0, sizeof *v);
     if (c->width < 1 || c->height < 1 || c->width > SPR_MAX_IMAGE_SIDE || c->height > SPR_MAX_IMAGE_SIDE)
         return spr__fail(err, SPR_E_ARG, "camera: image size %dx%d outside 1..%d", c->width, c->height,
                          SPR_MAX_IMAGE_SIDE);
+    if (c->have_matrices) return view_from_matrices(c, v, err);
     if (!(c->near_plane > 0.0) && c->ortho_height <= 0.0)
         return spr__fail(err, SPR_E_ARG, "camera: --near must be > 0 for a perspective camera (got %g)", c->near_plane);
     if (!(c->far_plane > c->near_plane) || !isfinite(c->far_plane))
@@ -132,19 +197,7 @@ spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err)
         P[11] = 2.0 * fa * n / (n - fa);
         P[14] = -1.0;
     }
-    double PV[16], Minv[16];
-    spr__mat4_mul(P, V, PV);
-    if (spr__mat4_inverse(PV, Minv) != 0) return spr__fail(err, SPR_E_ARG, "camera: P·V is singular");
-    for (int i = 0; i < 16; i++) v->M[i] = (float)Minv[i];
-    memcpy(v->PV, PV, sizeof PV);
-    memcpy(v->V, V, sizeof V);
-    v->width = c->width;
-    v->height = c->height;
-    v->ndc_sx = (float)(2.0 / c->width);
-    v->ndc_sy = (float)(2.0 / c->height);
-    v->near_plane = n;
-    v->far_plane = fa;
-    return SPR_OK;
+    return view_finish(c, V, P, n, fa, v, err);
 }
 
 float spr_view_eps_t(const spr_view *v, double eps_world)

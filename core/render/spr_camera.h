@@ -19,6 +19,12 @@ typedef struct spr_camera_desc {
     double ortho_height;  /* > 0 selects glOrtho with this height */
     double near_plane, far_plane;
     int width, height;
+    /* Raw matrices (a scene as another renderer saw it): V and P row-major in
+     * double replace eye/target/up/fov/ortho.  P's bottom row must be
+     * (0, 0, −1, 0) (perspective) or (0, 0, 0, 1) (orthographic); near/far,
+     * when zero, are the planes P maps to NDC z = −1 and +1. */
+    int have_matrices;
+    double V[16], P[16];
 } spr_camera_desc;
 
 /* What every backend gets: float bits computed once on the host. */
@@ -28,6 +34,7 @@ typedef struct spr_view {
     float ndc_sx, ndc_sy; /* 2/W and 2/H as floats: ndc = (x + 0.5)·sx − 1 */
     double PV[16];        /* P·V in double (host-side bounds only) */
     double V[16];         /* view matrix in double */
+    double P[16];         /* projection matrix in double */
     double near_plane, far_plane;
     int ortho;
 } spr_view;
@@ -38,6 +45,8 @@ void spr_camera_defaults(spr_camera_desc *c);
  * for every field the caller did not give (eye/target: neither flagged nor
  * non-zero; near/far: both zero). */
 void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b);
+/* The eye position of a view matrix: −R^T·t (world space). */
+void spr_view_matrix_eye(const double V[16], double eye[3]);
 /* Build the view; SPR_E_ARG for a degenerate camera (names the field). */
 spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err);
 /* World tolerance → ray-parameter tolerance: ε/(far − near) in double → float. */
