@@ -20,6 +20,7 @@ Suite *make_grouping_suite(void);
 Suite *make_shade_suite(void);
 Suite *make_domain_suite(void);
 Suite *make_tools_suite(void);
+Suite *make_tools_gl_suite(void);
 
 static const struct { const char *name; Suite *(*make)(void); int gl; } suites[] = {
     {"kernel", make_kernel_suite, 0}, {"camera", make_camera_suite, 0}, {"raster", make_raster_suite, 0},
@@ -28,6 +29,7 @@ static const struct { const char *name; Suite *(*make)(void); int gl; } suites[]
     {"shade", make_shade_suite, 0},
     {"domain", make_domain_suite, 0},
     {"tools", make_tools_suite, 0},
+    {"tools_gl", make_tools_gl_suite, 1},
     {"gl", make_gl_suite, 1},
 };
 

@@ -10,6 +10,7 @@
 #include <dirent.h>
 #include <cjson/cJSON.h>
 #include "spr_image.h"
+#include "spr_io.h"
 #include "test_util.h"
 
 static char dir[64];
@@ -178,6 +179,115 @@ Suite *make_tools_suite(void)
     tcase_add_test(tc, scene_round_trip_every_algorithm);
     tcase_add_test(tc, scene_hand_matrices_equal_lookat);
     tcase_add_test(tc, scene_bad_files);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+/* ---- check and compare on images made from our own GL output ---- */
+static float *read_img(const char *path, int *w, int *h, int *ch)
+{
+    float *im;
+    spr_error err = {0};
+    ck_assert_msg(spr_read_image(path, &im, w, h, ch, &err) == SPR_OK, "%s", err.msg);
+    return im;
+}
+
+START_TEST(check_gl_image_tiers)
+{
+    setup_dir();
+    /* the GL backend's image of a scene with overlapping groups */
+    int rc = cli("render", "--model", "builtin:torus", "--points", "6000", "--size", "120x100", "--algo", "deferred", "--voronoi", "--groups",
+                 "mgc", "--save-scene", in_dir("s.json"), "--backend", "gl", "--out", in_dir("gl.png"), "--float", in_dir("gl.pfm"), "--quiet",
+                 NULL);
+    ck_assert_msg(rc == 0, "%s", out);
+    for (int f = 0; f < 2; f++) {
+        rc = cli("check", "--scene", in_dir("s.json"), "--image", in_dir(f ? "gl.pfm" : "gl.png"), "--out", in_dir("rep"), "--quiet", NULL);
+        printf("check: our GL %s: exit %d\n%s", f ? "float image" : "8-bit PNG", rc, out);
+        ck_assert_msg(rc == 0 && strstr(out, "verdict: PASS (Tier A)") && strstr(out, " 0 of 12000 pixels differ"), "%s", out);
+    }
+    /* report files */
+    int w, h, ch;
+    float *heat = read_img(in_dir("rep/heatmap.png"), &w, &h, &ch);
+    ck_assert_int_eq(w, 120);
+    free(heat);
+    float *sbs = read_img(in_dir("rep/side-by-side.png"), &w, &h, &ch);
+    ck_assert_int_eq(w, 3 * 120 + 8);
+    free(sbs);
+    /* one covered pixel one LSB brighter: the first with a mid-range red */
+    float *im = read_img(in_dir("gl.png"), &w, &h, &ch);
+    size_t p = 0;
+    while (p < (size_t)w * h && !(im[p * ch] > 0.2f && im[p * ch] < 0.8f)) p++;
+    ck_assert_uint_lt(p, (size_t)w * h);
+    const int px = (int)(p % (size_t)w), py = (int)(p / (size_t)w);
+    char at[64], pix[64];
+    snprintf(at, sizeof at, "x %d, y %d", px, py);
+    snprintf(pix, sizeof pix, "--pixel %d,%d", px, py);
+    int v = (int)lrintf(im[p * ch] * 255.0f);
+    im[p * ch] = (float)(v + 1) / 255.0f;
+    spr_error err = {0};
+    ck_assert(spr_write_png(in_dir("lsb.png"), im, w, h, ch, &err) == SPR_OK);
+    rc = cli("check", "--scene", in_dir("s.json"), "--image", in_dir("lsb.png"), "--out", in_dir("rep"), "--quiet", NULL);
+    printf("check: one pixel +1 LSB, Tier A: exit %d\n%s", rc, out);
+    ck_assert_msg(rc == 1 && strstr(out, "1 of 12000 pixels differ, 1 fails") && strstr(out, at) &&
+                      strstr(out, "splatref explain --scene") && strstr(out, pix),
+                  "%s", out);
+    rc = cli("check", "--scene", in_dir("s.json"), "--image", in_dir("lsb.png"), "--lsb", "1", "--out", in_dir("rep"), "--quiet", NULL);
+    printf("check: one pixel +1 LSB, --lsb 1: exit %d\n%s", rc, out);
+    ck_assert_msg(rc == 0 && strstr(out, "verdict: PASS (Tier B)") && strstr(out, "max 1 LSB"), "%s", out);
+    /* the report names it */
+    char *text = NULL;
+    size_t len;
+    ck_assert(spr__read_file(in_dir("rep/report.json"), &text, &len, &err) == SPR_OK);
+    cJSON *rep = cJSON_Parse(text);
+    ck_assert_ptr_nonnull(rep);
+    cJSON *first = cJSON_GetObjectItem(rep, "first_differing");
+    ck_assert_ptr_nonnull(first);
+    ck_assert_int_eq(cJSON_GetObjectItem(first, "x")->valueint, px);
+    ck_assert_int_eq(cJSON_GetObjectItem(first, "y")->valueint, py);
+    ck_assert_str_eq(cJSON_GetObjectItem(rep, "verdict")->valuestring, "pass");
+    cJSON_Delete(rep);
+    free(text);
+    /* the whole image one pixel to the right */
+    free(im);
+    im = read_img(in_dir("gl.png"), &w, &h, &ch);
+    float *sh = calloc((size_t)w * h * ch, sizeof *sh);
+    for (int y = 0; y < h; y++)
+        for (int x = 1; x < w; x++)
+            for (int c = 0; c < ch; c++) sh[((size_t)y * w + x) * ch + c] = im[((size_t)y * w + x - 1) * ch + c];
+    ck_assert(spr_write_png(in_dir("shift.png"), sh, w, h, ch, &err) == SPR_OK);
+    rc = cli("check", "--scene", in_dir("s.json"), "--image", in_dir("shift.png"), "--tier", "B", "--out", in_dir("rep"), "--quiet", NULL);
+    printf("check: shifted one pixel, Tier B without position tolerance: exit %d\n%s", rc, out);
+    ck_assert_msg(rc == 1 && strstr(out, "verdict: FAIL (Tier B)"), "%s", out);
+    rc = cli("check", "--scene", in_dir("s.json"), "--image", in_dir("shift.png"), "--position-tolerance", "1", "--out", in_dir("rep"),
+             "--quiet", NULL);
+    printf("check: shifted one pixel, --position-tolerance 1: exit %d\n%s", rc, out);
+    ck_assert_msg(rc == 0 && strstr(out, "verdict: PASS (Tier B)") && !strstr(out, ", 0 pass only within one pixel"), "%s", out);
+    /* compare does the same for two images */
+    rc = cli("compare", in_dir("gl.png"), in_dir("lsb.png"), NULL);
+    ck_assert_msg(rc == 1 && strstr(out, "FAIL (Tier A)"), "%s", out);
+    rc = cli("compare", in_dir("gl.png"), in_dir("lsb.png"), "--lsb", "1", NULL);
+    ck_assert_msg(rc == 0 && strstr(out, "PASS (Tier B)"), "%s", out);
+    rc = cli("compare", in_dir("gl.png"), in_dir("shift.png"), "--position-tolerance", "1", NULL);
+    ck_assert_msg(rc == 0 && strstr(out, "PASS (Tier B)"), "%s", out);
+    /* sizes and channels that do not match: one line, exit 2 */
+    float small[4 * 4 * 3] = {0};
+    ck_assert(spr_write_pfm(in_dir("small.pfm"), small, 4, 4, 3, &err) == SPR_OK);
+    rc = cli("check", "--scene", in_dir("s.json"), "--image", in_dir("small.pfm"), "--out", in_dir("rep2"), "--quiet", NULL);
+    ck_assert_msg(rc == 2 && strstr(out, "is 4x4, the scene renders 120x100") && access(in_dir("rep2"), F_OK) != 0, "%s", out);
+    ck_assert(spr_write_pfm(in_dir("grey.pfm"), sh, w, h, 1, &err) == SPR_OK);
+    rc = cli("check", "--scene", in_dir("s.json"), "--image", in_dir("grey.pfm"), "--quiet", NULL);
+    ck_assert_msg(rc == 2 && strstr(out, "has 1 channel, the reference has 3"), "%s", out);
+    free(im);
+    free(sh);
+}
+END_TEST
+
+Suite *make_tools_gl_suite(void)
+{
+    Suite *s = suite_create("tools_gl");
+    TCase *tc = tcase_create("tools_gl");
+    tcase_set_timeout(tc, 900);
+    tcase_add_test(tc, check_gl_image_tiers);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -1,4 +1,4 @@
-/* cli_misc.c — `splatref info`, `splatref sample`, `splatref compare`. */
+/* cli_misc.c — `splatref info`, `splatref sample`, `splatref show`. */
 #include "cli.h"
 #include "cli_scene_opts.h"
 #include "spr_image.h"
@@ -87,88 +87,6 @@ int cmd_sample(int argc, char **argv)
     printf("sample: %zu points of %s -> %s\n", c.n, model, out);
     spr_cloud_free(&c);
     return 0;
-}
-
-static const cli_opt compare_opts[] = {
-    {"metric", "NAME", "covered (default: mean and max over pixels not background in both) | zp-eps ([ZP] 6.3's eps over all pixels)"},
-    {"background", "R,G,B", "pixels of this colour are not covered (covered: in both images; zp-eps: the part of eps where B has it) (default 0,0,0)"},
-    {"heatmap", "FILE.png", "write the per-pixel sum of |dR|+|dG|+|dB| as a heat map (black equal, white the largest)"},
-    {NULL, NULL, NULL}};
-
-/* `splatref compare A B`: two images (.png 8/16-bit or .pfm) of one size,
- * compared on their 8-bit values (spr_to_u8). */
-int cmd_compare(int argc, char **argv)
-{
-    cli_args a;
-    int pr = cli_parse(&a, "compare", compare_opts, "A.png|A.pfm B.png|B.pfm [--metric covered|zp-eps] [--heatmap H.png]", 2, argc, argv);
-    if (pr) return pr == 1 ? 0 : 2;
-    if (a.n_positional != 2) { cli_error(&a, "two images (.png or .pfm) are required"); return 2; }
-    const char *metric = cli_get(&a, "metric"), *heatmap = cli_get(&a, "heatmap");
-    if (metric && strcmp(metric, "covered") && strcmp(metric, "zp-eps")) { cli_error(&a, "--metric: '%s' is not covered or zp-eps", metric); return 2; }
-    const int zp = metric && !strcmp(metric, "zp-eps");
-    double bg[3] = {0, 0, 0};
-    if (cli_get_vec3(&a, "background", bg) < 0 || cli_reject_unused(&a)) return 2;
-    float *im[2] = {NULL, NULL};
-    int w[2], h[2], ch[2];
-    spr_error err = {0};
-    for (int i = 0; i < 2; i++)
-        if (spr_read_image(a.positional[i], &im[i], &w[i], &h[i], &ch[i], &err)) {
-            fprintf(stderr, "splatref compare: %s\n", err.msg);
-            free(im[0]);
-            return 2;
-        }
-    int rc = 0;
-    if (w[0] != w[1] || h[0] != h[1] || (ch[0] == 1) != (ch[1] == 1)) {
-        cli_error(&a, "%s is %dx%d with %d channel(s), %s is %dx%d with %d", a.positional[0], w[0], h[0], ch[0], a.positional[1],
-                  w[1], h[1], ch[1]);
-        rc = 2;
-        goto done;
-    }
-    const size_t np = (size_t)w[0] * h[0];
-    float *heat = heatmap ? malloc(np * 3 * sizeof *heat) : NULL;
-    if (heatmap && !heat) { cli_error(&a, "out of memory for the heat map"); rc = 2; goto done; }
-    spr_image_diff_stats st;
-    const float bgf[3] = {(float)bg[0], (float)bg[1], (float)bg[2]};
-    spr_image_diff(im[0], ch[0], im[1], ch[1], w[0], h[0], bgf, &st, heat);
-    if (zp) {
-        printf("compare: zp-eps %.4f (sum of |dR|+|dG|+|dB| in 8 bits over %zu pixels / %zu), max abs %d/255, mean abs %.4f/255, "
-               "%zu pixels differ\n", st.zp_eps, st.pixels, st.pixels, st.max_abs, st.mean_abs, st.differing);
-        printf("compare: of which %.4f from the %zu pixels where %s is background (%.9g,%.9g,%.9g)\n", st.zp_eps_bg, st.bg_pixels,
-               a.positional[1], bg[0], bg[1], bg[2]);
-    } else {
-        const int c0 = ch[0] < 3 ? 1 : 3;
-        size_t covered = 0, differing = 0;
-        double sum = 0.0, maxd = 0.0;
-        for (size_t p = 0; p < np; p++) {
-            int bg0 = 1, bg1 = 1;
-            for (int c = 0; c < c0; c++) {
-                bg0 &= im[0][p * ch[0] + c] == (float)bg[c];
-                bg1 &= im[1][p * ch[1] + c] == (float)bg[c];
-            }
-            if (bg0 && bg1) continue;
-            covered++;
-            int diff = 0;
-            for (int c = 0; c < c0; c++) {
-                double d = fabs((double)spr_to_u8(im[0][p * ch[0] + c]) - (double)spr_to_u8(im[1][p * ch[1] + c]));
-                sum += d;
-                if (d > maxd) maxd = d;
-                diff |= d != 0.0;
-            }
-            differing += diff;
-        }
-        double mean = covered ? sum / ((double)covered * c0) : 0.0;
-        printf("compare: %zu covered pixels, %zu differ in 8 bits, mean |diff| %.4f/255 per channel, max %.0f/255\n", covered,
-               differing, mean, maxd);
-    }
-    if (heat) {
-        if (spr_write_png(heatmap, heat, w[0], h[0], 3, &err)) { fprintf(stderr, "splatref compare: %s\n", err.msg); rc = 2; }
-        else printf("compare: heat map -> %s\n", heatmap);
-        free(heat);
-    }
-done:
-    free(im[0]);
-    free(im[1]);
-    return rc;
 }
 
 static const cli_opt show_opts[] = {

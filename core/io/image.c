@@ -141,7 +141,7 @@ static void png_in_free(png_in *s)
     free(s->rows);
 }
 
-spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *channels, spr_error *err)
+static spr_result read_png(const char *path, float **img, int *w, int *h, int *channels, int *bits_out, spr_error *err)
 {
     *img = NULL;
     png_in s = {0};
@@ -199,18 +199,35 @@ spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *chan
     *w = (int)W;
     *h = (int)H;
     *channels = ch;
+    if (bits_out) *bits_out = bits;
     s.img = NULL;
     png_in_free(&s);
     return SPR_OK;
 }
 
-spr_result spr_read_image(const char *path, float **img, int *w, int *h, int *channels, spr_error *err)
+spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *channels, spr_error *err)
+{
+    return read_png(path, img, w, h, channels, NULL, err);
+}
+
+spr_result spr_read_image_bits(const char *path, float **img, int *w, int *h, int *channels, int *bits, spr_error *err)
 {
     size_t n = strlen(path);
-    if (n >= 4 && !strcasecmp(path + n - 4, ".png")) return spr_read_png(path, img, w, h, channels, err);
-    if (n >= 4 && !strcasecmp(path + n - 4, ".pfm")) return spr_read_pfm(path, img, w, h, channels, err);
-    *img = NULL;
-    return spr__fail(err, SPR_E_ARG, "%s: unknown image type (expected .png or .pfm)", path);
+    int b = 32;
+    spr_result r;
+    if (n >= 4 && !strcasecmp(path + n - 4, ".png")) r = read_png(path, img, w, h, channels, &b, err);
+    else if (n >= 4 && !strcasecmp(path + n - 4, ".pfm")) r = spr_read_pfm(path, img, w, h, channels, err);
+    else {
+        *img = NULL;
+        return spr__fail(err, SPR_E_ARG, "%s: unknown image type (expected .png or .pfm)", path);
+    }
+    if (bits) *bits = b;
+    return r;
+}
+
+spr_result spr_read_image(const char *path, float **img, int *w, int *h, int *channels, spr_error *err)
+{
+    return spr_read_image_bits(path, img, w, h, channels, NULL, err);
 }
 
 /* 8-bit value of channel c of pixel p (grey images repeat their channel). */

@@ -28,6 +28,8 @@ spr_result spr_read_pfm(const char *path, float **img, int *w, int *h, int *chan
 spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
 /* .png or .pfm by the name's ending. */
 spr_result spr_read_image(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
+/* The same, with the bits per value of the file: 8 or 16 (PNG), 32 (PFM). */
+spr_result spr_read_image_bits(const char *path, float **img, int *w, int *h, int *channels, int *bits, spr_error *err);
 
 /* Differences of two images of one size on their 8-bit values (spr_to_u8),
  * RGB (a grey image repeats its channel): [ZP] §6.3's

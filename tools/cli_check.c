@@ -1,0 +1,426 @@
+/* cli_check.c — `splatref check` (someone else's image against the
+ * reference of a scene) and `splatref compare` (two images), both under
+ * PARITY.md's tiers (spr_check.h): a one-screen verdict, report.json, a
+ * heat map and a side-by-side picture, exit 0 (pass) or 1 (fail). */
+#include "cli.h"
+#include "cli_scene_opts.h"
+#include "spr_check.h"
+#include "spr_image.h"
+#include "spr_swrast.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CLI_TIER_OPTS \
+    {"tier", "A|B|C", "A bit-exact (default), B bounded (--ulp/--lsb/--position-tolerance; default --lsb 1), C diagnostics only"}, \
+    {"ulp", "N", "Tier B, float images: a channel passes within N ulps"}, \
+    {"lsb", "N", "Tier B: a channel passes within N LSB (float images: of their 8-bit values)"}, \
+    {"position-tolerance", "P", "Tier B: 1 = a failing pixel passes when a match lies within one pixel both ways (edges)"}
+
+static const cli_opt check_opts[] = {
+    {"image", "F.png|F.pfm", "the image to check (PNG 8/16-bit or PFM; row 0 of a PNG is the top)"},
+    {"plane", "NAME", "what the image holds: color (final image, default) | weight | depth | test | id | count | opacity"},
+    {"pass", "N", "the plane after pass N (as numbered by render --dump; default: the last pass that has it)"},
+    CLI_TIER_OPTS,
+    {"out", "DIR", "report.json, heatmap.png and side-by-side.png (default check-report)"},
+    CLI_SCENE_OPTS,
+    {NULL, NULL, NULL}};
+
+static const cli_opt compare_opts[] = {
+    CLI_TIER_OPTS,
+    {"out", "DIR", "report.json, heatmap.png and side-by-side.png (default: none)"},
+    {"metric", "NAME", "also print: covered (mean and max over pixels not background in both, default) | zp-eps ([ZP] 6.3's eps)"},
+    {"background", "R,G,B", "pixels of this colour are not covered (covered: in both images; zp-eps: the part of eps where B has it) (default 0,0,0)"},
+    {"heatmap", "FILE.png", "write the per-pixel sum of |dR|+|dG|+|dB| as a heat map (black equal, white the largest)"},
+    {NULL, NULL, NULL}};
+
+/* The tier options into d; bits: of the image under test.  0 or −1. */
+static int tier_opts(cli_args *a, int bits, spr_check_desc *d)
+{
+    const char *t = cli_get(a, "tier");
+    int64_t ulp = -1;
+    int lsb = -1, pos = 0;
+    double u = -1.0;
+    if (cli_get_double(a, "ulp", &u, 0.0, 4294967296.0) < 0 || cli_get_int(a, "lsb", &lsb, 0, 65535) < 0 ||
+        cli_get_int(a, "position-tolerance", &pos, 0, 1) < 0)
+        return -1;
+    if (u >= 0.0) ulp = (int64_t)u;
+    if (t && strcmp(t, "A") && strcmp(t, "B") && strcmp(t, "C")) { cli_error(a, "--tier: '%s' is not A, B or C", t); return -1; }
+    const int bounds = ulp >= 0 || lsb >= 0 || pos;
+    d->tier = t ? (spr_tier)(t[0] - 'A') : bounds ? SPR_TIER_B : SPR_TIER_A;
+    if (d->tier == SPR_TIER_A && bounds) { cli_error(a, "Tier A is bit-exact: --ulp, --lsb and --position-tolerance need --tier B"); return -1; }
+    if (ulp >= 0 && bits != 32) { cli_error(a, "--ulp applies to float (PFM) images; this one has %d-bit values: use --lsb", bits); return -1; }
+    if (d->tier == SPR_TIER_B && ulp < 0 && lsb < 0) lsb = 1; /* PARITY.md: ≤ 1 LSB expected */
+    d->bits = bits, d->ulp = ulp, d->lsb = lsb, d->position = pos;
+    return 0;
+}
+
+/* Make test's channels agree with the reference's: a grey PNG (read as
+ * three equal channels) checks a one-channel plane.  0, or −1 after a line. */
+static int match_channels(cli_args *a, const char *name, float **test, int *tch, int rch, int w, int h)
+{
+    if (*tch == rch) return 0;
+    if (rch == 1 && *tch == 3) {
+        const size_t np = (size_t)w * h;
+        for (size_t p = 0; p < np; p++)
+            if ((*test)[3 * p] != (*test)[3 * p + 1] || (*test)[3 * p] != (*test)[3 * p + 2]) goto mismatch;
+        for (size_t p = 0; p < np; p++) (*test)[p] = (*test)[3 * p];
+        *tch = 1;
+        return 0;
+    }
+mismatch:
+    cli_error(a, "%s has %d channel%s, the reference has %d%s", name, *tch, *tch > 1 ? "s" : "", rch,
+              *tch == 4 ? " (write RGB without alpha)" : "");
+    return -1;
+}
+
+/* A picture of a plane for the side-by-side: colour as is, one channel as
+ * grey over [lo, hi]. */
+static void to_rgb(const float *im, int ch, size_t np, double lo, double hi, float *rgb)
+{
+    for (size_t p = 0; p < np; p++)
+        for (int c = 0; c < 3; c++) {
+            float v = im[p * ch + (ch == 1 ? 0 : c)];
+            rgb[3 * p + c] = ch == 1 ? (float)(hi > lo && isfinite(v) ? (v - lo) / (hi - lo) : 0.0) : v;
+        }
+}
+
+typedef struct check_io {
+    const char *ref_label, *test_label, *what;
+    const char *explain;   /* command explaining a pixel, "%d,%d" for it (NULL: none) */
+} check_io;
+
+static int write_side_by_side(cli_args *a, const char *path, const float *ref, const float *test, const float *heat, int w, int h, int ch)
+{
+    const int gap = 4, W = 3 * w + 2 * gap;
+    const size_t np = (size_t)w * h;
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; ch == 1 && i < np; i++)
+        for (int k = 0; k < 2; k++) {
+            float v = (k ? test : ref)[i];
+            if (isfinite(v)) lo = v < lo ? v : lo, hi = v > hi ? v : hi;
+        }
+    float *img = calloc((size_t)W * h * 3, sizeof *img), *tmp = malloc(np * 3 * sizeof *tmp);
+    int rc = -1;
+    if (img && tmp) {
+        for (int panel = 0; panel < 3; panel++) {
+            if (panel < 2) to_rgb(panel ? test : ref, ch, np, lo, hi, tmp);
+            const float *src = panel < 2 ? tmp : heat;
+            for (int y = 0; y < h; y++)
+                memcpy(img + ((size_t)y * W + (size_t)panel * (w + gap)) * 3, src + (size_t)y * w * 3, (size_t)w * 3 * sizeof *img);
+        }
+        for (int y = 0; y < h; y++) /* grey separators */
+            for (int g = 0; g < gap; g++)
+                for (int c = 0; c < 3; c++) img[((size_t)y * W + w + g) * 3 + c] = img[((size_t)y * W + 2 * w + gap + g) * 3 + c] = 0.5f;
+        spr_error err = {0};
+        rc = spr_write_png(path, img, W, h, 3, &err) ? -1 : 0;
+        if (rc) fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg);
+    } else {
+        cli_error(a, "out of memory for the side-by-side picture");
+    }
+    free(img);
+    free(tmp);
+    return rc;
+}
+
+/* Compare, print the verdict, write the report directory (out may be NULL).
+ * 0 pass, 1 fail, 2 error. */
+static int check_and_report(cli_args *a, const check_io *io, const float *ref, const float *test, int w, int h, int ch,
+                            const spr_check_desc *d, const char *out)
+{
+    const size_t np = (size_t)w * h;
+    float *heat = malloc(np * 3 * sizeof *heat);
+    if (!heat) { cli_error(a, "out of memory"); return 2; }
+    spr_check_result r;
+    spr_check_images(ref, test, w, h, ch, d, &r, heat);
+    const char *cmd = a->cmd;
+    char bounds[160] = "bit-exact";
+    if (d->tier == SPR_TIER_B) {
+        size_t at = 0;
+        bounds[0] = '\0';
+        if (d->ulp >= 0) at += (size_t)snprintf(bounds + at, sizeof bounds - at, "ulp <= %lld", (long long)d->ulp);
+        if (d->lsb >= 0) at += (size_t)snprintf(bounds + at, sizeof bounds - at, "%slsb <= %d", at ? ", " : "", d->lsb);
+        if (d->position) snprintf(bounds + at, sizeof bounds - at, "%sposition +-1 pixel", at ? ", " : "");
+    }
+    if (d->tier == SPR_TIER_C) snprintf(bounds, sizeof bounds, "diagnostics only");
+    printf("%s: %s vs %s: %s, %dx%d, %d channel%s, %s\n", cmd, io->ref_label, io->test_label, io->what, w, h, ch, ch > 1 ? "s" : "",
+           d->bits == 32 ? "float" : d->bits == 16 ? "16-bit" : "8-bit");
+    printf("%s: Tier %s (%s): %zu of %zu pixels differ, %zu fail%s", cmd, spr_tier_name(d->tier), bounds, r.differing, r.pixels, r.failing,
+           r.failing == 1 ? "s" : "");
+    if (d->position) printf(", %zu pass only within one pixel (edges)", r.rescued);
+    printf("\n%s: ", cmd);
+    if (d->bits == 32) printf("max %llu ulp, ", (unsigned long long)r.max_ulp);
+    printf("max %d LSB (%s), max abs %.9g, mean abs %.3g, [ZP] eps %.4f\n", r.max_lsb, d->bits == 16 ? "16-bit" : "8-bit", r.max_abs,
+           r.mean_abs, r.zp_eps);
+    char explain[2600] = "";
+    if (r.first_x >= 0) {
+        printf("%s: first %s pixel x %d, y %d (row %d from the top), channel %d: reference %.9g, %s %.9g", cmd,
+               r.failing ? "failing" : "differing", r.first_x, r.first_y, h - 1 - r.first_y, r.first_channel, r.first_ref, io->test_label,
+               r.first_test);
+        if (d->bits == 8) printf(" (8-bit %d and %d)", spr_to_u8((float)r.first_ref), spr_to_u8((float)r.first_test));
+        printf("\n");
+        if (io->explain) {
+            snprintf(explain, sizeof explain, "%s --pixel %d,%d", io->explain, r.first_x, r.first_y);
+            printf("%s: why: %s\n", cmd, explain);
+        }
+    }
+    int rc = 0;
+    if (out) {
+        char tmp[1200], path[1400];
+        if (cli_outdir_begin(a, "out", out, tmp, sizeof tmp)) { free(heat); return 2; }
+        spr_error err = {0};
+        snprintf(path, sizeof path, "%s/heatmap.png", tmp);
+        if (spr_write_png(path, heat, w, h, 3, &err)) { fprintf(stderr, "splatref %s: %s\n", cmd, err.msg); rc = 2; }
+        snprintf(path, sizeof path, "%s/side-by-side.png", tmp);
+        if (!rc && write_side_by_side(a, path, ref, test, heat, w, h, ch)) rc = 2;
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "reference", io->ref_label);
+        cJSON_AddStringToObject(o, "image", io->test_label);
+        cJSON_AddStringToObject(o, "plane", io->what);
+        cJSON_AddNumberToObject(o, "width", w);
+        cJSON_AddNumberToObject(o, "height", h);
+        cJSON_AddNumberToObject(o, "channels", ch);
+        cJSON_AddNumberToObject(o, "bits", d->bits);
+        cJSON_AddStringToObject(o, "tier", spr_tier_name(d->tier));
+        if (d->ulp >= 0) cJSON_AddNumberToObject(o, "ulp_bound", (double)d->ulp);
+        if (d->lsb >= 0) cJSON_AddNumberToObject(o, "lsb_bound", d->lsb);
+        cJSON_AddNumberToObject(o, "position_tolerance", d->position);
+        cJSON_AddNumberToObject(o, "pixels", (double)r.pixels);
+        cJSON_AddNumberToObject(o, "differing_pixels", (double)r.differing);
+        cJSON_AddNumberToObject(o, "failing_pixels", (double)r.failing);
+        cJSON_AddNumberToObject(o, "position_rescued_pixels", (double)r.rescued);
+        if (d->bits == 32) cJSON_AddNumberToObject(o, "max_ulp", (double)r.max_ulp);
+        cJSON_AddNumberToObject(o, "max_lsb", r.max_lsb);
+        cJSON_AddNumberToObject(o, "max_abs", isfinite(r.max_abs) ? r.max_abs : -1.0);
+        cJSON_AddNumberToObject(o, "mean_abs", r.mean_abs);
+        cJSON_AddNumberToObject(o, "zp_eps", r.zp_eps);
+        if (r.first_x >= 0) {
+            cJSON *f = cJSON_AddObjectToObject(o, r.failing ? "first_failing" : "first_differing");
+            cJSON_AddNumberToObject(f, "x", r.first_x);
+            cJSON_AddNumberToObject(f, "y", r.first_y);
+            cJSON_AddNumberToObject(f, "row_from_top", h - 1 - r.first_y);
+            cJSON_AddNumberToObject(f, "channel", r.first_channel);
+            cJSON_AddNumberToObject(f, "reference", r.first_ref);
+            cJSON_AddNumberToObject(f, "image", r.first_test);
+            if (explain[0]) cJSON_AddStringToObject(f, "explain", explain);
+        }
+        cJSON_AddStringToObject(o, "heatmap", "heatmap.png");
+        cJSON_AddStringToObject(o, "side_by_side", "side-by-side.png");
+        cJSON_AddStringToObject(o, "verdict", d->tier == SPR_TIER_C ? "diagnostic" : r.pass ? "pass" : "fail");
+        snprintf(path, sizeof path, "%s/report.json", tmp);
+        if (!rc && cli_write_json(a, path, o)) rc = 2;
+        if (cli_outdir_end(a, "out", tmp, out, rc == 0)) rc = 2;
+        if (!rc) printf("%s: report %s/report.json, heat map %s/heatmap.png (blue within bounds, yellow only within one pixel, red failing), "
+                        "side by side %s/side-by-side.png (reference | image | heat map)\n", cmd, out, out, out);
+    }
+    free(heat);
+    if (rc) return rc;
+    if (d->tier == SPR_TIER_C) printf("verdict: DIAGNOSTIC (Tier C never passes or fails on its own)\n");
+    else printf("verdict: %s (Tier %s)\n", r.pass ? "PASS" : "FAIL", spr_tier_name(d->tier));
+    return r.pass ? 0 : 1;
+}
+
+/* ---- check: capture the plane the image holds ---- */
+typedef struct plane_grab {
+    spr_plane plane;
+    int channel;      /* −1: all of the plane's channels (colour: rgb); 3: the weight */
+    int want_pass;    /* −1: the last pass that has the plane */
+    float *buf;       /* W·H·channels of the plane */
+    int got_pass;
+    char pass_name[48];
+    int failed;
+    spr_error err;
+} plane_grab;
+
+static void grab_hook(void *user, spr_backend *b, const spr_pass_info *info)
+{
+    plane_grab *g = user;
+    if (g->failed || (g->want_pass >= 0 && info->index != g->want_pass)) return;
+    if (!(spr_backend_target_planes(b, info->target) & SPR_PLANE_BIT(g->plane))) return;
+    if (spr_backend_read_plane(b, info->target, g->plane, g->buf)) { g->failed = 1; g->err = b->err; return; }
+    g->got_pass = info->index;
+    if (info->group >= 0) snprintf(g->pass_name, sizeof g->pass_name, "%s k%d", info->name, info->group);
+    else snprintf(g->pass_name, sizeof g->pass_name, "%s", info->name);
+}
+
+/* The command explaining a pixel of this scene: the scene options given. */
+static void explain_command(cli_args *a, char *s, size_t cap)
+{
+    size_t at = (size_t)snprintf(s, cap, "splatref explain");
+    for (int k = 0; a->opts[k].name && at < cap; k++) {
+        const char *n = a->opts[k].name;
+        if (!a->value[k] || a->from_scene[k] || !strcmp(n, "image") || !strcmp(n, "plane") || !strcmp(n, "pass") || !strcmp(n, "tier") ||
+            !strcmp(n, "ulp") || !strcmp(n, "lsb") || !strcmp(n, "position-tolerance") || !strcmp(n, "out") || !strcmp(n, "save-scene") ||
+            !strcmp(n, "scene-camera") || !strcmp(n, "quiet"))
+            continue;
+        if (!a->opts[k].arg) at += (size_t)snprintf(s + at, cap - at, " --%s", n);
+        else at += (size_t)snprintf(s + at, cap - at, strpbrk(a->value[k], " \t'\"$") ? " --%s '%s'" : " --%s %s", n, a->value[k]);
+    }
+}
+
+int cmd_check(int argc, char **argv)
+{
+    cli_args a;
+    int pr = cli_parse(&a, "check", check_opts, "--scene S.json | [scene options]  --image THEIRS.png|.pfm [--plane P] [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1]", 0, argc, argv);
+    if (pr) return pr == 1 ? 0 : 2;
+    const char *image = cli_get(&a, "image"), *pname = cli_get(&a, "plane"), *out = cli_get(&a, "out");
+    if (!image) { cli_error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
+    if (!out) out = "check-report";
+    plane_grab g = {SPR_PLANE_COLOR, -1, -1, NULL, -1, "", 0, {0}};
+    if (pname && strcmp(pname, "color") && strcmp(pname, "colour")) {
+        int p = 0;
+        while (p < SPR_PLANE__COUNT && strcmp(spr_plane_name((spr_plane)p), pname)) p++;
+        if (!strcmp(pname, "weight")) p = SPR_PLANE_COLOR, g.channel = 3;
+        else if (p == SPR_PLANE__COUNT || p == SPR_PLANE_NORMAL) {
+            cli_error(&a, "--plane: '%s' is not color, weight, depth, test, id, count or opacity", pname);
+            return 2;
+        }
+        g.plane = (spr_plane)p;
+    }
+    if (cli_get_int(&a, "pass", &g.want_pass, 0, 100000) < 0) return 2;
+    const int final = g.plane == SPR_PLANE_COLOR && g.channel < 0 && g.want_pass < 0;
+    float *theirs = NULL;
+    int tw, th, tch, bits;
+    spr_error err = {0};
+    if (spr_read_image_bits(image, &theirs, &tw, &th, &tch, &bits, &err)) { fprintf(stderr, "splatref check: %s\n", err.msg); return 2; }
+    spr_check_desc d;
+    cli_scene s;
+    spr_render_desc rd;
+    spr_backend *b = NULL;
+    spr_render_result res = {0};
+    int rc = 2;
+    memset(&s, 0, sizeof s);
+    if (tier_opts(&a, bits, &d) || cli_scene_setup(&a, &s, &rd, 0)) goto done;
+    if (tw != s.view.width || th != s.view.height) {
+        cli_error(&a, "%s is %dx%d, the scene renders %dx%d", image, tw, th, s.view.width, s.view.height);
+        goto done;
+    }
+    const size_t np = (size_t)tw * th;
+    const int pch = spr_plane_channels(g.plane);
+    if (!(g.buf = malloc(np * (size_t)pch * sizeof(float)))) { cli_error(&a, "out of memory"); goto done; }
+    if (!final) rd.hook = grab_hook, rd.hook_user = &g;
+    if (!(b = spr_swrast_create(s.threads, &err)) || spr_render(b, &s.view, &s.cloud, &rd, &res, &err)) {
+        fprintf(stderr, "splatref check: %s\n", err.msg);
+        goto done;
+    }
+    if (g.failed) { fprintf(stderr, "splatref check: %s\n", g.err.msg); goto done; }
+    int rch = 3;
+    float *ref = g.buf;
+    if (final) {
+        for (size_t p = 0; p < np; p++)
+            for (int c = 0; c < 3; c++) ref[3 * p + c] = res.rgba[4 * p + c];
+    } else if (g.got_pass < 0) {
+        if (g.want_pass >= 0) cli_error(&a, "--pass %d: no such pass has a %s plane (render --dump lists them)", g.want_pass, spr_plane_name(g.plane));
+        else cli_error(&a, "no pass of %s has a %s plane", spr_algo_name(rd.algo), spr_plane_name(g.plane));
+        goto done;
+    } else if (g.plane == SPR_PLANE_COLOR) { /* rgb, or the weight alone */
+        rch = g.channel == 3 ? 1 : 3;
+        for (size_t p = 0; p < np; p++)
+            for (int c = 0; c < rch; c++) ref[rch * p + c] = ref[4 * p + (g.channel == 3 ? 3 : c)];
+    } else {
+        rch = pch;
+        const spr_plane_type ty = spr_plane_info_of(g.plane)->type;
+        if (ty == SPR_PLANE_U32 || ty == SPR_PLANE_COUNTER) /* ids and counts as floats, none = −1 (as --dump) */
+            for (size_t p = 0; p < np; p++) {
+                uint32_t u;
+                memcpy(&u, &ref[p], 4);
+                ref[p] = u == UINT32_MAX ? -1.0f : (float)u;
+            }
+    }
+    if (match_channels(&a, image, &theirs, &tch, rch, tw, th)) goto done;
+    char what[96], ref_label[160], explain[2400];
+    if (final) snprintf(what, sizeof what, "final colour");
+    else snprintf(what, sizeof what, "%s%s after pass %d (%s)", g.channel == 3 ? "weight" : spr_plane_name(g.plane),
+                  g.channel == 3 ? " (colour channel 4)" : "", g.got_pass, g.pass_name);
+    snprintf(ref_label, sizeof ref_label, "reference (cpu, %s)", spr_algo_name(rd.algo));
+    explain_command(&a, explain, sizeof explain);
+    check_io io = {ref_label, image, what, explain};
+    rc = check_and_report(&a, &io, ref, theirs, tw, th, rch, &d, out);
+done:
+    free(theirs);
+    free(g.buf);
+    spr_render_result_free(&res);
+    spr_backend_destroy(b);
+    cli_scene_free(&s);
+    return rc;
+}
+
+/* `splatref compare A B`: A is the reference. */
+int cmd_compare(int argc, char **argv)
+{
+    cli_args a;
+    int pr = cli_parse(&a, "compare", compare_opts, "A.png|A.pfm B.png|B.pfm [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1] [--out DIR]", 2,
+                       argc, argv);
+    if (pr) return pr == 1 ? 0 : 2;
+    if (a.n_positional != 2) { cli_error(&a, "two images (.png or .pfm) are required"); return 2; }
+    const char *metric = cli_get(&a, "metric"), *heatmap = cli_get(&a, "heatmap"), *out = cli_get(&a, "out");
+    if (metric && strcmp(metric, "covered") && strcmp(metric, "zp-eps")) { cli_error(&a, "--metric: '%s' is not covered or zp-eps", metric); return 2; }
+    double bg[3] = {0, 0, 0};
+    if (cli_get_vec3(&a, "background", bg) < 0) return 2;
+    float *im[2] = {NULL, NULL};
+    int w[2], h[2], ch[2], bits[2];
+    spr_error err = {0};
+    int rc = 2;
+    for (int i = 0; i < 2; i++)
+        if (spr_read_image_bits(a.positional[i], &im[i], &w[i], &h[i], &ch[i], &bits[i], &err)) {
+            fprintf(stderr, "splatref compare: %s\n", err.msg);
+            goto done;
+        }
+    spr_check_desc d;
+    if (tier_opts(&a, bits[1] < bits[0] ? bits[1] : bits[0], &d) || cli_reject_unused(&a)) goto done;
+    if (w[0] != w[1] || h[0] != h[1]) {
+        cli_error(&a, "%s is %dx%d, %s is %dx%d", a.positional[0], w[0], h[0], a.positional[1], w[1], h[1]);
+        goto done;
+    }
+    if (ch[0] == 1 && match_channels(&a, a.positional[1], &im[1], &ch[1], 1, w[0], h[0])) goto done;
+    if (ch[1] == 1 && match_channels(&a, a.positional[0], &im[0], &ch[0], 1, w[0], h[0])) goto done;
+    if (match_channels(&a, a.positional[1], &im[1], &ch[1], ch[0], w[0], h[0])) goto done;
+    const size_t np = (size_t)w[0] * h[0];
+    /* the [ZP] metrics on 8-bit values, as before */
+    float *heat = heatmap ? malloc(np * 3 * sizeof *heat) : NULL;
+    spr_image_diff_stats st;
+    const float bgf[3] = {(float)bg[0], (float)bg[1], (float)bg[2]};
+    spr_image_diff(im[0], ch[0], im[1], ch[1], w[0], h[0], bgf, &st, heat);
+    if (metric && !strcmp(metric, "zp-eps")) {
+        printf("compare: zp-eps %.4f (sum of |dR|+|dG|+|dB| in 8 bits over %zu pixels / %zu), max abs %d/255, mean abs %.4f/255, "
+               "%zu pixels differ\n", st.zp_eps, st.pixels, st.pixels, st.max_abs, st.mean_abs, st.differing);
+        printf("compare: of which %.4f from the %zu pixels where %s is background (%.9g,%.9g,%.9g)\n", st.zp_eps_bg, st.bg_pixels,
+               a.positional[1], bg[0], bg[1], bg[2]);
+    } else {
+        const int c0 = ch[0] < 3 ? 1 : 3;
+        size_t covered = 0, differing = 0;
+        double sum = 0.0, maxd = 0.0;
+        for (size_t p = 0; p < np; p++) {
+            int bg0 = 1, bg1 = 1;
+            for (int c = 0; c < c0; c++) {
+                bg0 &= im[0][p * ch[0] + c] == (float)bg[c];
+                bg1 &= im[1][p * ch[1] + c] == (float)bg[c];
+            }
+            if (bg0 && bg1) continue;
+            covered++;
+            int diff = 0;
+            for (int c = 0; c < c0; c++) {
+                double dd = fabs((double)spr_to_u8(im[0][p * ch[0] + c]) - (double)spr_to_u8(im[1][p * ch[1] + c]));
+                sum += dd;
+                if (dd > maxd) maxd = dd;
+                diff |= dd != 0.0;
+            }
+            differing += diff;
+        }
+        printf("compare: %zu covered pixels, %zu differ in 8 bits, mean |diff| %.4f/255 per channel, max %.0f/255\n", covered, differing,
+               covered ? sum / ((double)covered * c0) : 0.0, maxd);
+    }
+    if (heat) {
+        if (spr_write_png(heatmap, heat, w[0], h[0], 3, &err)) { fprintf(stderr, "splatref compare: %s\n", err.msg); free(heat); goto done; }
+        printf("compare: heat map -> %s\n", heatmap);
+        free(heat);
+    }
+    check_io io = {a.positional[0], a.positional[1], "images", NULL};
+    rc = check_and_report(&a, &io, im[0], im[1], w[0], h[0], ch[0], &d, out);
+done:
+    free(im[0]);
+    free(im[1]);
+    return rc;
+}
