@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void spr_gl_defaults(spr_gl_desc *d) { d->device = -1; }
+void spr_gl_defaults(spr_gl_desc *d) { d->device = -1, d->probe = 0; }
 
 const char *spr_gl_renderer(const spr_backend *b) { return ((const gl_context *)b)->renderer; }
 
@@ -229,6 +229,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
     const spr_view *v = &b->view;
     const size_t n = d->indices ? d->count : d->cloud->n;
     st->splats = n;
+    if (b->probe && !c->probe_programs) return gl__probe_begin(c); /* refuses */
     if (n == 0) return SPR_OK;
     gl_instance *inst = malloc(n * sizeof *inst);
     if (!inst) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu instances", n);
@@ -250,6 +251,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
         g->na[3] = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
         g->c[3] = 0.0f;
         g->id = sid;
+        g->seq = (uint32_t)i;
         m++;
     }
     gl__upload_instances(c, inst, m);
@@ -316,6 +318,8 @@ void gl__pass_state(const spr_pass_state *s)
 void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st)
 {
     static const GLuint zero = 0;
+    const int keep = c->base.probe ? c->base.probe->n_frags : 0;
+    gl__probe_begin(c);
     glNamedBufferSubData(c->counters, 0, sizeof zero, &zero);
     GLuint q;
     glGenQueries(1, &q);
@@ -330,6 +334,53 @@ void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st)
     glGetNamedBufferSubData(c->counters, 0, sizeof generated, &generated);
     st->generated = generated;
     st->passed = passed;
+    gl__probe_end(c, keep);
+}
+
+spr_result gl__probe_begin(gl_context *c)
+{
+    const spr_probe *p = c->base.probe;
+    if (!p) return SPR_OK;
+    if (!c->probe_programs)
+        return spr__fail(&c->base.err, SPR_E_ARG, "gl: pixel history needs the programs' probe variant (spr_gl_desc.probe)");
+    if (!c->probe_buf) {
+        glCreateBuffers(1, &c->probe_buf);
+        glNamedBufferData(c->probe_buf, 16 + (GLsizeiptr)2 * SPR_PROBE_MAX * 64, NULL, GL_DYNAMIC_READ);
+    }
+    static const GLuint zero[4] = {0, 0, 0, 0};
+    glNamedBufferSubData(c->probe_buf, 0, sizeof zero, zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c->probe_buf);
+    GLint prog = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
+    glUniform2i(glGetUniformLocation((GLuint)prog, "u_probe"), p->x, p->y);
+    return SPR_OK;
+}
+
+spr_result gl__probe_end(gl_context *c, int keep)
+{
+    spr_probe *p = c->base.probe;
+    if (!p) return SPR_OK;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    GLuint n = 0;
+    glGetNamedBufferSubData(c->probe_buf, 0, sizeof n, &n);
+    if (n > 2u * SPR_PROBE_MAX) p->overflow = 1, n = 2u * SPR_PROBE_MAX;
+    uint32_t *rec = malloc((size_t)(n ? n : 1) * 64);
+    if (!rec) return spr__fail(&c->base.err, SPR_E_NOMEM, "gl: out of memory reading the probe");
+    if (n) glGetNamedBufferSubData(c->probe_buf, 16, (GLsizeiptr)n * 64, rec);
+    p->n_frags = keep;
+    for (GLuint i = 0; i < n; i++) {
+        const uint32_t *r = rec + 16 * (size_t)i;
+        float f[8];
+        memcpy(f, r + 3, sizeof f);
+        if (r[0] == 1u) {
+            spr_probe_frag fr = {r[1], r[2], f[0], f[1], f[2], {f[3], f[4], f[5], f[6]}, f[7]};
+            spr_probe_add_frag(p, &fr);
+        } else if (r[0] == 2u) {
+            spr_probe_add_note(p, (int32_t)r[1], (int32_t)r[2], f[0], f[1], f[2], f[3]);
+        }
+    }
+    free(rec);
+    return gl__check(&c->base, "probe");
 }
 
 /* The composite table's per-pixel function as a full-screen pass over the
@@ -342,6 +393,7 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     glBindFramebuffer(GL_FRAMEBUFFER, out->fbo);
     spr_result pr = gl__comp_program(c, cd->op, &b->err);
     if (pr) return pr;
+    if (b->probe && !c->probe_programs) return gl__probe_begin(c); /* refuses */
     glUseProgram(c->prog_comp[cd->op]);
     const GLint *u = c->cu[cd->op];
     glBindTextureUnit(0, c->pool[SPR_PLANE_COLOR]);
@@ -383,7 +435,9 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     }
     glTextureBarrier(); /* the inputs were drawn by earlier passes */
     glBindVertexArray(c->vao);
+    gl__probe_begin(c);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (b->probe && (pr = gl__probe_end(c, b->probe->n_frags))) return pr;
     return gl__check(b, "composite");
 }
 
@@ -428,6 +482,7 @@ static void gl_destroy(spr_backend *b)
         gl__rects_free(c);
         glDeleteBuffers(1, &c->instances);
         glDeleteBuffers(1, &c->counters);
+        if (c->probe_buf) glDeleteBuffers(1, &c->probe_buf);
         glDeleteVertexArrays(1, &c->vao);
         glDeleteProgram(c->prog_splat);
         for (int op = 0; op < SPR_COMP__COUNT; op++)
@@ -461,7 +516,9 @@ static void setup_vao(gl_context *c)
     glVertexArrayAttribFormat(vao, 3, 4, GL_FLOAT, GL_FALSE, offsetof(gl_instance, c));
     glEnableVertexArrayAttrib(vao, 4);
     glVertexArrayAttribIFormat(vao, 4, 1, GL_UNSIGNED_INT, offsetof(gl_instance, id));
-    for (GLuint a = 0; a < 5; a++) glVertexArrayAttribBinding(vao, a, 0);
+    glEnableVertexArrayAttrib(vao, 5);
+    glVertexArrayAttribIFormat(vao, 5, 1, GL_UNSIGNED_INT, offsetof(gl_instance, seq));
+    for (GLuint a = 0; a < 6; a++) glVertexArrayAttribBinding(vao, a, 0);
 }
 
 spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
@@ -473,6 +530,7 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     c->dpy = EGL_NO_DISPLAY;
     c->list_target = -1;
     c->ctx = EGL_NO_CONTEXT;
+    c->probe_programs = d->probe;
     spr_backend *b = &c->base;
     b->name = "gl";
     b->set_view = gl_set_view;

@@ -73,6 +73,8 @@ typedef struct gl_context {
     gl_target *targets;
     int cap;
     GLuint env;  /* the cube map of the last composite with environment effects: six layers */
+    int probe_programs; /* programs built with SPR_PROBE (spr_gl_desc.probe) */
+    GLuint probe_buf;   /* their records (gl_prelude.glsl) */
 } gl_context;
 
 static inline gl_context *gl_ctx(spr_backend *b) { return (gl_context *)b; }
@@ -98,11 +100,17 @@ typedef struct gl_instance {
     float na[4];
     float c[4];
     uint32_t id;
+    uint32_t seq;   /* submission index (pixel history) */
 } gl_instance;
 /* Upload m instances to the instance buffer. */
 void gl__upload_instances(gl_context *c, const gl_instance *inst, size_t m);
 /* Draw m instances with the samples-passed query and the generated counter. */
 void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st);
+/* Pixel history: arm the bound program's probe before a draw or composite
+ * (b->probe set), then move its records into b->probe (frags from index
+ * `keep` on are replaced: a redrawn list draw records once). */
+spr_result gl__probe_begin(gl_context *c);
+spr_result gl__probe_end(gl_context *c, int keep);
 /* gl_rect.c */
 spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
 /* Bind the fragment lists and neighbours of cd for the prefix op. */

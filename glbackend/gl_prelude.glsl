@@ -44,6 +44,51 @@ layout(binding = 9) uniform usamplerBuffer u_nbr;        /* neighbour bits */
 uniform int u_list_width;
 uniform int u_nbr_words;
 
+#ifdef SPR_PROBE
+/* The pixel probe (pixel history, SPEC §8): the debug variant of every
+ * program (spr_gl_desc.probe) appends, at pixel u_probe only, its fragments
+ * (kind 1) and the notes of the shared arithmetic (kind 2) to this buffer,
+ * 16 words a record: kind, two integers, then float bits. */
+layout(std430, binding = 6) coherent buffer SprProbe { uint spr_probe_n; uint spr_probe_pad0; uint spr_probe_pad1; uint spr_probe_pad2; uint spr_probe_rec[]; };
+uniform ivec2 u_probe;
+bool spr_probe_here() { return ivec2(gl_FragCoord.xy) == u_probe; }
+uint spr_probe_slot()
+{
+    uint i = atomicAdd(spr_probe_n, 1u);
+    return i < uint(2 * SPR_PROBE_MAX) ? i * 16u : 0xffffffffu;
+}
+void spr_probe_note(int tag, int k, float a, float b, float c, float d)
+{
+    if (!spr_probe_here()) return;
+    uint o = spr_probe_slot();
+    if (o == 0xffffffffu) return;
+    spr_probe_rec[o] = 2u;
+    spr_probe_rec[o + 1u] = uint(tag);
+    spr_probe_rec[o + 2u] = uint(k);
+    spr_probe_rec[o + 3u] = floatBitsToUint(a);
+    spr_probe_rec[o + 4u] = floatBitsToUint(b);
+    spr_probe_rec[o + 5u] = floatBitsToUint(c);
+    spr_probe_rec[o + 6u] = floatBitsToUint(d);
+}
+void spr_probe_frag(uint seq, uint prim, float t, float rho, float z, float src[4], float opacity)
+{
+    if (!spr_probe_here()) return;
+    uint o = spr_probe_slot();
+    if (o == 0xffffffffu) return;
+    spr_probe_rec[o] = 1u;
+    spr_probe_rec[o + 1u] = seq;
+    spr_probe_rec[o + 2u] = prim;
+    spr_probe_rec[o + 3u] = floatBitsToUint(t);
+    spr_probe_rec[o + 4u] = floatBitsToUint(rho);
+    spr_probe_rec[o + 5u] = floatBitsToUint(z);
+    for (int ch = 0; ch < 4; ch++) spr_probe_rec[o + 6u + uint(ch)] = floatBitsToUint(src[ch]);
+    spr_probe_rec[o + 10u] = floatBitsToUint(opacity);
+}
+#define SPR_NOTE(px, tag, k, a, b, c, d) spr_probe_note(tag, k, a, b, c, d)
+#else
+#define SPR_NOTE(px, tag, k, a, b, c, d)
+#endif
+
 float spr_in_depth(ivec2 px, int k) { return texelFetch(u_in_depth, ivec3(px, u_in_layer[k]), 0).r; }
 float spr_in_color(ivec2 px, int k, int ch) { return texelFetch(u_in_color, ivec3(px, u_in_layer[k]), 0)[ch]; }
 float spr_in_opacity(ivec2 px, int k) { return texelFetch(u_in_opacity, ivec3(px, u_in_layer[k]), 0).r; }

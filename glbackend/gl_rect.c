@@ -114,6 +114,7 @@ spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *
     const spr_rects *r = d->rects;
     const size_t n = d->indices ? d->count : r->n;
     st->splats = n;
+    if (b->probe && !c->probe_programs) return gl__probe_begin(c); /* refuses */
     upload(c, r);
     spr_result res;
     if (d->sampling == SPR_SAMPLE_HARDWARE && (res = make_atlas(c, r))) return res;
@@ -127,6 +128,7 @@ spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *
         memset(&inst[m], 0, sizeof inst[m]);
         inst[m].rect[0] = x0; inst[m].rect[1] = y0; inst[m].rect[2] = x1; inst[m].rect[3] = y1;
         inst[m].id = k;
+        inst[m].seq = (uint32_t)i;
         m++;
     }
     gl__upload_instances(c, inst, m);

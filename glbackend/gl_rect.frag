@@ -10,6 +10,7 @@ flat in vec4 v_pr;
 flat in vec4 v_na;
 flat in vec4 v_c;
 flat in uint v_id;
+flat in uint v_seq;
 uniform float u_M[16];
 uniform float u_sx, u_sy, u_eps, u_alpha_ref;
 uniform int u_depth, u_output, u_sampling, u_list;
@@ -55,6 +56,10 @@ void main()
     atomicCounterIncrement(u_generated);
     float src[4];
     spr_rect_fragment(u_output, tx, src);
+    float z = spr_test_depth(u_depth, u_eps, 0.0, 1.0, 1.0, 1.0, t, 0.0);
+#ifdef SPR_PROBE
+    spr_probe_frag(v_seq, uint(k), t, 0.0, z, src, 0.0);
+#endif
     if (u_list != 0) {
         uint node = atomicAdd(spr_list_alloc, 1u);
         if (node < spr_list_cap) {
@@ -64,7 +69,7 @@ void main()
         }
         discard;
     }
-    gl_FragDepth = spr_test_depth(u_depth, u_eps, 0.0, 1.0, 1.0, 1.0, t, 0.0);
+    gl_FragDepth = z;
     o_color = vec4(src[0], src[1], src[2], src[3]);
     o_depth = t;
     o_id = uint(k);

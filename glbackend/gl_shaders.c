@@ -61,6 +61,8 @@ static void add_constants(strbuf *b)
         {"SPR_SAMPLE_HARDWARE", SPR_SAMPLE_HARDWARE}, {"SPR_LIST_MAX", SPR_LIST_MAX}, {"SPR_RECT_FLOATS", SPR_RECT_FLOATS},
         {"SPR_RECTI_TW", SPR_RECTI_TW}, {"SPR_RECTI_TH", SPR_RECTI_TH}, {"SPR_RECTI_OFF", SPR_RECTI_OFF},
         {"SPR_RECTI_DOMAIN", SPR_RECTI_DOMAIN}, {"SPR_RECTI_COUNT", SPR_RECTI_COUNT},
+        {"SPR_NOTE_EPS_NEAREST", SPR_NOTE_EPS_NEAREST}, {"SPR_NOTE_EPS_INPUT", SPR_NOTE_EPS_INPUT},
+        {"SPR_NOTE_PREFIX_NODE", SPR_NOTE_PREFIX_NODE}, {"SPR_PROBE_MAX", SPR_PROBE_MAX},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) sb_add(b, "#define %s %d\n", k[i].name, k[i].value);
     /* fragment output location of each plane = its colour attachment */
@@ -95,11 +97,12 @@ static const char *const comp_fn[SPR_COMP__COUNT] = {
 };
 
 /* op ≥ 0: a composite program for that op. */
-static char *assemble(const char *main_src, int fragment, int op)
+static char *assemble(const char *main_src, int fragment, int op, int probe)
 {
     strbuf b = {0};
     sb_add(&b, "#version 450 core\n");
     if (fragment) {
+        if (probe) sb_add(&b, "#define SPR_PROBE 1\n");
         add_constants(&b);
         if (op >= 0) sb_add(&b, "#define SPR_COMP_ONE %s\n", comp_fn[op]);
         sb_add(&b, "%s", spr__src_prelude);
@@ -131,9 +134,9 @@ static GLuint compile(GLenum type, const char *src, const char *name, spr_error 
 
 /* Link; the shaders stay attached (flagged for deletion with the program),
  * so spr_gl_program_source() can ask GL for the text it compiled. */
-static GLuint link(const char *vs_main, const char *fs_main, int op, const char *name, spr_error *err)
+static GLuint link(const char *vs_main, const char *fs_main, int op, int probe, const char *name, spr_error *err)
 {
-    char *vs = assemble(vs_main, 0, -1), *fs = assemble(fs_main, 1, op);
+    char *vs = assemble(vs_main, 0, -1, 0), *fs = assemble(fs_main, 1, op, probe);
     GLuint v = vs && fs ? compile(GL_VERTEX_SHADER, vs, name, err) : 0, f = v ? compile(GL_FRAGMENT_SHADER, fs, name, err) : 0;
     if (!vs || !fs) spr__fail(err, SPR_E_NOMEM, "gl: out of memory assembling %s", name);
     free(vs);
@@ -191,9 +194,9 @@ static const char *const comp_uniforms[GL_CU__COUNT + 1] = {
 
 spr_result gl__build_programs(gl_context *c, spr_error *err)
 {
-    c->prog_splat = link(spr__src_splat_vert, spr__src_splat_frag, -1, "splat", err);
+    c->prog_splat = link(spr__src_splat_vert, spr__src_splat_frag, -1, c->probe_programs, "splat", err);
     if (!c->prog_splat || resolve(c->prog_splat, "splat", splat_uniforms, c->su, 0, err)) return err->code;
-    c->prog_rect = link(spr__src_splat_vert, spr__src_rect_frag, -1, "rect", err);
+    c->prog_rect = link(spr__src_splat_vert, spr__src_rect_frag, -1, c->probe_programs, "rect", err);
     if (!c->prog_rect || resolve(c->prog_rect, "rect", rect_uniforms, c->ru, 0, err)) return err->code;
     return SPR_OK;
 }
@@ -203,7 +206,7 @@ spr_result gl__comp_program(gl_context *c, spr_composite_op op, spr_error *err)
     if (c->prog_comp[op]) return SPR_OK;
     char name[64];
     snprintf(name, sizeof name, "composite %s", spr_composite_info_of(op)->name);
-    c->prog_comp[op] = link(spr__src_full_vert, spr__src_composite_frag, (int)op, name, err);
+    c->prog_comp[op] = link(spr__src_full_vert, spr__src_composite_frag, (int)op, c->probe_programs, name, err);
     if (!c->prog_comp[op]) return err->code;
     return resolve(c->prog_comp[op], name, comp_uniforms, c->cu[op], 1, err);
 }

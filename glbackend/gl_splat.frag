@@ -6,6 +6,7 @@ flat in vec4 v_pr;
 flat in vec4 v_na;
 flat in vec4 v_c;
 flat in uint v_id;
+flat in uint v_seq;
 uniform float u_M[16];
 uniform float u_sx, u_sy, u_eps, u_dmin, u_dmax, u_n, u_invn;
 uniform int u_kernel, u_depth, u_output, u_cull, u_mask;
@@ -30,12 +31,17 @@ void main()
     float rho;
     if (spr_splat_covers(o0, d, p, n, v_pr.w, u_cull, u_mask, z_near, u_eps, t, rho2, rho) == 0) discard;
     atomicCounterIncrement(u_generated);
-    gl_FragDepth = spr_test_depth(u_depth, u_eps, u_dmin, u_dmax, u_n, u_invn, t, rho);
+    float z = spr_test_depth(u_depth, u_eps, u_dmin, u_dmax, u_n, u_invn, t, rho);
+    gl_FragDepth = z;
     float c[3] = float[3](v_c.x, v_c.y, v_c.z);
     float src[4];
     spr_fragment_color(u_output, u_kernel, rho2, rho, c, v_na.w, src);
     o_color = vec4(src[0], src[1], src[2], src[3]);
-    o_opacity = spr_fragment_opacity(u_output, src, v_na.w);
+    float opacity = spr_fragment_opacity(u_output, src, v_na.w);
+    o_opacity = opacity;
+#ifdef SPR_PROBE
+    spr_probe_frag(v_seq, v_id, t, rho, z, src, opacity);
+#endif
     float nw[4];
     spr_fragment_normal(src, n, nw);
     o_normal = vec4(nw[0], nw[1], nw[2], nw[3]);

@@ -8,11 +8,13 @@ layout(location = 1) in vec4 i_pr;      /* centre, radius */
 layout(location = 2) in vec4 i_na;      /* normal, opacity */
 layout(location = 3) in vec4 i_c;       /* colour */
 layout(location = 4) in uint i_id;
+layout(location = 5) in uint i_seq;     /* position in the draw's submission order (pixel history) */
 uniform vec2 u_size;
 flat out vec4 v_pr;
 flat out vec4 v_na;
 flat out vec4 v_c;
 flat out uint v_id;
+flat out uint v_seq;
 void main()
 {
     float x = float((gl_VertexID & 1) != 0 ? i_rect.z + 1 : i_rect.x);
@@ -22,4 +24,5 @@ void main()
     v_na = i_na;
     v_c = i_c;
     v_id = i_id;
+    v_seq = i_seq;
 }

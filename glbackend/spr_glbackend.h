@@ -15,6 +15,8 @@
 
 typedef struct spr_gl_desc {
     int device;   /* −1: EGL_PLATFORM_SURFACELESS_MESA (default); N ≥ 0: the N-th EGL device */
+    int probe;    /* 1: build the debug variant of every program, which can record a pixel's
+                     fragments and notes for pixel history (spr_history.h); slower */
 } spr_gl_desc;
 void spr_gl_defaults(spr_gl_desc *d);
 

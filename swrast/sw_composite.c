@@ -17,6 +17,7 @@ typedef struct sw_comp_io {
     const spr_frag_lists *lists;
     const uint32_t *nbr;
     size_t nbr_words;
+    spr_probe *probe;
 } sw_comp_io;
 #define SW__COMP_LOOP(e, fn, max_in, reads, writes, summary)                                                       \
     static void comp_##fn(const sw_comp_io *io, long np, int threads)                                               \
@@ -30,6 +31,7 @@ typedef struct sw_comp_io {
                                    .normal = io->normal, .env = io->cd->env, .lists = io->lists,                  \
                                    .nbr = io->nbr, .nbr_words = io->nbr_words, .i = (size_t)i,                    \
                                    .x = (int)(i % io->W), .y = (int)(i / io->W)};                                 \
+                if (io->probe && px.x == io->probe->x && px.y == io->probe->y) px.probe = io->probe;              \
                 float d, on[4];                                                                                   \
                 spr_comp_##fn(&px, io->cd->n_inputs, io->cd->eps_t, io->cd->background, io->prm,                   \
                               io->ocolor + 4 * i, on, &d);                                                        \
@@ -68,7 +70,7 @@ spr_result sw__composite(spr_backend *b, const spr_composite_desc *cd)
     }
     static const float no_params[SPR_PRM_COUNT];
     sw_comp_io io = {cd, cd->params ? cd->params : no_params, color, depth, opac, normal,
-                     SW_F(out, COLOR), SW_F(out, DEPTH), SW_F(out, TEST), SW_F(out, NORMAL), b->view.width, NULL, NULL, 0};
+                     SW_F(out, COLOR), SW_F(out, DEPTH), SW_F(out, TEST), SW_F(out, NORMAL), b->view.width, NULL, NULL, 0, b->probe};
     if (cd->op == SPR_COMP_PREFIX) { /* input 0's lists and the rectangles' neighbours (checked by core) */
         io.lists = &c->targets[cd->inputs[0]].lists;
         if (!io.lists->first) return spr__fail(&b->err, SPR_E_ARG, "cpu: prefix: target %d has no fragment lists", cd->inputs[0]);

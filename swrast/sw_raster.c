@@ -43,6 +43,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     float *opacity = SW_F(tg, OPACITY), *normal = SW_F(tg, NORMAL);
     const float *z_near = d->depth_mask ? SW_F(&c->targets[d->mask_target], DEPTH) : NULL;
     uint64_t gen = 0, passed = 0;
+    spr_probe *probe = c->base.probe;
     for (uint32_t e = job->bin_start[tile]; e < job->bin_start[tile + 1]; e++) {
         size_t i = job->bin[e];
         uint32_t sid = splat_at(d, i);
@@ -62,18 +63,26 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                                       s->eps_t, &t, &rho2, &rho))
                     continue;
                 gen++;
-                if (!sw_depth_stage(s, test, pix, spr_test_value(s, t, rho))) continue;
+                const float z = spr_test_value(s, t, rho);
+                if (probe && x == probe->x && y == probe->y) { /* pixel history: the fragment before its depth test */
+                    const float alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
+                    spr_probe_frag f = {(uint32_t)i, sid, t, rho, z, {0.0f, 0.0f, 0.0f, 0.0f}, 0.0f};
+                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, alpha, f.src);
+                    f.opacity = spr_fragment_opacity((int)s->output, f.src, alpha);
+                    spr_probe_add_frag(probe, &f);
+                }
+                if (!sw_depth_stage(s, test, pix, z)) continue;
                 passed++;
                 float src[4] = {0.0f, 0.0f, 0.0f, 0.0f};
                 if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY | SPR_WRITE_NORMAL)) {
                     const float alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
                     spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, alpha, src);
                     if (mask & SPR_WRITE_OPACITY) /* replace or add (core refuses over) */
-                        opacity[pix] = sw_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, alpha), opacity[pix], 1.0f);
+                        opacity[pix] = spr_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, alpha), opacity[pix], 1.0f);
                     if (mask & SPR_WRITE_NORMAL) { /* (w·n, w) under the rgb blend: replace or add (core refuses over) */
                         float nw[4];
                         spr_fragment_normal(src, n, nw);
-                        for (int ch = 0; ch < 4; ch++) normal[4 * pix + ch] = sw_blend1(s->blend, nw[ch], normal[4 * pix + ch], 1.0f);
+                        for (int ch = 0; ch < 4; ch++) normal[4 * pix + ch] = spr_blend1(s->blend, nw[ch], normal[4 * pix + ch], 1.0f);
                     }
                 }
                 sw_plane_writes(s, tg, pix, t, src, sid);

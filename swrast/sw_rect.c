@@ -48,6 +48,7 @@ static void rect_tile(sw_context *c, sw_target *tg, const sw_rect_job *job, int 
     spr_frag_lists *L = &tg->lists;
     const spr_pixel_in px = {.texels = rs->texels};
     const int linear = d->sampling != SPR_SAMPLE_NEAREST;
+    spr_probe *probe = c->base.probe;
     uint64_t gen = 0, passed = 0;
     for (size_t i = 0; i < job->n; i++) {
         const int32_t *rc = job->rect + 4 * i;
@@ -68,6 +69,11 @@ static void rect_tile(sw_context *c, sw_target *tg, const sw_rect_job *job, int 
                 if (!spr_rect_alpha_passes(tx[3], d->alpha_ref)) continue;
                 gen++;
                 spr_rect_fragment((int)d->output, tx, src);
+                const float z = spr_test_depth((int)s->depth_value, s->eps_t, 0.0f, 1.0f, 1.0f, 1.0f, t, 0.0f);
+                if (probe && job->phase != 1 && x == probe->x && y == probe->y) { /* pixel history */
+                    spr_probe_frag f = {(uint32_t)i, k, t, 0.0f, z, {src[0], src[1], src[2], src[3]}, 0.0f};
+                    spr_probe_add_frag(probe, &f);
+                }
                 if (job->phase == 1) { job->fill[pix]++; continue; }
                 if (job->phase == 2) {
                     const size_t node = L->first[pix] + job->fill[pix]++;
@@ -76,7 +82,7 @@ static void rect_tile(sw_context *c, sw_target *tg, const sw_rect_job *job, int 
                     memcpy(L->src + 4 * node, src, sizeof src);
                     continue;
                 }
-                if (!sw_depth_stage(s, test, pix, spr_test_depth((int)s->depth_value, s->eps_t, 0.0f, 1.0f, 1.0f, 1.0f, t, 0.0f))) continue;
+                if (!sw_depth_stage(s, test, pix, z)) continue;
                 passed++;
                 sw_plane_writes(s, tg, pix, t, src, k);
             }

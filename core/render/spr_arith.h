@@ -30,6 +30,9 @@
  *   SPR_FLOAT(i)   ((float)(i))                float(i)    int to float (exact below 2^24)
  *   SPR_INT(x)     ((int)(x))                  int(x)      float to int, truncating (small whole values)
  *   SPR_PIXEL      const spr_pixel_in *        ivec2       where a pixel's inputs live
+ *   SPR_NOTE(px, tag, k, a, b, c, d)  a step of a per-pixel function, kept only at the
+ *                  probed pixel of a pixel history (spr_probe_add_note / a buffer append;
+ *                  nothing in normal GL programs); tags SPR_NOTE_* of spr_backend.h
  * and each backend supplies how inputs are fetched:
  *   spr_in_depth(px, k)      stored depth d_f of input target k
  *   spr_in_color(px, k, ch)  channel ch of input target k's colour plane
@@ -625,10 +628,15 @@ SPR_FN float spr_eps_composite(SPR_PIXEL px, int K, float eps_t, SPR_CARR prm[SP
         a[ch] = 0.0f;
         na[ch] = 0.0f;
     }
+    SPR_NOTE(px, SPR_NOTE_EPS_NEAREST, -1, dmin, limit, eps_t, SPR_FLOAT(K));
     for (int k = 0; k < K; k++) {
         float dk = spr_in_depth(px, k);
-        if (!(dk <= limit)) continue;
+        if (!(dk <= limit)) {
+            SPR_NOTE(px, SPR_NOTE_EPS_INPUT, k, dk, limit, 0.0f, a[3]);
+            continue;
+        }
         for (int ch = 0; ch < 4; ch++) a[ch] = a[ch] + spr_in_color(px, k, ch);
+        SPR_NOTE(px, SPR_NOTE_EPS_INPUT, k, dk, limit, 1.0f, a[3]);
         if (with_opacity != 0) sop = sop + spr_in_opacity(px, k);
         if (wn != 0)
             for (int ch = 0; ch < 4; ch++) na[ch] = na[ch] + spr_in_normal(px, k, ch);
@@ -941,8 +949,12 @@ SPR_FN void spr_comp_prefix(SPR_PIXEL px, int K, float eps_t, SPR_CARR bg[3], SP
     SPR_PRECISE float acc[4];
     for (int ch = 0; ch < 4; ch++) acc[ch] = 0.0f;
     for (int i = 0; i < m; i++) {
-        if (i > 0 && spr_neighbour(px, kp[0], kp[i]) == 0) continue;
+        if (i > 0 && spr_neighbour(px, kp[0], kp[i]) == 0) {
+            SPR_NOTE(px, SPR_NOTE_PREFIX_NODE, kp[i], kt[i], 0.0f, SPR_FLOAT(i), acc[3]);
+            continue;
+        }
         for (int ch = 0; ch < 4; ch++) acc[ch] = acc[ch] + spr_list_src(px, kn[i], ch);
+        SPR_NOTE(px, SPR_NOTE_PREFIX_NODE, kp[i], kt[i], 1.0f, SPR_FLOAT(i), acc[3]);
     }
     spr_domain_resolve(acc, bg, o);
     spr_zero4(on);

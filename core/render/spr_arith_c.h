@@ -41,7 +41,13 @@ typedef struct spr_pixel_in {
     size_t nbr_words;
     size_t i;
     int x, y;                  /* the pixel: i = y·W + x */
+    spr_probe *probe;          /* set at the probed pixel only (pixel history) */
 } spr_pixel_in;
+/* A note of the per-pixel functions, kept only at the probed pixel. */
+#define SPR_NOTE(px, tag, k, a, b, c, d) \
+    do { \
+        if ((px)->probe) spr_probe_add_note((px)->probe, (tag), (k), (a), (b), (c), (d)); \
+    } while (0)
 static inline float spr_in_depth(const spr_pixel_in *px, int k) { return px->depth[k][px->i]; }
 static inline float spr_in_color(const spr_pixel_in *px, int k, int ch) { return px->color[k][4 * px->i + (size_t)ch]; }
 static inline float spr_in_opacity(const spr_pixel_in *px, int k) { return px->opacity[k][px->i]; }

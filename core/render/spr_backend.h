@@ -349,6 +349,57 @@ typedef struct spr_rect_draw_desc {
  * per pixel by the shared arithmetic alone. */
 int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int *x1, int *y1);
 
+/* ---- the pixel probe: the raw material of pixel history (SPEC §8) ----
+ * While b->probe is set, each draw appends every fragment that covers pixel
+ * (x, y) — after the coverage test and the depth mask, before the depth
+ * test — with the values the backend computed for it, and each composite
+ * appends the notes its per-pixel function makes there (SPR_NOTE in
+ * spr_arith.h: each step of the §4.2 loop with its ε decision, …).  The
+ * CPU backend records from its rasterizer; the GL backend from a debug
+ * variant of the same programs (spr_gl_desc.probe) that appends to a
+ * buffer.  The history backend (spr_history.h) arms it and replays the
+ * fixed-function stages. */
+typedef struct spr_probe_frag {
+    uint32_t seq;        /* position in the draw's submission order */
+    uint32_t prim;       /* splat id, or rectangle index */
+    float t;             /* ray parameter = d_f */
+    float rho;           /* ρ (rectangles: 0) */
+    float z;             /* the test value */
+    float src[4];        /* what it offers the colour plane: (w·c, w), (c, α), … */
+    float opacity;       /* what it offers the opacity plane */
+} spr_probe_frag;
+/* Note tags: what the four values of a note are. */
+enum {
+    SPR_NOTE_EPS_NEAREST = 1, /* §4.2: d = min_k d_f(k), the limit d + ε_t, ε_t, K */
+    SPR_NOTE_EPS_INPUT,       /* §4.2, input k: d_f(k), the limit, 1 included / 0 left out, Σw so far */
+    SPR_NOTE_PREFIX_NODE      /* §7.7, primitive k: t, 1 summed / 0 not a neighbour of the front-most, rank by (t, id), Σα so far */
+};
+typedef struct spr_probe_note {
+    int32_t tag;         /* SPR_NOTE_* of spr_arith.h */
+    int32_t k;           /* the input, node or layer it is about (−1: none) */
+    float v[4];
+} spr_probe_note;
+#define SPR_PROBE_MAX 4096  /* per call; more sets overflow */
+typedef struct spr_probe {
+    int x, y;
+    spr_probe_frag frag[SPR_PROBE_MAX];
+    int n_frags;
+    spr_probe_note note[SPR_PROBE_MAX];
+    int n_notes;
+    int overflow;
+} spr_probe;
+static inline void spr_probe_add_frag(spr_probe *p, const spr_probe_frag *f)
+{
+    if (p->n_frags < SPR_PROBE_MAX) p->frag[p->n_frags++] = *f;
+    else p->overflow = 1;
+}
+static inline void spr_probe_add_note(spr_probe *p, int tag, int k, float a, float b, float c, float d)
+{
+    if (p->n_notes >= SPR_PROBE_MAX) { p->overflow = 1; return; }
+    spr_probe_note *n = &p->note[p->n_notes++];
+    n->tag = tag, n->k = k, n->v[0] = a, n->v[1] = b, n->v[2] = c, n->v[3] = d;
+}
+
 typedef struct spr_backend spr_backend;
 struct spr_backend {
     const char *name;
@@ -367,6 +418,7 @@ struct spr_backend {
     int n_targets;     /* handles are 0 … n_targets−1 (maintained by the backend) */
     unsigned *target_planes; /* plane mask of each handle; 0 = no such target (free slot) */
     spr_error err;     /* last failure, one line */
+    spr_probe *probe;  /* pixel probe (NULL: none); set by the history backend */
 };
 
 spr_result spr_backend_set_view(spr_backend *b, const spr_view *v);

@@ -1,0 +1,304 @@
+/* history.c — pixel history (spr_history.h): a backend wrapper that arms
+ * the inner backend's probe around every draw and composite, reads the
+ * pixel's planes before and after, and replays the fixed-function stages
+ * on the recorded fragments. */
+#include "spr_history.h"
+#include "spr_arith_c.h"
+#include "spr_fixed.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct hist_backend {
+    spr_backend base; /* first: a hist_backend is an spr_backend */
+    spr_backend *inner;
+    spr_history *h;
+    spr_probe *probe;
+    float *buf;       /* one plane of the view */
+    size_t buf_cap;
+    unsigned char *slots;
+    int cap;
+} hist_backend;
+
+static hist_backend *hb(spr_backend *b) { return (hist_backend *)b; }
+
+static spr_result pass_on(spr_backend *b, spr_result r)
+{
+    if (r) b->err = hb(b)->inner->err;
+    return r;
+}
+
+double spr_history_value(spr_plane p, uint32_t bits)
+{
+    const spr_plane_type t = spr_plane_info_of(p)->type;
+    if (t == SPR_PLANE_U32 || t == SPR_PLANE_COUNTER) return bits == UINT32_MAX ? -1.0 : (double)bits;
+    float f;
+    memcpy(&f, &bits, 4);
+    return f;
+}
+
+/* The pixel's values of every plane of `planes` in target t (value bits). */
+static spr_result read_pixel(spr_backend *b, int t, unsigned planes, uint32_t out[SPR_PLANE__COUNT][4])
+{
+    hist_backend *w = hb(b);
+    const spr_view *v = &w->inner->view;
+    const size_t need = (size_t)v->width * v->height * 4;
+    if (need > w->buf_cap) {
+        float *nb = realloc(w->buf, need * sizeof *nb);
+        if (!nb) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
+        w->buf = nb, w->buf_cap = need;
+    }
+    memset(out, 0, sizeof(uint32_t) * SPR_PLANE__COUNT * 4);
+    const size_t pix = (size_t)w->h->y * v->width + (size_t)w->h->x;
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        if (!(planes & SPR_PLANE_BIT(p))) continue;
+        spr_result r = spr_backend_read_plane(w->inner, t, (spr_plane)p, w->buf);
+        if (r) return pass_on(b, r);
+        const int ch = spr_plane_channels((spr_plane)p);
+        memcpy(out[p], (const uint32_t *)(const void *)w->buf + pix * (size_t)ch, (size_t)ch * 4);
+    }
+    return SPR_OK;
+}
+
+static spr_hist_event *new_event(spr_backend *b, spr_hist_kind kind, int target)
+{
+    spr_history *h = hb(b)->h;
+    if (h->n == h->cap) {
+        int cap = h->cap ? 2 * h->cap : 16;
+        spr_hist_event *ne = realloc(h->ev, (size_t)cap * sizeof *ne);
+        if (!ne) return NULL;
+        h->ev = ne, h->cap = cap;
+    }
+    spr_hist_event *e = &h->ev[h->n++];
+    memset(e, 0, sizeof *e);
+    e->kind = kind;
+    e->pass = -1;
+    e->group = -1;
+    e->target = target;
+    e->planes = spr_backend_target_planes(hb(b)->inner, target);
+    e->replay_matches = 1;
+    return e;
+}
+
+static int by_seq(const void *a, const void *b)
+{
+    const spr_probe_frag *x = a, *y = b;
+    return x->seq < y->seq ? -1 : x->seq > y->seq;
+}
+
+/* The probe's records into e: fragments in submission order, notes. */
+static spr_result take_probe(spr_backend *b, spr_hist_event *e)
+{
+    spr_probe *p = hb(b)->probe;
+    if (p->overflow) hb(b)->h->overflow = 1;
+    qsort(p->frag, (size_t)p->n_frags, sizeof p->frag[0], by_seq); /* seqs are distinct: the order is total */
+    e->frags = calloc((size_t)(p->n_frags ? p->n_frags : 1), sizeof *e->frags);
+    e->notes = malloc((size_t)(p->n_notes ? p->n_notes : 1) * sizeof *e->notes);
+    if (!e->frags || !e->notes) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
+    for (int i = 0; i < p->n_frags; i++) e->frags[i].f = p->frag[i];
+    memcpy(e->notes, p->note, (size_t)p->n_notes * sizeof *e->notes);
+    e->n_frags = p->n_frags;
+    e->n_notes = p->n_notes;
+    p->n_frags = p->n_notes = 0;
+    p->overflow = 0;
+    return SPR_OK;
+}
+
+/* Replay the depth stage and the plane writes of a draw on its fragments
+ * (what sw_fixed.h does per pixel), from `before`; then compare with
+ * `after`.  normals: the splats' normals (splat draws that write normals). */
+static void replay(spr_hist_event *e, const float *normals)
+{
+    uint32_t cur[SPR_PLANE__COUNT][4];
+    memcpy(cur, e->before, sizeof cur);
+    const spr_pass_state *s = &e->state;
+    const unsigned m = s->write_mask & e->planes;
+    const int has_test = (e->planes & SPR_PLANE_BIT(SPR_PLANE_TEST)) != 0;
+    for (int i = 0; i < e->n_frags; i++) {
+        spr_hist_frag *hf = &e->frags[i];
+        const spr_probe_frag *f = &hf->f;
+        memcpy(&hf->z_before, &cur[SPR_PLANE_TEST][0], 4);
+        if (e->list) {
+            hf->passed = -1;
+            memcpy(hf->after, cur, sizeof cur);
+            continue;
+        }
+        hf->passed = !has_test || spr_depth_passes(s->depth_func, f->z, hf->z_before);
+        if (hf->passed) {
+            if (s->depth_write && has_test) memcpy(&cur[SPR_PLANE_TEST][0], &f->z, 4);
+            if (m & SPR_WRITE_DEPTH) memcpy(&cur[SPR_PLANE_DEPTH][0], &f->t, 4);
+            if (m & SPR_WRITE_COLOR) {
+                float c[4];
+                memcpy(c, cur[SPR_PLANE_COLOR], sizeof c);
+                spr_blend4(s, f->src, c);
+                memcpy(cur[SPR_PLANE_COLOR], c, sizeof c);
+            }
+            if (m & SPR_WRITE_ID) cur[SPR_PLANE_ID][0] = f->prim;
+            if (m & SPR_WRITE_COUNT) cur[SPR_PLANE_COUNT][0]++;
+            if (e->kind == SPR_HIST_SPLATS && (m & SPR_WRITE_OPACITY)) {
+                float o;
+                memcpy(&o, &cur[SPR_PLANE_OPACITY][0], 4);
+                o = spr_blend1(s->blend_alpha, f->opacity, o, 1.0f);
+                memcpy(&cur[SPR_PLANE_OPACITY][0], &o, 4);
+            }
+            if (e->kind == SPR_HIST_SPLATS && (m & SPR_WRITE_NORMAL) && normals) {
+                float nw[4], nv[4];
+                spr_fragment_normal(f->src, normals + 3 * (size_t)f->prim, nw);
+                memcpy(nv, cur[SPR_PLANE_NORMAL], sizeof nv);
+                for (int ch = 0; ch < 4; ch++) nv[ch] = spr_blend1(s->blend, nw[ch], nv[ch], 1.0f);
+                memcpy(cur[SPR_PLANE_NORMAL], nv, sizeof nv);
+            }
+        }
+        memcpy(hf->after, cur, sizeof cur);
+    }
+    for (int p = 0; p < SPR_PLANE__COUNT && e->replay_matches && !e->list; p++) {
+        if (!(e->planes & SPR_PLANE_BIT(p))) continue;
+        for (int ch = 0; ch < spr_plane_channels((spr_plane)p); ch++)
+            if (cur[p][ch] != e->after[p][ch]) {
+                e->replay_matches = 0;
+                snprintf(e->replay_note, sizeof e->replay_note, "plane %s channel %d: replay %.9g, backend %.9g", spr_plane_name((spr_plane)p), ch,
+                         spr_history_value((spr_plane)p, cur[p][ch]), spr_history_value((spr_plane)p, e->after[p][ch]));
+                break;
+            }
+    }
+}
+
+static spr_result h_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
+{
+    hist_backend *w = hb(b);
+    spr_hist_event *e = new_event(b, SPR_HIST_SPLATS, target);
+    if (!e) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
+    e->state = d->state;
+    e->submitted = d->indices ? d->count : d->cloud->n;
+    e->depth_mask = d->depth_mask, e->mask_target = d->mask_target;
+    spr_result r = read_pixel(b, target, e->planes, e->before);
+    if (r) return r;
+    w->inner->probe = w->probe;
+    r = pass_on(b, spr_backend_draw(w->inner, target, d, st));
+    w->inner->probe = NULL;
+    if (r || (r = read_pixel(b, target, e->planes, e->after)) || (r = take_probe(b, e))) return r;
+    replay(e, d->cloud->nrm);
+    return SPR_OK;
+}
+
+static spr_result h_draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st)
+{
+    hist_backend *w = hb(b);
+    spr_hist_event *e = new_event(b, SPR_HIST_RECTS, target);
+    if (!e) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
+    e->state = d->state;
+    e->submitted = d->indices ? d->count : d->rects->n;
+    e->list = d->list;
+    e->rect_output = (int)d->output;
+    spr_result r = read_pixel(b, target, e->planes, e->before);
+    if (r) return r;
+    w->inner->probe = w->probe;
+    r = pass_on(b, spr_backend_draw_rects(w->inner, target, d, st));
+    w->inner->probe = NULL;
+    if (r || (r = read_pixel(b, target, e->planes, e->after)) || (r = take_probe(b, e))) return r;
+    replay(e, NULL);
+    return SPR_OK;
+}
+
+static spr_result h_composite(spr_backend *b, const spr_composite_desc *c)
+{
+    hist_backend *w = hb(b);
+    spr_hist_event *e = new_event(b, SPR_HIST_COMPOSITE, c->output);
+    if (!e) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
+    e->op = c->op;
+    e->n_inputs = c->n_inputs;
+    e->eps_t = c->eps_t;
+    spr_result r;
+    for (int k = 0; k < c->n_inputs; k++) {
+        e->inputs[k] = c->inputs[k];
+        e->in_planes[k] = spr_backend_target_planes(w->inner, c->inputs[k]);
+        if ((r = read_pixel(b, c->inputs[k], e->in_planes[k], e->in_vals[k]))) return r;
+    }
+    if ((r = read_pixel(b, c->output, e->planes, e->before))) return r;
+    w->inner->probe = w->probe;
+    r = pass_on(b, spr_backend_composite(w->inner, c));
+    w->inner->probe = NULL;
+    if (r || (r = read_pixel(b, c->output, e->planes, e->after))) return r;
+    return take_probe(b, e);
+}
+
+static spr_result h_set_view(spr_backend *b, const spr_view *v) { return pass_on(b, spr_backend_set_view(hb(b)->inner, v)); }
+
+static spr_result h_target_create(spr_backend *b, unsigned mask, int *out)
+{
+    hist_backend *w = hb(b);
+    int theirs;
+    spr_result r = spr__backend_add_target(b, mask, out, (void **)&w->slots, &w->cap, 1);
+    if (r) return r;
+    if ((r = spr_backend_target_create(w->inner, mask, &theirs)) || theirs != *out) {
+        if (!r) spr_backend_target_destroy(w->inner, theirs);
+        return r ? pass_on(b, r) : spr__fail(&b->err, SPR_E_BACKEND, "history: handles out of step (%d vs %d)", *out, theirs);
+    }
+    return SPR_OK;
+}
+
+static void h_target_destroy(spr_backend *b, int target) { spr_backend_target_destroy(hb(b)->inner, target); }
+static spr_result h_clear(spr_backend *b, int target, const float c[4]) { return pass_on(b, spr_backend_clear(hb(b)->inner, target, c)); }
+static spr_result h_read(spr_backend *b, int target, spr_plane p, void *out)
+{
+    return pass_on(b, spr_backend_read_plane(hb(b)->inner, target, p, out));
+}
+
+static void h_destroy(spr_backend *b)
+{
+    hist_backend *w = hb(b);
+    spr_backend_destroy(w->inner);
+    free(w->probe);
+    free(w->buf);
+    free(w->slots);
+    free(w);
+}
+
+spr_backend *spr_history_create(spr_backend *inner, int x, int y, spr_history *h, spr_error *err)
+{
+    hist_backend *w = calloc(1, sizeof *w);
+    spr_probe *p = w ? calloc(1, sizeof *p) : NULL;
+    if (!w || !p) {
+        free(w);
+        spr_backend_destroy(inner);
+        spr__fail(err, SPR_E_NOMEM, "history: out of memory");
+        return NULL;
+    }
+    p->x = x, p->y = y;
+    h->x = x, h->y = y;
+    w->inner = inner;
+    w->h = h;
+    w->probe = p;
+    spr_backend *b = &w->base;
+    b->name = inner->name;
+    b->set_view = h_set_view;
+    b->target_create = h_target_create;
+    b->target_destroy = h_target_destroy;
+    b->clear = h_clear;
+    b->draw_splats = h_draw;
+    b->draw_rects = h_draw_rects;
+    b->composite = h_composite;
+    b->read_plane = h_read;
+    b->destroy = h_destroy;
+    return b;
+}
+
+void spr_history_pass(spr_history *h, const spr_pass_info *info)
+{
+    for (; h->labelled < h->n; h->labelled++) {
+        spr_hist_event *e = &h->ev[h->labelled];
+        e->pass = info->index;
+        e->group = info->group;
+        snprintf(e->pass_name, sizeof e->pass_name, "%s", info->name);
+    }
+}
+
+void spr_history_free(spr_history *h)
+{
+    for (int i = 0; i < h->n; i++) {
+        free(h->ev[i].frags);
+        free(h->ev[i].notes);
+    }
+    free(h->ev);
+    memset(h, 0, sizeof *h);
+}
