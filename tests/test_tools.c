@@ -171,18 +171,6 @@ START_TEST(scene_bad_files)
 }
 END_TEST
 
-Suite *make_tools_suite(void)
-{
-    Suite *s = suite_create("tools");
-    TCase *tc = tcase_create("tools");
-    tcase_set_timeout(tc, 900);
-    tcase_add_test(tc, scene_round_trip_every_algorithm);
-    tcase_add_test(tc, scene_hand_matrices_equal_lookat);
-    tcase_add_test(tc, scene_bad_files);
-    suite_add_tcase(s, tc);
-    return s;
-}
-
 /* ---- check and compare on images made from our own GL output ---- */
 static float *read_img(const char *path, int *w, int *h, int *ch)
 {
@@ -282,12 +270,166 @@ START_TEST(check_gl_image_tiers)
 }
 END_TEST
 
+/* ---- explain: pixel history ---- */
+static cJSON *explain_json(const char *scene, int x, int y, const char *backend)
+{
+    char pix[32];
+    snprintf(pix, sizeof pix, "%d,%d", x, y);
+    char *argv[] = {"splatref", "explain", "--scene", (char *)scene, "--pixel", pix, "--backend", (char *)backend, "--json", "--quiet", NULL};
+    static char big[1 << 22];
+    int rc = tu_run(NULL, NULL, 1, argv, big, sizeof big);
+    ck_assert_msg(rc == 0, "explain %s exit %d: %.400s", pix, rc, big);
+    cJSON *o = cJSON_Parse(big);
+    ck_assert_msg(o != NULL, "explain --json is not JSON: %.400s", big);
+    return o;
+}
+
+static float pfm_at(const char *path, int x, int y, int c)
+{
+    float *im;
+    int w, h, ch;
+    spr_error err = {0};
+    ck_assert_msg(spr_read_pfm(path, &im, &w, &h, &ch, &err) == SPR_OK, "%s", err.msg);
+    float v = im[((size_t)y * w + x) * ch + c];
+    free(im);
+    return v;
+}
+
+/* A pixel where the composite blends two groups: candidates from the dumps
+ * (two group targets covered), confirmed by the history. */
+START_TEST(explain_two_groups_within_eps)
+{
+    setup_dir();
+    int rc = cli("render", "--model", "builtin:torus", "--points", "6000", "--size", "80x64", "--algo", "deferred", "--voronoi", "--groups", "wgc",
+                 "--k", "3", "--save-scene", in_dir("s.json"), "--dump", in_dir("dump"), "--out", in_dir("a.png"), "--quiet", NULL);
+    ck_assert_msg(rc == 0, "%s", out);
+    char d0[300], d1[300];
+    int found = 0, tried = 0;
+    for (int y = 8; y < 56 && !found; y += 3)
+        for (int x = 8; x < 72 && !found; x += 3) {
+            snprintf(d0, sizeof d0, "%s/000_geometry_k000_depth.pfm", in_dir("dump"));
+            snprintf(d1, sizeof d1, "%s/001_geometry_k001_depth.pfm", in_dir("dump"));
+            if (!(pfm_at(d0, x, y, 0) < 1.0f && pfm_at(d1, x, y, 0) < 1.0f)) continue;
+            tried++;
+            cJSON *o = explain_json(in_dir("s.json"), x, y, "cpu");
+            cJSON *passes = cJSON_GetObjectItem(cJSON_GetObjectItem(o, "cpu"), "passes"), *p;
+            int blended = 0, groups_with_fragments = 0;
+            cJSON_ArrayForEach(p, passes)
+            {
+                const char *kind = cJSON_GetObjectItem(p, "kind")->valuestring;
+                if (!strcmp(kind, "draw_splats")) {
+                    /* the last fragment that passed leaves the dumped planes of its pass */
+                    cJSON *fr = cJSON_GetObjectItem(p, "fragments"), *f, *last = NULL;
+                    cJSON_ArrayForEach(f, fr) if (!strcmp(cJSON_GetObjectItem(f, "outcome")->valuestring, "pass")) last = f;
+                    groups_with_fragments += last != NULL;
+                    if (!last) continue;
+                    cJSON *after = cJSON_GetObjectItem(last, "after");
+                    const int pass = cJSON_GetObjectItem(p, "pass")->valueint, k = cJSON_GetObjectItem(p, "group")->valueint;
+                    static const char *const planes[] = {"depth", "test", "id", "count"};
+                    for (int q = 0; q < 4; q++) {
+                        char f2[400];
+                        snprintf(f2, sizeof f2, "%s/%03d_geometry_k%03d_%s.pfm", in_dir("dump"), pass, k, planes[q]);
+                        const float dumped = pfm_at(f2, x, y, 0);
+                        const double mine = cJSON_GetObjectItem(after, planes[q])->valuedouble;
+                        ck_assert_msg((float)mine == dumped, "pixel %d,%d pass %d %s: history %.9g, dump %.9g", x, y, pass, planes[q], mine, dumped);
+                    }
+                    char fc[400], fw[400];
+                    snprintf(fc, sizeof fc, "%s/%03d_geometry_k%03d_color.pfm", in_dir("dump"), pass, k);
+                    snprintf(fw, sizeof fw, "%s/%03d_geometry_k%03d_weight.pfm", in_dir("dump"), pass, k);
+                    cJSON *col = cJSON_GetObjectItem(after, "color");
+                    for (int c = 0; c < 4; c++) {
+                        const float dumped = c < 3 ? pfm_at(fc, x, y, c) : pfm_at(fw, x, y, 0);
+                        ck_assert_msg((float)cJSON_GetArrayItem(col, c)->valuedouble == dumped, "pixel %d,%d pass %d colour %d", x, y, pass, c);
+                    }
+                    ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(p, "replay_matches")));
+                } else if (!strcmp(kind, "composite")) {
+                    cJSON *st = cJSON_GetObjectItem(p, "steps"), *s;
+                    cJSON_ArrayForEach(s, st)
+                    {
+                        if (strcmp(cJSON_GetObjectItem(s, "step")->valuestring, "eps_input")) continue;
+                        cJSON *v = cJSON_GetObjectItem(s, "v");
+                        /* included: d_f(k) <= limit, by hand from the step's own numbers */
+                        const float dk = (float)cJSON_GetArrayItem(v, 0)->valuedouble, lim = (float)cJSON_GetArrayItem(v, 1)->valuedouble;
+                        const int inc = cJSON_GetArrayItem(v, 2)->valuedouble != 0.0;
+                        ck_assert_int_eq(inc, dk <= lim);
+                        blended += inc && dk < 1.0f;
+                    }
+                }
+            }
+            if (blended >= 2 && groups_with_fragments >= 2) {
+                found = 1;
+                printf("explain: pixel %d,%d: %d groups' fragments listed, the composite blends %d inputs within eps; "
+                       "the last passing fragment of every pass equals the dumped planes\n", x, y, groups_with_fragments, blended);
+                /* the text form lists the decision */
+                char pix[32];
+                snprintf(pix, sizeof pix, "%d,%d", x, y);
+                rc = cli("explain", "--scene", in_dir("s.json"), "--pixel", pix, "--backend", "cpu", "--quiet", NULL);
+                ck_assert_msg(rc == 0 && strstr(out, "-> blended") && strstr(out, "SPEC 4.2: d = min_k d_f(k)"), "%s", out);
+            }
+            cJSON_Delete(o);
+        }
+    ck_assert_msg(found, "no pixel where two groups blend within eps among %d candidates", tried);
+}
+END_TEST
+
+Suite *make_tools_suite(void)
+{
+    Suite *s = suite_create("tools");
+    TCase *tc = tcase_create("tools");
+    tcase_set_timeout(tc, 900);
+    tcase_add_test(tc, scene_round_trip_every_algorithm);
+    tcase_add_test(tc, scene_hand_matrices_equal_lookat);
+    tcase_add_test(tc, scene_bad_files);
+    tcase_add_test(tc, explain_two_groups_within_eps);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+
+/* CPU and GL histories of every algorithm: identical, every fragment, step and plane. */
+START_TEST(explain_cpu_gl_identical_every_algorithm)
+{
+    setup_dir();
+    for (int al = 0; al < SPR_ALGO__COUNT; al++) {
+        const char *name = spr_algo_name((spr_algo)al);
+        const char *const *x = algo_args(name);
+        const char *a[8] = {0};
+        for (int i = 0; x[i]; i++) a[i] = x[i];
+        int rc = cli("render", "--algo", name, "--size", "72x60", "--points", "3000", "--save-scene", in_dir("s.json"), "--out", in_dir("a.png"),
+                     "--quiet", a[0], a[1], a[2], a[3], a[4], a[5], NULL);
+        ck_assert_msg(rc == 0, "%s: %s", name, out);
+        int frags = 0, steps = 0, calls = 0;
+        static const int px[][2] = {{18, 30}, {24, 30}, {36, 40}, {30, 22}, {50, 30}};
+        for (size_t i = 0; i < sizeof px / sizeof px[0]; i++) {
+            cJSON *o = explain_json(in_dir("s.json"), px[i][0], px[i][1], "both");
+            cJSON *id = cJSON_GetObjectItem(o, "identical");
+            ck_assert_msg(cJSON_IsTrue(id), "%s pixel %d,%d: cpu and gl histories differ: %s", name, px[i][0], px[i][1],
+                          cJSON_GetObjectItem(cJSON_GetObjectItem(o, "first_difference"), "what")->valuestring);
+            cJSON *p;
+            cJSON_ArrayForEach(p, cJSON_GetObjectItem(cJSON_GetObjectItem(o, "gl"), "passes"))
+            {
+                calls++;
+                frags += cJSON_GetArraySize(cJSON_GetObjectItem(p, "fragments"));
+                steps += cJSON_GetArraySize(cJSON_GetObjectItem(p, "steps"));
+                cJSON *rm = cJSON_GetObjectItem(p, "replay_matches");
+                ck_assert_msg(!rm || cJSON_IsTrue(rm), "%s: gl replay does not match its planes", name);
+            }
+            cJSON_Delete(o);
+        }
+        printf("explain: %-20s cpu and gl identical at 5 pixels: %d calls, %d fragments, %d composite steps\n", name, calls, frags, steps);
+        ck_assert_msg(frags > 0, "%s: no fragment reached the pixels tried", name);
+    }
+}
+END_TEST
+
 Suite *make_tools_gl_suite(void)
 {
     Suite *s = suite_create("tools_gl");
     TCase *tc = tcase_create("tools_gl");
     tcase_set_timeout(tc, 900);
     tcase_add_test(tc, check_gl_image_tiers);
+    tcase_add_test(tc, explain_cpu_gl_identical_every_algorithm);
     suite_add_tcase(s, tc);
     return s;
 }
+
