@@ -8,6 +8,7 @@
 #define CLI_H
 
 #include <stddef.h>
+#include <stdio.h>
 #include "spr_algo.h"
 #include "spr_io.h"
 #include "spr_domain.h"
@@ -117,6 +118,24 @@ int cli_scene_check_model(cli_args *a, const char *model);
  * view and projection matrices instead of eye/target/up/fov. */
 int cli_scene_save(cli_args *a, const cli_scene *s, const spr_render_desc *rd, const char *path, int matrices);
 
+#include "spr_history.h"
+/* One backend's history of a frame at one pixel (cli_explain.c). */
+typedef struct cli_history_run {
+    const char *name;
+    char renderer[600];
+    spr_history h;
+    int ok;
+} cli_history_run;
+/* Render s on "cpu" or "gl" (the probe variant) recording pixel (x, y):
+ * 0, 1 when GL has no device here, −1 after one line. */
+int cli_run_history(cli_scene *s, const spr_render_desc *rd, const char *which, int gl_device, int x, int y, cli_history_run *out);
+struct spr_hist_event;
+/* One call of a pixel history as text (cli_explain.c); other: the same
+ * call on a second backend (NULL: none), diff_ev/diff_frag: the first
+ * difference to mark (−1: none). */
+void cli_explain_event(FILE *f, const struct spr_hist_event *e, int idx, const struct spr_hist_event *other, int diff_ev, int diff_frag,
+                       const char *other_name);
+
 /* Print root (consumed) to path through a temporary file; 0 or −1 after a line. */
 int cli_write_json(cli_args *a, const char *path, cJSON *root);
 /* [size of S_0, …, size of S_{K−1}]. */
@@ -142,6 +161,7 @@ int cmd_sample(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_check(int argc, char **argv);
 int cmd_explain(int argc, char **argv);
+int cmd_step(int argc, char **argv);
 int cmd_show(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_parity(int argc, char **argv);

@@ -25,18 +25,11 @@ static const char *const depth_names[SPR_DEPTH__COUNT] = {"d_f", "d_f + eps_t", 
 static const char *const func_names[SPR_FUNC__COUNT] = {"LESS", "LEQUAL", "ALWAYS"};
 static const char *const blend_names[SPR_BLEND__COUNT] = {"replace", "add", "over", "sub"};
 
-/* One backend's history of the frame. */
-typedef struct run {
-    const char *name;
-    char renderer[600];
-    spr_history h;
-    int ok;
-} run;
 
 typedef struct explain_ctx { spr_history *h; } explain_ctx;
 static void label_hook(void *user, spr_backend *b, const spr_pass_info *info) { spr_history_pass(((explain_ctx *)user)->h, info); }
 
-static int run_history(cli_args *a, cli_scene *s, const spr_render_desc *rd0, const char *which, int gl_device, int x, int y, run *out)
+int cli_run_history(cli_scene *s, const spr_render_desc *rd0, const char *which, int gl_device, int x, int y, cli_history_run *out)
 {
     spr_error err = {0};
     spr_backend *inner;
@@ -66,7 +59,6 @@ static int run_history(cli_args *a, cli_scene *s, const spr_render_desc *rd0, co
     spr_render_result_free(&res);
     spr_backend_destroy(b);
     out->ok = rc == 0;
-    (void)a;
     return rc;
 }
 
@@ -113,119 +105,119 @@ static int first_difference(const spr_history *c, const spr_history *g, int *ev,
 }
 
 /* ---- text ---- */
-static void print_value(spr_plane p, const uint32_t v[4])
+static void print_value(FILE *f, spr_plane p, const uint32_t v[4])
 {
     const int ch = spr_plane_channels(p);
     const spr_plane_type t = spr_plane_info_of(p)->type;
     if (ch == 1) {
-        if ((t == SPR_PLANE_U32) && v[0] == UINT32_MAX) printf("none");
-        else printf("%.9g", spr_history_value(p, v[0]));
+        if ((t == SPR_PLANE_U32) && v[0] == UINT32_MAX) fprintf(f, "none");
+        else fprintf(f, "%.9g", spr_history_value(p, v[0]));
         return;
     }
-    printf("(");
-    for (int c = 0; c < ch; c++) printf("%s%.9g", c ? ", " : "", spr_history_value(p, v[c]));
-    printf(")");
+    fprintf(f, "(");
+    for (int c = 0; c < ch; c++) fprintf(f, "%s%.9g", c ? ", " : "", spr_history_value(p, v[c]));
+    fprintf(f, ")");
 }
 
-static void print_planes(const char *label, unsigned planes, const uint32_t v[SPR_PLANE__COUNT][4])
+static void print_planes(FILE *f, const char *label, unsigned planes, const uint32_t v[SPR_PLANE__COUNT][4])
 {
-    printf("    %s:", label);
+    fprintf(f, "    %s:", label);
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         if (!(planes & SPR_PLANE_BIT(p))) continue;
-        printf("  %s ", spr_plane_name((spr_plane)p));
-        print_value((spr_plane)p, v[p]);
+        fprintf(f, "  %s ", spr_plane_name((spr_plane)p));
+        print_value(f, (spr_plane)p, v[p]);
     }
-    printf("\n");
+    fprintf(f, "\n");
 }
 
-static void print_planes_mask(unsigned m)
+static void print_planes_mask(FILE *f, unsigned m)
 {
     int first = 1;
     for (int p = 0; p < SPR_PLANE__COUNT; p++)
-        if (m & SPR_PLANE_BIT(p)) printf("%s%s", first ? "" : " ", spr_plane_name((spr_plane)p)), first = 0;
-    if (first) printf("nothing");
+        if (m & SPR_PLANE_BIT(p)) fprintf(f, "%s%s", first ? "" : " ", spr_plane_name((spr_plane)p)), first = 0;
+    if (first) fprintf(f, "nothing");
 }
 
-static void print_note(const spr_probe_note *n)
+static void print_note(FILE *f, const spr_probe_note *n)
 {
     switch (n->tag) {
     case SPR_NOTE_EPS_NEAREST:
-        printf("    SPEC 4.2: d = min_k d_f(k) = %.9g; an input is blended when d_f(k) <= d + eps_t = %.9g (eps_t %.9g, K %d)\n", n->v[0], n->v[1],
+        fprintf(f, "    SPEC 4.2: d = min_k d_f(k) = %.9g; an input is blended when d_f(k) <= d + eps_t = %.9g (eps_t %.9g, K %d)\n", n->v[0], n->v[1],
                n->v[2], (int)n->v[3]);
         break;
     case SPR_NOTE_EPS_INPUT:
-        printf("      input %d: d_f %.9g %s %.9g -> %s, sum of weights %.9g\n", n->k, n->v[0], n->v[2] != 0.0f ? "<=" : ">", n->v[1],
+        fprintf(f, "      input %d: d_f %.9g %s %.9g -> %s, sum of weights %.9g\n", n->k, n->v[0], n->v[2] != 0.0f ? "<=" : ">", n->v[1],
                n->v[2] != 0.0f ? "blended" : "left out (farther than eps)", n->v[3]);
         break;
     case SPR_NOTE_PREFIX_NODE:
-        printf("      rank %d: rectangle %d at t %.9g -> %s, sum of alpha %.9g\n", (int)n->v[2], n->k, n->v[0],
+        fprintf(f, "      rank %d: rectangle %d at t %.9g -> %s, sum of alpha %.9g\n", (int)n->v[2], n->k, n->v[0],
                n->v[1] != 0.0f ? (n->v[2] == 0.0f ? "front-most, summed" : "neighbour of the front-most, summed")
                                : "not a neighbour of the front-most, left out",
                n->v[3]);
         break;
-    default: printf("      note %d: %d %.9g %.9g %.9g %.9g\n", n->tag, n->k, n->v[0], n->v[1], n->v[2], n->v[3]);
+    default: fprintf(f, "      note %d: %d %.9g %.9g %.9g %.9g\n", n->tag, n->k, n->v[0], n->v[1], n->v[2], n->v[3]);
     }
 }
 
-static void print_event(const spr_hist_event *e, int idx, const spr_hist_event *other, int diff_ev, int diff_frag, const char *other_name)
+void cli_explain_event(FILE *f, const spr_hist_event *e, int idx, const spr_hist_event *other, int diff_ev, int diff_frag, const char *other_name)
 {
     if (e->kind == SPR_HIST_COMPOSITE) {
-        printf("pass %d %s -- composite %s of", e->pass, e->pass_name, spr_composite_info_of(e->op)->name);
-        for (int k = 0; k < e->n_inputs; k++) printf(" t%d", e->inputs[k]);
-        printf(" into t%d, eps_t %.9g: %s\n", e->target, e->eps_t, spr_composite_info_of(e->op)->summary);
+        fprintf(f, "pass %d %s -- composite %s of", e->pass, e->pass_name, spr_composite_info_of(e->op)->name);
+        for (int k = 0; k < e->n_inputs; k++) fprintf(f, " t%d", e->inputs[k]);
+        fprintf(f, " into t%d, eps_t %.9g: %s\n", e->target, e->eps_t, spr_composite_info_of(e->op)->summary);
         for (int k = 0; k < e->n_inputs; k++) {
             char lab[32];
             snprintf(lab, sizeof lab, "input %d (t%d)", k, e->inputs[k]);
-            print_planes(lab, e->in_planes[k] & (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_OPACITY)),
+            print_planes(f, lab, e->in_planes[k] & (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_OPACITY)),
                          e->in_vals[k]);
         }
-        for (int i = 0; i < e->n_notes; i++) print_note(&e->notes[i]);
-        print_planes("out", e->planes, e->after);
+        for (int i = 0; i < e->n_notes; i++) print_note(f, &e->notes[i]);
+        print_planes(f, "out", e->planes, e->after);
     } else {
         const spr_pass_state *s = &e->state;
-        if (e->group >= 0) printf("pass %d %s k%d -- ", e->pass, e->pass_name, e->group);
-        else printf("pass %d %s -- ", e->pass, e->pass_name);
-        printf("%s of %zu %s into t%d", e->list ? "list draw" : "draw", e->submitted, e->kind == SPR_HIST_SPLATS ? "splats" : "rectangles", e->target);
-        if (e->list) printf(": every fragment joins the pixel's list (no test, no plane written)\n");
+        if (e->group >= 0) fprintf(f, "pass %d %s k%d -- ", e->pass, e->pass_name, e->group);
+        else fprintf(f, "pass %d %s -- ", e->pass, e->pass_name);
+        fprintf(f, "%s of %zu %s into t%d", e->list ? "list draw" : "draw", e->submitted, e->kind == SPR_HIST_SPLATS ? "splats" : "rectangles", e->target);
+        if (e->list) fprintf(f, ": every fragment joins the pixel's list (no test, no plane written)\n");
         else {
-            printf(": test value %s, depth %s, depth write %s, blend rgb %s alpha %s, writes ", depth_names[s->depth_value], func_names[s->depth_func],
+            fprintf(f, ": test value %s, depth %s, depth write %s, blend rgb %s alpha %s, writes ", depth_names[s->depth_value], func_names[s->depth_func],
                    s->depth_write ? "on" : "off", blend_names[s->blend], blend_names[s->blend_alpha]);
-            print_planes_mask(s->write_mask);
-            printf(", eps_t %.9g", s->eps_t);
-            if (s->depth_value >= SPR_DEPTH_LOWRES) printf(", d_min %.9g d_max %.9g n %.9g", s->lowres.d_min, s->lowres.d_max, s->lowres.n);
-            if (e->depth_mask) printf("; fragments within eps_t of t%d's nearest layer are masked (not listed)", e->mask_target);
-            printf("\n");
-            print_planes("before", e->planes, e->before);
+            print_planes_mask(f, s->write_mask);
+            fprintf(f, ", eps_t %.9g", s->eps_t);
+            if (s->depth_value >= SPR_DEPTH_LOWRES) fprintf(f, ", d_min %.9g d_max %.9g n %.9g", s->lowres.d_min, s->lowres.d_max, s->lowres.n);
+            if (e->depth_mask) fprintf(f, "; fragments within eps_t of t%d's nearest layer are masked (not listed)", e->mask_target);
+            fprintf(f, "\n");
+            print_planes(f, "before", e->planes, e->before);
         }
-        if (e->n_frags) printf("      #  index      id            t          rho            z   %-36s  test before  outcome\n",
+        if (e->n_frags) fprintf(f, "      #  index      id            t          rho            z   %-36s  test before  outcome\n",
                                e->kind == SPR_HIST_SPLATS && s->output == SPR_OUT_WEIGHTED ? "colour (w*r, w*g, w*b, w)" : "colour (r, g, b, alpha)");
         for (int i = 0; i < e->n_frags; i++) {
-            const spr_hist_frag *f = &e->frags[i];
+            const spr_hist_frag *hf = &e->frags[i];
             char col[96];
-            snprintf(col, sizeof col, "(%.5g, %.5g, %.5g, %.5g)", f->f.src[0], f->f.src[1], f->f.src[2], f->f.src[3]);
-            printf("    %3d %6u %7u %12.9g %12.9g %12.9g   %-36s %12.9g  %s", i + 1, f->f.seq, f->f.prim, f->f.t, f->f.rho, f->f.z, col, f->z_before,
-                   f->passed < 0 ? "listed" : f->passed ? "pass" : "fail");
-            if (f->passed > 0) { /* what it changed */
+            snprintf(col, sizeof col, "(%.5g, %.5g, %.5g, %.5g)", hf->f.src[0], hf->f.src[1], hf->f.src[2], hf->f.src[3]);
+            fprintf(f, "    %3d %6u %7u %12.9g %12.9g %12.9g   %-36s %12.9g  %s", i + 1, hf->f.seq, hf->f.prim, hf->f.t, hf->f.rho, hf->f.z, col, hf->z_before,
+                   hf->passed < 0 ? "listed" : hf->passed ? "pass" : "fail");
+            if (hf->passed > 0) { /* what it changed */
                 const uint32_t(*prev)[4] = i ? e->frags[i - 1].after : e->before;
-                printf(" ->");
+                fprintf(f, " ->");
                 for (int p = 0; p < SPR_PLANE__COUNT; p++) {
-                    if (!(e->planes & SPR_PLANE_BIT(p)) || !memcmp(prev[p], f->after[p], 16)) continue;
-                    printf(" %s ", spr_plane_name((spr_plane)p));
-                    print_value((spr_plane)p, f->after[p]);
+                    if (!(e->planes & SPR_PLANE_BIT(p)) || !memcmp(prev[p], hf->after[p], 16)) continue;
+                    fprintf(f, " %s ", spr_plane_name((spr_plane)p));
+                    print_value(f, (spr_plane)p, hf->after[p]);
                 }
             }
-            if (idx == diff_ev && i == diff_frag) printf("   <-- first difference from %s", other_name);
-            printf("\n");
+            if (idx == diff_ev && i == diff_frag) fprintf(f, "   <-- first difference from %s", other_name);
+            fprintf(f, "\n");
         }
         if (!e->list) {
-            print_planes("after", e->planes, e->after);
-            if (e->replay_matches) printf("    (replaying the fixed-function stages on these fragments gives exactly these planes)\n");
-            else printf("    REPLAY DIFFERS from the backend's planes: %s\n", e->replay_note);
+            print_planes(f, "after", e->planes, e->after);
+            if (e->replay_matches) fprintf(f, "    (replaying the fixed-function stages on these fragments gives exactly these planes)\n");
+            else fprintf(f, "    REPLAY DIFFERS from the backend's planes: %s\n", e->replay_note);
         }
     }
     if (other) {
-        if (idx < diff_ev || diff_ev < 0) printf("    %s: identical (%d fragments, %d steps, planes after)\n", other_name, other->n_frags, other->n_notes);
-        else if (idx == diff_ev) printf("    %s: FIRST DIFFERENCE in this call (see above)\n", other_name);
+        if (idx < diff_ev || diff_ev < 0) fprintf(f, "    %s: identical (%d fragments, %d steps, planes after)\n", other_name, other->n_frags, other->n_notes);
+        else if (idx == diff_ev) fprintf(f, "    %s: FIRST DIFFERENCE in this call (see above)\n", other_name);
     }
 }
 
@@ -331,7 +323,7 @@ int cmd_explain(int argc, char **argv)
     if (strcmp(which, "cpu") && cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
     cli_scene s;
     spr_render_desc rd;
-    run runs[2];
+    cli_history_run runs[2];
     int nr = 0, rc = 2;
     memset(runs, 0, sizeof runs);
     if (cli_scene_setup(&a, &s, &rd, 0)) goto done;
@@ -340,11 +332,11 @@ int cmd_explain(int argc, char **argv)
         goto done;
     }
     if (strcmp(which, "gl")) {
-        if (run_history(&a, &s, &rd, "cpu", gl_device, x, y, &runs[nr])) goto done;
+        if (cli_run_history(&s, &rd, "cpu", gl_device, x, y, &runs[nr])) goto done;
         nr++;
     }
     if (strcmp(which, "cpu")) {
-        int r = run_history(&a, &s, &rd, "gl", gl_device, x, y, &runs[nr]);
+        int r = cli_run_history(&s, &rd, "gl", gl_device, x, y, &runs[nr]);
         if (r < 0 || (r > 0 && !strcmp(which, "gl"))) goto done;
         if (r == 0) nr++;
         else fprintf(stderr, "splatref explain: no GL device here: the CPU reference alone\n");
@@ -388,10 +380,10 @@ int cmd_explain(int argc, char **argv)
                "explain: test before, outcome and the planes each passing fragment changed replay GL's fixed-function stages (SPEC 3.3, 3.4)\n");
         const spr_history *h = &runs[0].h;
         for (int i = 0; i < h->n; i++) {
-            print_event(&h->ev[i], i, nr == 2 && i < runs[1].h.n ? &runs[1].h.ev[i] : NULL, differ ? dev : -1, dfrag, nr == 2 ? runs[1].name : "");
+            cli_explain_event(stdout, &h->ev[i], i, nr == 2 && i < runs[1].h.n ? &runs[1].h.ev[i] : NULL, differ ? dev : -1, dfrag, nr == 2 ? runs[1].name : "");
             if (differ && i == dev && nr == 2) { /* the other side of the first difference */
                 printf("  %s's side of pass %d:\n", runs[1].name, h->ev[i].pass);
-                print_event(&runs[1].h.ev[i], -2, NULL, -1, -1, "");
+                cli_explain_event(stdout, &runs[1].h.ev[i], -2, NULL, -1, -1, "");
             }
         }
         if (h->overflow) printf("explain: more than %d records in one call: lists truncated\n", SPR_PROBE_MAX);

@@ -12,6 +12,7 @@ static const struct { const char *name; int (*fn)(int, char **); const char *hel
     {"show", cmd_show, "turn a dumped plane (PFM) into a PNG to look at"},
     {"check", cmd_check, "check your image (PNG/PFM) of a scene against the reference under PARITY.md's tiers: verdict, report, heat map"},
     {"explain", cmd_explain, "pixel history: every fragment that reached a pixel, pass by pass, cpu and gl side by side (SPEC 8)"},
+    {"step", cmd_step, "a step-by-step walk-through of one frame as a web page: every pass, plane, equation, pixel (no network)"},
     {"compare", cmd_compare, "two images under PARITY.md's tiers, with [ZP]'s eps and covered-pixel means; verdict, report, heat map"},
     {"parity", cmd_parity, "compare the CPU reference and the GL backend, every plane of every pass"},
     {"reference", cmd_reference, "check (or --update) the reference images of reference_images/"},

@@ -1,0 +1,626 @@
+/* cli_step.c — `splatref step --out DIR`: a step-by-step walk-through of
+ * one frame as a self-contained web page (DIR/index.html, its PNGs and the
+ * scene file; no network).  One section per pass: what the pass does and
+ * the equation it implements (SPEC / [ZP] / [R] numbers), its state, its
+ * statistics, and a picture of every plane of its target (colour, weight,
+ * depth and test heat maps with legends, ids, counts, the group of the
+ * nearest layer, the ε-test mask of a composite).  Every plane value of
+ * every pass is embedded, so a click on any picture shows that pixel in
+ * every pass; the pixel histories of a few pixels (splatref explain) are
+ * embedded too.  Grouping gets its own section: which splat went to which
+ * group, with its overlapping neighbours' groups, on a small cloud. */
+#include "cli.h"
+#include "cli_scene_opts.h"
+#include "spr_image.h"
+#include "spr_swrast.h"
+#include "spr_arith_c.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const cli_opt step_opts[] = {
+    {"out", "DIR", "the walk-through: DIR/index.html, its pictures and scene.json (required)"},
+    {"pixels", "N", "pixel histories to embed, 0..16 (default 6)"},
+    CLI_SCENE_OPTS,
+    {NULL, NULL, NULL}};
+
+/* ---- captured passes ---- */
+typedef struct cap_pass {
+    int index, group, target;
+    char name[32];
+    int composite;
+    spr_pass_state state;
+    spr_draw_stats stats;
+    double ms;
+    unsigned planes;
+    float *plane[SPR_PLANE__COUNT];  /* W·H·channels; id/count as floats (none = −1), as --dump */
+} cap_pass;
+
+typedef struct cap_ctx {
+    cap_pass *p;
+    int n, cap;
+    int failed;
+    spr_error err;
+} cap_ctx;
+
+static void cap_hook(void *user, spr_backend *b, const spr_pass_info *info)
+{
+    cap_ctx *c = user;
+    if (c->failed) return;
+    if (c->n == c->cap) {
+        int nc = c->cap ? 2 * c->cap : 16;
+        cap_pass *np = realloc(c->p, (size_t)nc * sizeof *np);
+        if (!np) { c->failed = 1; return; }
+        c->p = np, c->cap = nc;
+    }
+    cap_pass *p = &c->p[c->n++];
+    memset(p, 0, sizeof *p);
+    p->index = info->index, p->group = info->group, p->target = info->target;
+    snprintf(p->name, sizeof p->name, "%s", info->name);
+    p->composite = info->state == NULL;
+    if (info->state) p->state = *info->state;
+    p->stats = info->stats;
+    p->ms = info->ms;
+    p->planes = spr_backend_target_planes(b, info->target);
+    const size_t np = (size_t)b->view.width * b->view.height;
+    for (int q = 0; q < SPR_PLANE__COUNT; q++) {
+        if (!(p->planes & SPR_PLANE_BIT(q)) || (p->composite && q == SPR_PLANE_TEST)) continue;
+        const int ch = spr_plane_channels((spr_plane)q);
+        float *buf = malloc(np * (size_t)ch * sizeof *buf);
+        if (!buf || spr_backend_read_plane(b, info->target, (spr_plane)q, buf)) {
+            free(buf);
+            c->failed = 1;
+            c->err = b->err;
+            return;
+        }
+        const spr_plane_type ty = spr_plane_info_of((spr_plane)q)->type;
+        if (ty == SPR_PLANE_U32 || ty == SPR_PLANE_COUNTER)
+            for (size_t i = 0; i < np; i++) {
+                uint32_t u;
+                memcpy(&u, &buf[i], 4);
+                buf[i] = u == UINT32_MAX ? -1.0f : (float)u;
+            }
+        p->plane[q] = buf;
+    }
+}
+
+/* ---- pictures ---- */
+/* The heat map's colour stops (also the legends' CSS gradient). */
+static const float heat_stops[5][3] = {{0.05f, 0.03f, 0.35f}, {0.25f, 0.2f, 0.8f}, {0.1f, 0.65f, 0.6f}, {0.75f, 0.85f, 0.15f}, {1.0f, 1.0f, 0.85f}};
+static void heat(double u, float *rgb)
+{
+    if (!(u >= 0.0)) u = 0.0;
+    if (u > 1.0) u = 1.0;
+    double s = u * 4.0;
+    int i = (int)s;
+    if (i > 3) i = 3;
+    double f = s - i;
+    for (int c = 0; c < 3; c++) rgb[c] = (float)(heat_stops[i][c] * (1.0 - f) + heat_stops[i + 1][c] * f);
+}
+/* Well spread colours for ids and groups. */
+static void id_colour(long id, float *rgb)
+{
+    if (id < 0) { rgb[0] = rgb[1] = rgb[2] = 0.0f; return; }
+    double h = fmod((double)id * 0.618033988749895, 1.0) * 6.0;
+    int i = (int)h;
+    double f = h - i, v = 0.95, s = 0.7, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+    double r[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
+    for (int c = 0; c < 3; c++) rgb[c] = (float)r[i % 6][c];
+}
+
+typedef struct view_out {
+    char file[64], caption[160], legend[160];
+} view_out;
+
+/* Range of finite values other than `skip` (a plane's clear value). */
+static void range(const float *v, size_t n, int stride, float skip, double *lo, double *hi)
+{
+    *lo = INFINITY, *hi = -INFINITY;
+    for (size_t i = 0; i < n; i++) {
+        float x = v[i * stride];
+        if (!isfinite(x) || x == skip) continue;
+        if (x < *lo) *lo = x;
+        if (x > *hi) *hi = x;
+    }
+    if (!(*hi >= *lo)) *lo = 0.0, *hi = 1.0;
+}
+
+static int write_view(cli_args *a, const char *dir, const float *rgb, int W, int H, view_out *vo)
+{
+    char path[1400];
+    snprintf(path, sizeof path, "%s/%s", dir, vo->file);
+    spr_error err = {0};
+    if (spr_write_png(path, rgb, W, H, 3, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
+    return 0;
+}
+
+/* ---- text helpers ---- */
+static void html_escape(FILE *f, const char *s)
+{
+    for (; *s; s++) {
+        if (*s == '<') fputs("&lt;", f);
+        else if (*s == '>') fputs("&gt;", f);
+        else if (*s == '&') fputs("&amp;", f);
+        else if (*s == '"') fputs("&quot;", f);
+        else fputc(*s, f);
+    }
+}
+
+/* Base64 of raw bytes into f (the embedded planes; 20 lines are simpler
+ * than a dependency for this one use). */
+static void base64(FILE *f, const unsigned char *p, size_t n)
+{
+    static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    size_t i = 0;
+    for (; i + 2 < n; i += 3) {
+        unsigned v = (unsigned)p[i] << 16 | (unsigned)p[i + 1] << 8 | p[i + 2];
+        fputc(t[v >> 18], f), fputc(t[v >> 12 & 63], f), fputc(t[v >> 6 & 63], f), fputc(t[v & 63], f);
+    }
+    if (i < n) {
+        unsigned v = (unsigned)p[i] << 16 | (i + 1 < n ? (unsigned)p[i + 1] << 8 : 0u);
+        fputc(t[v >> 18], f), fputc(t[v >> 12 & 63], f);
+        fputc(i + 1 < n ? t[v >> 6 & 63] : '=', f), fputc('=', f);
+    }
+}
+
+static const char *const depth_eq[SPR_DEPTH__COUNT] = {
+    "z = d<sub>f</sub> (SPEC 3.3)",
+    "z = d<sub>f</sub> + &epsilon;<sub>t</sub> (SPEC 3.3; the visibility pass of [ZP] 3.1)",
+    "z = floor(((d<sub>f</sub> &minus; d<sub>min</sub>)/(d<sub>max</sub> &minus; d<sub>min</sub>))&middot;n)&middot;(1/n) ([ZP] Eq. 10, SPEC 3.3)",
+    "z = z&#771; + &rho;&middot;(1/n): Voronoi depth, the fragment nearest its own splat centre wins within a layer ([ZP] Eq. 14, SPEC 3.3)"};
+static const char *const blend_eq[SPR_BLEND__COUNT] = {"dst = src", "dst = src + dst", "dst = src&middot;&alpha; + dst&middot;(1 &minus; &alpha;)",
+                                                      "dst = dst &minus; src"};
+static const char *const func_eq[SPR_FUNC__COUNT] = {"passes when z &lt; the stored test value", "passes when z &le; the stored test value",
+                                                    "always passes"};
+
+/* ---- the page ---- */
+typedef struct page {
+    FILE *f;
+    int W, H;
+} page;
+
+static void legend_css(FILE *f)
+{
+    fprintf(f, "linear-gradient(to right");
+    for (int i = 0; i < 5; i++)
+        fprintf(f, ", rgb(%d,%d,%d)", (int)(heat_stops[i][0] * 255), (int)(heat_stops[i][1] * 255), (int)(heat_stops[i][2] * 255));
+    fprintf(f, ")");
+}
+
+static void figure(page *pg, const view_out *vo, int pass, const char *plane, int heat_legend, double lo, double hi)
+{
+    FILE *f = pg->f;
+    fprintf(f, "<figure><img class=\"plane\" src=\"%s\" width=\"%d\" height=\"%d\" data-pass=\"%d\" data-plane=\"%s\" alt=\"", vo->file, pg->W * 3,
+            pg->H * 3, pass, plane);
+    html_escape(f, vo->caption);
+    fprintf(f, "\"><figcaption>");
+    html_escape(f, vo->caption);
+    if (heat_legend) {
+        fprintf(f, "<div class=\"legend\"><span>%.6g</span><span class=\"bar\" style=\"background:", lo);
+        legend_css(f);
+        fprintf(f, "\"></span><span>%.6g</span></div>", hi);
+    } else if (vo->legend[0]) {
+        fprintf(f, "<div class=\"note\">");
+        html_escape(f, vo->legend);
+        fprintf(f, "</div>");
+    }
+    fprintf(f, "</figcaption></figure>\n");
+}
+
+/* The pictures of one pass; writes its PNGs into dir. */
+static int pass_views(cli_args *a, page *pg, const char *dir, const cap_pass *p, const cap_pass *all, int n_all, const spr_composite_op *op,
+                      const int *inputs, int n_inputs, float eps_t)
+{
+    const int W = pg->W, H = pg->H;
+    const size_t np = (size_t)W * H;
+    float *rgb = malloc(np * 3 * sizeof *rgb);
+    if (!rgb) { cli_error(a, "out of memory"); return -1; }
+    int rc = 0;
+    for (int q = 0; q < SPR_PLANE__COUNT && !rc; q++) {
+        const float *v = p->plane[q];
+        if (!v) continue;
+        view_out vo = {{0}, {0}, {0}};
+        const char *pname = spr_plane_name((spr_plane)q);
+        double lo = 0, hi = 1;
+        int legend = 0;
+        if (q == SPR_PLANE_COLOR) {
+            const int weighted = !p->composite && p->state.output == SPR_OUT_WEIGHTED;
+            for (size_t i = 0; i < np; i++)
+                for (int c = 0; c < 3; c++) rgb[3 * i + c] = weighted ? (v[4 * i + 3] > 0.0f ? v[4 * i + c] / v[4 * i + 3] : 0.0f) : v[4 * i + c];
+            snprintf(vo.file, sizeof vo.file, "p%03d_color.png", p->index);
+            snprintf(vo.caption, sizeof vo.caption, weighted ? "colour, normalised: (sum w*c)/(sum w)" : "colour (rgb)");
+            rc = write_view(a, dir, rgb, W, H, &vo);
+            if (!rc) figure(pg, &vo, p->index, "color", 0, 0, 0);
+            /* the fourth channel */
+            range(v + 3, np, 4, 0.0f, &lo, &hi);
+            for (size_t i = 0; i < np; i++) {
+                if (v[4 * i + 3] == 0.0f) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.0f;
+                else heat(hi > lo ? (v[4 * i + 3] - lo) / (hi - lo) : 1.0, rgb + 3 * i);
+            }
+            snprintf(vo.file, sizeof vo.file, "p%03d_weight.png", p->index);
+            snprintf(vo.caption, sizeof vo.caption, weighted ? "weight sum w (black: none)" : p->composite ? "coverage (4th channel)" : "alpha / 4th channel");
+            if (!rc && !(rc = write_view(a, dir, rgb, W, H, &vo))) figure(pg, &vo, p->index, "weight", 1, lo, hi);
+            continue;
+        }
+        const spr_plane_type ty = spr_plane_info_of((spr_plane)q)->type;
+        const int ch = spr_plane_channels((spr_plane)q);
+        if (q == SPR_PLANE_ID) {
+            for (size_t i = 0; i < np; i++) id_colour(v[i] < 0.0f ? -1 : (long)v[i], rgb + 3 * i);
+            snprintf(vo.legend, sizeof vo.legend, "a colour per id (black: none); click for the number");
+            snprintf(vo.caption, sizeof vo.caption, "id of the last write");
+        } else if (ch == 4) { /* normals: (sum w*n)/(sum w) as 0.5*n + 0.5 */
+            for (size_t i = 0; i < np; i++)
+                for (int c = 0; c < 3; c++) rgb[3 * i + c] = v[4 * i + 3] > 0.0f ? 0.5f * (v[4 * i + c] / v[4 * i + 3]) + 0.5f : 0.0f;
+            snprintf(vo.caption, sizeof vo.caption, "normal (sum w*n)/(sum w) as 0.5*n + 0.5");
+        } else {
+            const float clear = (float)spr_plane_info_of((spr_plane)q)->clear;
+            range(v, np, 1, ty == SPR_PLANE_COUNTER ? -2.0f : clear, &lo, &hi);
+            for (size_t i = 0; i < np; i++) {
+                if (v[i] == clear && ty != SPR_PLANE_COUNTER) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.12f;
+                else heat(hi > lo ? (v[i] - lo) / (hi - lo) : 1.0, rgb + 3 * i);
+            }
+            legend = 1;
+            snprintf(vo.caption, sizeof vo.caption, "%s%s", pname,
+                     ty == SPR_PLANE_COUNTER ? " (fragments that passed)" : q == SPR_PLANE_TEST ? " (test value z; grey: cleared)" : " (grey: cleared)");
+        }
+        snprintf(vo.file, sizeof vo.file, "p%03d_%s.png", p->index, pname);
+        if (!(rc = write_view(a, dir, rgb, W, H, &vo))) figure(pg, &vo, p->index, pname, legend, lo, hi);
+    }
+    /* composites of the §4.2 loop: the ε-test mask and the group of the nearest layer */
+    if (!rc && op && (*op == SPR_COMP_DEFERRED || *op == SPR_COMP_NEAREST) && n_inputs > 0) {
+        const float *col[SPR_MAX_COMPOSITE_INPUTS], *dep[SPR_MAX_COMPOSITE_INPUTS];
+        int ok = 1;
+        for (int k = 0; k < n_inputs; k++) { /* the input targets as the latest pass before left them */
+            const cap_pass *src = NULL;
+            for (const cap_pass *q = all; q < p; q++)
+                if (q->target == inputs[k]) src = q;
+            if (!src || !src->plane[SPR_PLANE_COLOR] || !src->plane[SPR_PLANE_DEPTH]) { ok = 0; break; }
+            col[k] = src->plane[SPR_PLANE_COLOR], dep[k] = src->plane[SPR_PLANE_DEPTH];
+        }
+        spr_probe *pr = ok ? malloc(sizeof *pr) : NULL;
+        float *mask = ok ? malloc(np * sizeof *mask) : NULL;
+        if (ok && pr && mask) {
+            static const float no_params[SPR_PRM_COUNT];
+            int maxc = 0;
+            for (size_t i = 0; i < np; i++) { /* the shared §4.2 loop, its notes counted */
+                spr_pixel_in px = {.color = col, .depth = dep, .i = i, .x = (int)(i % (size_t)W), .y = (int)(i / (size_t)W), .probe = pr};
+                float acc[4], nacc[4], opac;
+                pr->n_notes = 0;
+                float dmin = spr_eps_composite(&px, n_inputs, eps_t, no_params, 0, acc, nacc, &opac);
+                int blended = 0, nearest = -1;
+                for (int k = 0; k < pr->n_notes; k++)
+                    if (pr->note[k].tag == SPR_NOTE_EPS_INPUT && pr->note[k].v[2] != 0.0f && pr->note[k].v[0] < 1.0f) {
+                        blended++;
+                        if (nearest < 0 && pr->note[k].v[0] == dmin) nearest = pr->note[k].k;
+                    }
+                mask[i] = (float)blended;
+                if (blended > maxc) maxc = blended;
+                id_colour(nearest, rgb + 3 * i);
+            }
+            view_out vo = {"", "group of the nearest layer (argmin of the inputs' depth)", "a colour per group, as in the grouping section"};
+            snprintf(vo.file, sizeof vo.file, "p%03d_group.png", p->index);
+            if (!(rc = write_view(a, dir, rgb, W, H, &vo))) figure(pg, &vo, p->index, "group", 0, 0, 0);
+            for (size_t i = 0; i < np; i++) {
+                if (mask[i] == 0.0f) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.0f;
+                else heat(maxc > 1 ? (mask[i] - 1.0) / (maxc - 1.0) : 0.0, rgb + 3 * i);
+            }
+            view_out vm = {"", "eps-test mask: inputs within d + eps_t, blended (SPEC 4.2)", ""};
+            snprintf(vm.file, sizeof vm.file, "p%03d_epsmask.png", p->index);
+            if (!rc && !(rc = write_view(a, dir, rgb, W, H, &vm))) figure(pg, &vm, p->index, "epsmask", 1, 1, maxc > 1 ? maxc : 1);
+        }
+        free(pr);
+        free(mask);
+    }
+    free(rgb);
+    (void)n_all;
+    return rc;
+}
+
+static void pass_header(page *pg, const cap_pass *p, const spr_hist_event *ev)
+{
+    FILE *f = pg->f;
+    fprintf(f, "<section class=\"pass\" id=\"pass%d\"><h2>Pass %d: %s", p->index, p->index, p->name);
+    if (p->group >= 0) fprintf(f, " (group %d)", p->group);
+    fprintf(f, "</h2>\n<div class=\"eq\">");
+    if (!p->composite) {
+        const spr_pass_state *s = &p->state;
+        const int rects = ev && ev->kind == SPR_HIST_RECTS;
+        fprintf(f, "<p>%s draw of %llu %s into target %d.", ev && ev->list ? "A list" : "A", (unsigned long long)p->stats.splats,
+                rects ? "textured rectangles (domain primitives, SPEC 7.7, [R] 4.3&ndash;4.4)" : "splats (ray&ndash;disk test, SPEC 2)", p->target);
+        if (ev && ev->list) fprintf(f, " Every fragment joins its pixel's list (t, primitive, colour); nothing is tested or written.</p>");
+        else {
+            fprintf(f, " Test value: %s; the depth test %s (%s); depth write %s.</p>", depth_eq[s->depth_value], func_eq[s->depth_func],
+                    s->depth_func == SPR_FUNC_LESS ? "LESS" : s->depth_func == SPR_FUNC_LEQUAL ? "LEQUAL" : "ALWAYS", s->depth_write ? "on" : "off");
+            fprintf(f, "<p>Fragment colour: %s; blending rgb: %s, fourth channel: %s (SPEC 3.4).",
+                    rects ? "the texel's (&alpha;&middot;c, &alpha;) or as the algorithm says ([R] 3.3)"
+                          : s->output == SPR_OUT_WEIGHTED ? "(w&middot;c, w) with the kernel weight w(&rho;) (SPEC 3.1, [ZP] Eq. 1)"
+                                                         : "(c, &alpha;): colour and opacity (SPEC 6)",
+                    blend_eq[s->blend], blend_eq[s->blend_alpha]);
+            fprintf(f, " &epsilon;<sub>t</sub> = %.9g", s->eps_t);
+            if (s->depth_value >= SPR_DEPTH_LOWRES) fprintf(f, ", d<sub>min</sub> = %.9g, d<sub>max</sub> = %.9g, n = %.9g", s->lowres.d_min, s->lowres.d_max, s->lowres.n);
+            fprintf(f, ".</p>");
+        }
+        fprintf(f, "<p class=\"stats\">%llu fragments covered a pixel, %llu passed the depth test (%.2f ms on the CPU reference).</p>",
+                (unsigned long long)p->stats.generated, (unsigned long long)p->stats.passed, p->ms);
+    } else if (ev) {
+        fprintf(f, "<p>Composite <b>%s</b> of", spr_composite_info_of(ev->op)->name);
+        for (int k = 0; k < ev->n_inputs; k++) fprintf(f, " t%d", ev->inputs[k]);
+        fprintf(f, " into t%d: ", ev->target);
+        html_escape(f, spr_composite_info_of(ev->op)->summary);
+        if (ev->op == SPR_COMP_DEFERRED || ev->op == SPR_COMP_NEAREST)
+            fprintf(f, ". Per pixel: d = min<sub>k</sub> d<sub>f</sub>(k); input k is blended when d<sub>f</sub>(k) &le; d + &epsilon;<sub>t</sub> "
+                       "(&epsilon;<sub>t</sub> = %.9g), then C = &Sigma;(w&middot;c) / &Sigma;w ([ZP] Fig. 6, SPEC 4.2)",
+                    ev->eps_t);
+        fprintf(f, ".</p>");
+    }
+    fprintf(f, "</div>\n<div class=\"views\">\n");
+}
+
+/* Embedded data: every plane of every pass, base64 float32 (little-endian
+ * host, as the PFM writer assumes). */
+static void data_script(page *pg, const cap_ctx *cc)
+{
+    FILE *f = pg->f;
+    const size_t np = (size_t)pg->W * pg->H;
+    fprintf(f, "<script>\nconst SPR = {w: %d, h: %d, passes: [\n", pg->W, pg->H);
+    for (int i = 0; i < cc->n; i++) {
+        const cap_pass *p = &cc->p[i];
+        fprintf(f, " {index: %d, name: \"%s\", group: %d, planes: {", p->index, p->name, p->group);
+        int first = 1;
+        for (int q = 0; q < SPR_PLANE__COUNT; q++) {
+            if (!p->plane[q]) continue;
+            fprintf(f, "%s\"%s\": [%d, \"", first ? "" : ", ", spr_plane_name((spr_plane)q), spr_plane_channels((spr_plane)q));
+            base64(f, (const unsigned char *)p->plane[q], np * (size_t)spr_plane_channels((spr_plane)q) * 4);
+            fprintf(f, "\"]");
+            first = 0;
+        }
+        fprintf(f, "}},\n");
+    }
+    fprintf(f, "], histories: {}};\n</script>\n");
+}
+
+static const char *const page_css =
+    "body{font-family:sans-serif;margin:1.5em;max-width:1400px;color:#222}h1{font-size:1.5em}h2{font-size:1.2em;border-top:1px solid #ccc;"
+    "padding-top:.6em}.eq{background:#f6f6f2;padding:.2em .8em;border-left:3px solid #8a8}.views{display:flex;flex-wrap:wrap;gap:12px}"
+    "figure{margin:0;font-size:.8em;max-width:%dpx}img.plane{image-rendering:pixelated;cursor:crosshair;border:1px solid #999}"
+    ".legend{display:flex;align-items:center;gap:4px}.legend .bar{display:inline-block;width:120px;height:10px}"
+    "#info{position:sticky;top:0;background:#fff;border:1px solid #bbb;padding:.5em;max-height:45vh;overflow:auto;font-size:.85em;z-index:2}"
+    "#info table{border-collapse:collapse}#info td{padding:1px 6px;border-bottom:1px solid #eee;font-family:monospace}"
+    "pre{font-size:.75em;overflow:auto;background:#fafafa;border:1px solid #ddd;padding:.4em}.note{color:#555}#tip{position:fixed;"
+    "background:#ffd;border:1px solid #aa8;padding:2px 5px;font:12px monospace;pointer-events:none;display:none}"
+    "table.groups td,table.groups th{padding:1px 6px;font-size:.8em;border-bottom:1px solid #eee}";
+
+/* The page's script: decode the planes, show a pixel's values on click,
+ * one value on hover; #test=X,Y clicks that pixel once the pictures have
+ * loaded and reports into #selftest (the browser test). */
+static const char *const page_js =
+    "const errors=[];window.addEventListener('error',e=>{errors.push(String(e.message))});\n"
+    "const oe=console.error;console.error=function(...a){errors.push(a.join(' '));oe.apply(console,a)};\n"
+    "function dec(b64){const s=atob(b64);const u=new Uint8Array(s.length);for(let i=0;i<s.length;i++)u[i]=s.charCodeAt(i);return new Float32Array(u.buffer)}\n"
+    "for(const p of SPR.passes){for(const k in p.planes){const e=p.planes[k];p.planes[k]={ch:e[0],v:dec(e[1])}}}\n"
+    "function fmt(x){return Number.isInteger(x)?String(x):x.toPrecision(9)}\n"
+    "function val(p,k,x,y){const e=p.planes[k];if(!e)return null;const i=(y*SPR.w+x)*e.ch;return Array.from(e.v.subarray(i,i+e.ch))}\n"
+    "function show(x,y){const el=document.getElementById('info');let h='<b>pixel x '+x+', y '+y+'</b> (from the bottom, GL; row '+(SPR.h-1-y)+' from the top)"
+    "<table><tr><th>pass</th><th>plane</th><th>value</th></tr>';\n"
+    " for(const p of SPR.passes){for(const k in p.planes){const v=val(p,k,x,y);h+='<tr><td>'+p.index+' '+p.name+(p.group>=0?' k'+p.group:'')+'</td><td>'+k+"
+    "'</td><td class=\"v\" data-pass=\"'+p.index+'\" data-plane=\"'+k+'\" data-value=\"'+v.map(fmt).join(',')+'\">'+v.map(fmt).join(', ')+'</td></tr>'}}\n"
+    " h+='</table>';const key=x+','+y;if(SPR.histories[key])h+='<p>Pixel history (splatref explain):</p><pre>'+SPR.histories[key]+'</pre>';"
+    "else h+='<p>Its full history: <code>splatref explain --scene scene.json --pixel '+key+'</code></p>';el.innerHTML=h;el.dataset.pixel=key}\n"
+    "function at(img,ev){const r=img.getBoundingClientRect();const x=Math.floor((ev.clientX-r.left)*SPR.w/r.width);"
+    "const yt=Math.floor((ev.clientY-r.top)*SPR.h/r.height);return[Math.min(SPR.w-1,Math.max(0,x)),Math.min(SPR.h-1,Math.max(0,SPR.h-1-yt))]}\n"
+    "const tip=document.getElementById('tip');\n"
+    "for(const img of document.querySelectorAll('img.plane')){img.addEventListener('click',ev=>{const [x,y]=at(img,ev);show(x,y)});\n"
+    " img.addEventListener('mousemove',ev=>{const [x,y]=at(img,ev);const p=SPR.passes.find(q=>q.index==img.dataset.pass);"
+    "const v=p?val(p,img.dataset.plane,x,y):null;tip.style.display='block';tip.style.left=(ev.clientX+12)+'px';tip.style.top=(ev.clientY+12)+'px';"
+    "tip.textContent=x+','+y+(v?': '+v.map(fmt).join(', '):'')});img.addEventListener('mouseleave',()=>{tip.style.display='none'})}\n"
+    "for(const a of document.querySelectorAll('a.px')){a.addEventListener('click',ev=>{ev.preventDefault();const [x,y]=a.dataset.px.split(',').map(Number);show(x,y)})}\n"
+    "function selftest(){const imgs=[...document.getElementsByTagName('img')];const bad=imgs.filter(i=>!(i.complete&&i.naturalWidth>0));"
+    "const m=/test=(\\d+),(\\d+)/.exec(location.hash);if(m){const x=+m[1],y=+m[2];const img=document.querySelector('img.plane');"
+    "const r=img.getBoundingClientRect();const cx=r.left+(x+0.5)*r.width/SPR.w,cy=r.top+(SPR.h-1-y+0.5)*r.height/SPR.h;"
+    "img.dispatchEvent(new MouseEvent('click',{clientX:cx,clientY:cy,bubbles:true}))}\n"
+    " const st=document.getElementById('selftest');st.dataset.images=imgs.length;st.dataset.decoded=imgs.length-bad.length;"
+    "st.dataset.errors=errors.length;st.textContent='images '+(imgs.length-bad.length)+'/'+imgs.length+' decoded; '+errors.length+' errors'+(errors.length?': '+errors.join(' | '):'')}\n"
+    "window.addEventListener('load',selftest);\n";
+
+/* The grouping section: sizes, the rule, and for a small cloud which
+ * splat went where with its overlapping neighbours' groups. */
+static void grouping_section(page *pg, const cli_scene *s)
+{
+    FILE *f = pg->f;
+    const spr_groups *g = &s->g.groups;
+    fprintf(f, "<section id=\"grouping\"><h2>Grouping: %s, K = %d (SPEC 5)</h2><div class=\"eq\"><p>", s->group_method ? s->group_method : "none", g->K);
+    const char *m = s->group_method ? s->group_method : "none";
+    if (!strcmp(m, "mgc"))
+        fprintf(f, "MGC ([ZP] 4.1, SPEC 5.1): splats are visited largest degree first in the conflict graph (splats that overlap, "
+                   "relaxed by c for coplanar or opposite neighbours); each takes the smallest group no conflicting neighbour already has.");
+    else if (!strcmp(m, "wgc"))
+        fprintf(f, "WGC ([ZP] 4.2, SPEC 5.2): K groups; each splat goes to the group where its overlap area with same-group neighbours "
+                   "([ZP] Eq. 8) is smallest, then local moves reduce the total.");
+    else if (!strcmp(m, "hash"))
+        fprintf(f, "Hash grouping ([ZP] 4.3, Eq. 9, SPEC 5.3): a splat's group is a hash of its quantised position along an axis, "
+                   "(x + 3y) mod K, so neighbours on a surface land in different groups without a graph.");
+    else fprintf(f, "One group: nothing overlapping inside it can blend.");
+    fprintf(f, " Overlapping neighbours in the same group cannot blend: one hides the other in that group's target.</p></div>\n");
+    fprintf(f, "<table class=\"groups\"><tr><th>group</th><th>colour</th><th>splats</th></tr>");
+    for (int k = 0; k < g->K; k++) {
+        float c[3];
+        id_colour(k, c);
+        fprintf(f, "<tr><td>%d</td><td style=\"background:rgb(%d,%d,%d)\"></td><td>%zu</td></tr>", k, (int)(c[0] * 255), (int)(c[1] * 255),
+                (int)(c[2] * 255), (size_t)(g->start[k + 1] - g->start[k]));
+    }
+    fprintf(f, "</table>\n");
+    const size_t n = s->cloud.n;
+    if (n > 4000 || !s->g.labels) {
+        fprintf(f, "<p class=\"note\">%zu splats: the splat-by-splat table is written for clouds of at most 4,000 (try --points 1500).</p></section>\n", n);
+        return;
+    }
+    spr_overlap_graph og;
+    spr_error err = {0};
+    memset(&og, 0, sizeof og);
+    if (spr_overlap_graph_build(&s->cloud, 1e-6, s->threads, NULL, &og, &err)) {
+        fprintf(f, "<p class=\"note\">overlap graph: %s</p></section>\n", err.msg);
+        return;
+    }
+    size_t same = 0;
+    for (size_t i = 0; i < n; i++)
+        for (uint64_t e = og.g.start[i]; e < og.g.start[i + 1]; e++) same += s->g.labels[og.g.adj[e]] == s->g.labels[i];
+    fprintf(f, "<p>%zu overlapping pairs; %zu of them inside one group (those cannot blend with each other).</p>", (size_t)(og.g.start[n] / 2), same / 2);
+    fprintf(f, "<details><summary>splat by splat (first 400)</summary><table class=\"groups\"><tr><th>splat</th><th>position</th><th>radius</th><th>group</th>"
+               "<th>overlapping neighbours</th><th>their groups</th></tr>");
+    for (size_t i = 0; i < n && i < 400; i++) {
+        const float *p = s->cloud.pos + 3 * i;
+        fprintf(f, "<tr><td>%zu</td><td>%.4g, %.4g, %.4g</td><td>%.4g</td><td>%d</td><td>%llu</td><td>", i, p[0], p[1], p[2], s->cloud.radius[i],
+                s->g.labels[i], (unsigned long long)(og.g.start[i + 1] - og.g.start[i]));
+        int cnt[SPR_MAX_GROUPS] = {0};
+        for (uint64_t e = og.g.start[i]; e < og.g.start[i + 1]; e++) {
+            int32_t l = s->g.labels[og.g.adj[e]];
+            if (l >= 0 && l < SPR_MAX_GROUPS) cnt[l]++;
+        }
+        for (int k = 0; k < g->K && k < SPR_MAX_GROUPS; k++)
+            if (cnt[k]) fprintf(f, "%s%d&times;%d", k == s->g.labels[i] ? "<b>" : "", cnt[k], k), fprintf(f, "%s ", k == s->g.labels[i] ? "</b>" : "");
+        fprintf(f, "</td></tr>");
+    }
+    fprintf(f, "</table></details></section>\n");
+    spr_overlap_graph_free(&og);
+}
+
+int cmd_step(int argc, char **argv)
+{
+    cli_args a;
+    int pr = cli_parse(&a, "step", step_opts, "--out DIR [scene options | --scene S.json]", 0, argc, argv);
+    if (pr) return pr == 1 ? 0 : 2;
+    const char *dir = cli_get(&a, "out");
+    int npix = 6;
+    if (!dir) { cli_error(&a, "--out DIR is required"); return 2; }
+    if (cli_get_int(&a, "pixels", &npix, 0, 16) < 0) return 2;
+    /* small by default: every pixel is shown and embedded */
+    for (int k = 0; a.opts[k].name; k++)
+        if (!strcmp(a.opts[k].name, "size") && !a.value[k]) a.value[k] = "128x128";
+    cli_scene s;
+    spr_render_desc rd;
+    cap_ctx cc = {0};
+    spr_backend *b = NULL;
+    spr_render_result res = {0};
+    spr_error err = {0};
+    char tmp[1200] = "", path[1400];
+    int open_dir = 0, rc = 2;
+    cli_history_run hist[16];
+    int nh = 0;
+    FILE *f = NULL;
+    memset(hist, 0, sizeof hist);
+    if (cli_scene_setup(&a, &s, &rd, 0)) goto done;
+    if (cli_outdir_begin(&a, "out", dir, tmp, sizeof tmp)) goto done;
+    open_dir = 1;
+    snprintf(path, sizeof path, "%s/scene.json", tmp);
+    if (cli_scene_save(&a, &s, &rd, path, 0)) goto done;
+    rd.hook = cap_hook;
+    rd.hook_user = &cc;
+    if (!(b = spr_swrast_create(s.threads, &err)) || spr_render(b, &s.view, &s.cloud, &rd, &res, &err)) {
+        fprintf(stderr, "splatref step: %s\n", err.msg);
+        goto done;
+    }
+    if (cc.failed) { fprintf(stderr, "splatref step: %s\n", cc.err.msg); goto done; }
+    const int W = s.view.width, H = s.view.height;
+    /* pixels to explain: covered ones spread over the image, blended ones first */
+    {
+        int want = npix, tries = 0;
+        for (int stride = 7; nh < want && tries < 4; tries++, stride += 3)
+            for (int y = H / 5; y < H && nh < want; y += stride)
+                for (int x = W / 5 + (y % 3); x < W && nh < want; x += stride * 2) {
+                    if (!(res.rgba[4 * ((size_t)y * W + x) + 3] > 0.0f)) continue;
+                    int dup = 0;
+                    for (int i = 0; i < nh; i++) dup |= hist[i].h.x == x && hist[i].h.y == y;
+                    if (dup) continue;
+                    if (cli_run_history(&s, &rd, "cpu", -1, x, y, &hist[nh]) < 0) goto done;
+                    nh++;
+                }
+    }
+    snprintf(path, sizeof path, "%s/index.html", tmp);
+    if (!(f = fopen(path, "w"))) { cli_error(&a, "cannot write %s", path); goto done; }
+    page pg = {f, W, H};
+    const spr_algo_info *ai = spr_algo_info_of(rd.algo);
+    fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>splatref step: %s</title><style>", spr_algo_name(rd.algo));
+    fprintf(f, page_css, W * 3 + 10);
+    fprintf(f, "</style></head><body>\n<h1>%s, step by step</h1>\n<p><b>%s</b> (SPEC %s): ", spr_algo_name(rd.algo), spr_algo_name(rd.algo), ai->spec);
+    html_escape(f, ai->summary);
+    fprintf(f, ".</p><p>Scene: ");
+    html_escape(f, s.model);
+    fprintf(f, ", %zu splats, %dx%d pixels, K = %d; <code>scene.json</code> in this folder reproduces it "
+               "(<code>splatref render --scene scene.json</code>). Click any picture to see that pixel in every pass; "
+               "pixels with an embedded history: ", s.cloud.n, W, H, res.K);
+    for (int i = 0; i < nh; i++) fprintf(f, "<a href=\"#\" class=\"px\" data-px=\"%d,%d\">%d,%d</a> ", hist[i].h.x, hist[i].h.y, hist[i].h.x, hist[i].h.y);
+    fprintf(f, "</p>\n<div id=\"info\">Click a pixel of any picture.</div><div id=\"tip\"></div>\n");
+    if (rd.groups) grouping_section(&pg, &s);
+    /* the passes, each with the history call that matches it */
+    const spr_hist_event *events = nh ? hist[0].h.ev : NULL;
+    const int n_events = nh ? hist[0].h.n : 0;
+    for (int i = 0; i < cc.n; i++) {
+        const cap_pass *p = &cc.p[i];
+        const spr_hist_event *ev = NULL;
+        for (int e = 0; e < n_events; e++)
+            if (events[e].pass == p->index) ev = &events[e];
+        pass_header(&pg, p, ev);
+        if (pass_views(&a, &pg, tmp, p, cc.p, cc.n, ev && ev->kind == SPR_HIST_COMPOSITE ? &ev->op : NULL, ev ? ev->inputs : NULL,
+                       ev ? ev->n_inputs : 0, ev ? ev->eps_t : 0.0f))
+            goto done;
+        fprintf(f, "</div></section>\n");
+    }
+    /* the final image */
+    {
+        float *rgb = malloc((size_t)W * H * 3 * sizeof *rgb);
+        if (!rgb) { cli_error(&a, "out of memory"); goto done; }
+        for (size_t i = 0; i < (size_t)W * H; i++)
+            for (int c = 0; c < 3; c++) rgb[3 * i + c] = res.rgba[4 * i + c];
+        view_out vo = {"final.png", "the final image", ""};
+        int wr = write_view(&a, tmp, rgb, W, H, &vo);
+        free(rgb);
+        if (wr) goto done;
+        fprintf(f, "<section id=\"final\"><h2>The final image</h2><div class=\"views\">");
+        figure(&pg, &vo, cc.n ? cc.p[cc.n - 1].index : 0, "color", 0, 0, 0);
+        fprintf(f, "</div></section>\n");
+    }
+    fprintf(f, "<p id=\"selftest\" class=\"note\"></p>\n");
+    data_script(&pg, &cc);
+    fprintf(f, "<script>\n");
+    for (int i = 0; i < nh; i++) { /* the histories as text */
+        char *buf = NULL;
+        size_t len = 0;
+        FILE *m = open_memstream(&buf, &len);
+        if (!m) { cli_error(&a, "out of memory"); goto done; }
+        for (int e = 0; e < hist[i].h.n; e++) cli_explain_event(m, &hist[i].h.ev[e], e, NULL, -1, -1, "");
+        fclose(m);
+        cJSON *str = cJSON_CreateString(buf ? buf : "");
+        char *js = str ? cJSON_PrintUnformatted(str) : NULL;
+        cJSON_Delete(str);
+        free(buf);
+        if (!js) { cli_error(&a, "out of memory"); goto done; }
+        /* a JSON string is a JS string; escape what would end the script element, then HTML-escape in the page */
+        fprintf(f, "SPR.histories[\"%d,%d\"] = ", hist[i].h.x, hist[i].h.y);
+        for (const char *c = js; *c; c++) {
+            if (*c == '<') fputs("\\u003c", f);
+            else if (*c == '>') fputs("\\u003e", f);
+            else if (*c == '&') fputs("\\u0026", f);
+            else fputc(*c, f);
+        }
+        fprintf(f, ".replace(/&/g,'&amp;').replace(/</g,'&lt;');\n");
+        free(js);
+    }
+    fprintf(f, "</script>\n<script>\n%s</script>\n</body></html>\n", page_js);
+    if (ferror(f) | fclose(f)) { f = NULL; cli_error(&a, "cannot write %s", path); goto done; }
+    f = NULL;
+    rc = 0;
+done:
+    if (f) fclose(f);
+    if (open_dir && cli_outdir_end(&a, "out", tmp, dir, rc == 0)) rc = 2;
+    if (rc == 0) printf("step: %s, %d passes, %d pixel histories -> %s/index.html\n", spr_algo_name(rd.algo), cc.n, nh, dir);
+    for (int i = 0; i < nh; i++) spr_history_free(&hist[i].h);
+    for (int i = 0; i < cc.n; i++)
+        for (int q = 0; q < SPR_PLANE__COUNT; q++) free(cc.p[i].plane[q]);
+    free(cc.p);
+    spr_render_result_free(&res);
+    spr_backend_destroy(b);
+    cli_scene_free(&s);
+    return rc;
+}
