@@ -21,6 +21,7 @@ Suite *make_shade_suite(void);
 Suite *make_domain_suite(void);
 Suite *make_tools_suite(void);
 Suite *make_tools_gl_suite(void);
+Suite *make_browser_suite(void);
 
 static const struct { const char *name; Suite *(*make)(void); int gl; } suites[] = {
     {"kernel", make_kernel_suite, 0}, {"camera", make_camera_suite, 0}, {"raster", make_raster_suite, 0},
@@ -30,6 +31,7 @@ static const struct { const char *name; Suite *(*make)(void); int gl; } suites[]
     {"domain", make_domain_suite, 0},
     {"tools", make_tools_suite, 0},
     {"tools_gl", make_tools_gl_suite, 1},
+    {"browser", make_browser_suite, 0},
     {"gl", make_gl_suite, 1},
 };
 

@@ -433,3 +433,163 @@ Suite *make_tools_gl_suite(void)
     return s;
 }
 
+
+/* ---- the walk-through page in a real browser ---- */
+static const char *chromium_path(void)
+{
+    static const char *const c[] = {"/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome", NULL};
+    const char *env = getenv("SPLATREF_CHROMIUM");
+    if (env && access(env, X_OK) == 0) return env;
+    for (int i = 0; c[i]; i++)
+        if (access(c[i], X_OK) == 0) return c[i];
+    return NULL;
+}
+
+/* Dump the page's DOM after load with #test=X,Y (and a screenshot). */
+static char *browse(const char *page_dir, int x, int y, const char *shot)
+{
+    const char *chrome = chromium_path();
+    ck_assert_msg(chrome != NULL, "Chromium is not installed (tools/install-deps.sh installs Debian's chromium): the browser test cannot run");
+    char url[512], prof[300], shot_arg[600];
+    snprintf(url, sizeof url, "file://%s/index.html#test=%d,%d", page_dir, x, y);
+    snprintf(prof, sizeof prof, "--user-data-dir=%s", in_dir("chrome-profile"));
+    static char dom[1 << 24];
+    char *dargv[] = {(char *)chrome, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", prof, "--virtual-time-budget=10000",
+                     "--dump-dom", url, NULL};
+    /* stdout is the DOM; stderr (Chromium's own logging) goes with it, so read the DOM from its markers */
+    int rc = tu_run(chrome, NULL, 1, dargv, dom, sizeof dom);
+    ck_assert_msg(rc == 0, "chromium exit %d: %.2000s", rc, dom);
+    if (shot) {
+        static char log[1 << 16];
+        snprintf(shot_arg, sizeof shot_arg, "--screenshot=%s", shot);
+        char *sargv[] = {(char *)chrome, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", prof, "--virtual-time-budget=10000",
+                         "--window-size=1280,2400", shot_arg, url, NULL};
+        rc = tu_run(chrome, NULL, 1, sargv, log, sizeof log);
+        ck_assert_msg(rc == 0 && access(shot, F_OK) == 0, "chromium screenshot exit %d: %.2000s", rc, log);
+    }
+    return dom;
+}
+
+/* The value the page shows for (pass, plane) after the click, or NULL. */
+static const char *shown(const char *dom, int pass, const char *plane, char *buf, size_t cap)
+{
+    char key[96];
+    snprintf(key, sizeof key, "data-pass=\"%d\" data-plane=\"%s\" data-value=\"", pass, plane);
+    const char *p = strstr(dom, key);
+    if (!p) return NULL;
+    p += strlen(key);
+    size_t n = strcspn(p, "\"");
+    if (n >= cap) n = cap - 1;
+    memcpy(buf, p, n);
+    buf[n] = 0;
+    return buf;
+}
+
+static void browser_check(const char *algo, const char *const *extra, const char *shot)
+{
+    const char *a[8] = {0};
+    for (int i = 0; extra[i]; i++) a[i] = extra[i];
+    char dname[64], pname[64];
+    snprintf(dname, sizeof dname, "dump-%s", algo);
+    snprintf(pname, sizeof pname, "page-%s", algo);
+    int rc = cli("render", "--algo", algo, "--size", "64x56", "--save-scene", in_dir("s.json"), "--dump", in_dir(dname), "--float", in_dir("f.pfm"),
+                 "--out", in_dir("f.png"), "--quiet", a[0], a[1], a[2], a[3], a[4], a[5], NULL);
+    ck_assert_msg(rc == 0, "%s", out);
+    rc = cli("step", "--scene", in_dir("s.json"), "--out", in_dir(pname), "--quiet", NULL);
+    ck_assert_msg(rc == 0 && strstr(out, "index.html"), "%s", out);
+    /* a covered pixel: the first with colour in the final image, scanning from the middle row */
+    int w, h, ch;
+    float *im = read_img(in_dir("f.pfm"), &w, &h, &ch);
+    int x = -1, y = h / 2;
+    for (int yy = h / 2; yy < h && x < 0; yy++)
+        for (int xx = 0; xx < w && x < 0; xx++)
+            if (im[((size_t)yy * w + xx) * ch] > 0.0f) x = xx, y = yy;
+    free(im);
+    ck_assert_int_ge(x, 0);
+    char dpath[300];
+    snprintf(dpath, sizeof dpath, "%s", in_dir(pname));
+    const char *dom = browse(dpath, x, y, shot);
+    /* every picture decoded, no script error */
+    const char *st = strstr(dom, "id=\"selftest\"");
+    ck_assert_msg(st != NULL, "the page did not run its self-test: %.2000s", dom);
+    int images = -1, decoded = -2, errors = -1;
+    const char *q;
+    if ((q = strstr(st, "data-images=\""))) images = atoi(q + 13);
+    if ((q = strstr(st, "data-decoded=\""))) decoded = atoi(q + 14);
+    if ((q = strstr(st, "data-errors=\""))) errors = atoi(q + 13);
+    printf("browser: %s: %d of %d images decoded, %d script errors\n", algo, decoded, images, errors);
+    ck_assert_msg(images > 5 && decoded == images && errors == 0, "%s: images %d decoded %d errors %d: %.300s", algo, images, decoded, errors, st);
+    /* the click shows that pixel's values: each equals the dumped plane */
+    DIR *d = opendir(in_dir(dname));
+    ck_assert_ptr_nonnull(d);
+    struct dirent *e;
+    int checked = 0;
+    while ((e = readdir(d))) {
+        int pass, k = -1, n = 0;
+        char name[64], plane[32];
+        if (sscanf(e->d_name, "%d_%63[a-z ]_k%d_%31[a-z].pfm%n", &pass, name, &k, plane, &n) != 4)
+            if (sscanf(e->d_name, "%d_%63[a-z ]_%31[a-z].pfm", &pass, name, plane) != 3) continue;
+        if (!strcmp(plane, "weight")) continue; /* shown inside colour */
+        char f2[400], buf[256];
+        snprintf(f2, sizeof f2, "%s/%s", in_dir(dname), e->d_name);
+        const char *v = shown(dom, pass, plane, buf, sizeof buf);
+        ck_assert_msg(v != NULL, "%s: the page shows no %s of pass %d at %d,%d", algo, plane, pass, x, y);
+        float *pl;
+        int pw, ph, pc;
+        spr_error err = {0};
+        ck_assert(spr_read_pfm(f2, &pl, &pw, &ph, &pc, &err) == SPR_OK);
+        char *end = (char *)v;
+        for (int c = 0; c < pc; c++) {
+            float got = strtof(end, &end);
+            if (*end == ',') end++;
+            ck_assert_msg(got == pl[((size_t)y * pw + x) * pc + c], "%s: pass %d %s channel %d at %d,%d: page %s, dump %.9g", algo, pass, plane, c,
+                          x, y, v, pl[((size_t)y * pw + x) * pc + c]);
+        }
+        free(pl);
+        checked++;
+    }
+    closedir(d);
+    printf("browser: %s: clicking pixel %d,%d shows %d plane values, each equal to the dumped plane\n", algo, x, y, checked);
+    ck_assert_int_gt(checked, 3);
+}
+
+START_TEST(step_page_in_chromium)
+{
+    setup_dir();
+    static const char *const def[] = {"--groups", "wgc", "--k", "3", "--points", "2500", NULL};
+    browser_check("deferred", def, SPR_BUILD_DIR "/step-deferred-screenshot.png");
+    static const char *const dom[] = {"--model", "builtin:cube", "--points", "1500", "--level", "1", NULL};
+    browser_check("domain-prefix", dom, SPR_BUILD_DIR "/step-domain-prefix-screenshot.png");
+}
+END_TEST
+
+/* step writes a page for every algorithm of the registry */
+START_TEST(step_every_algorithm)
+{
+    setup_dir();
+    for (int al = 0; al < SPR_ALGO__COUNT; al++) {
+        const char *name = spr_algo_name((spr_algo)al);
+        const char *const *x = algo_args(name);
+        const char *a[8] = {0};
+        for (int i = 0; x[i]; i++) a[i] = x[i];
+        int rc = cli("step", "--algo", name, "--size", "48x40", "--points", "2000", "--pixels", "2", "--out", in_dir(name), "--quiet", a[0], a[1],
+                     a[2], a[3], a[4], a[5], NULL);
+        ck_assert_msg(rc == 0, "%s: %s", name, out);
+        char p[400];
+        snprintf(p, sizeof p, "%s/index.html", in_dir(name));
+        ck_assert_msg(access(p, F_OK) == 0, "%s: no index.html", name);
+        printf("step: %-20s %s", name, out);
+    }
+}
+END_TEST
+
+Suite *make_browser_suite(void)
+{
+    Suite *s = suite_create("browser");
+    TCase *tc = tcase_create("browser");
+    tcase_set_timeout(tc, 900);
+    tcase_add_test(tc, step_every_algorithm);
+    tcase_add_test(tc, step_page_in_chromium);
+    suite_add_tcase(s, tc);
+    return s;
+}

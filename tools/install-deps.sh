@@ -10,7 +10,8 @@ pkgs="build-essential cmake pkg-config ca-certificates \
   libpng-dev zlib1g-dev \
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
   libqhull-dev libcjson-dev libcgal-demo \
-  clang libclang-rt-14-dev"
+  clang libclang-rt-14-dev \
+  chromium"
 
 missing=""
 for p in $pkgs; do
