@@ -15,7 +15,7 @@
 #include <string.h>
 #include <time.h>
 
-static const cli_opt bench_opts[] = {
+static const spr__opt bench_opts[] = {
     {"scene", "NAME", "bunny | armadillo-1m | all (rendering, default all) | grouping (hash and WGC ratios)"},
     {"size", "WxH", "image size (default 1024x1024)"},
     {"reps", "N", "renders per configuration, best kept (default 5)"},
@@ -23,7 +23,7 @@ static const cli_opt bench_opts[] = {
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
 
-int cli_bench_grouping(cli_args *a, size_t npts, int reps, int quiet);
+int cli_bench_grouping(spr__args *a, size_t npts, int reps, int quiet);
 
 typedef struct bench_run {
     double ms;
@@ -66,7 +66,7 @@ static void keep_best(bench_run *best, const spr_render_result *res, double ms)
 /* The CPU on 1 and 2 threads and the GL backend run in turn, so a burst of
  * load on the shared machine hits every configuration alike; the best of
  * each is kept. */
-static int run_set(spr_backend *b[3], const cli_scene *s, const spr_render_desc *rd, int reps, bench_run best[3])
+static int run_set(spr_backend *b[3], const spr_scene *s, const spr_render_desc *rd, int reps, bench_run best[3])
 {
     best[0].ms = best[1].ms = best[2].ms = 1e300;
     for (int r = 0; r < reps; r++)
@@ -89,7 +89,7 @@ static spr_backend *bench_gl;     /* NULL when no GL context could be made */
 enum { BENCH_DOMAIN_LEVEL = 9 };  /* the domain rows: level 9, 465 rectangles on the bunny, near [R] Table 5.1's 383 */
 static const char *bench_gl_reason;
 
-static int bench_scene(cli_args *a, const char *label, cli_scene *s, int reps, int quiet)
+static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, int quiet)
 {
     spr_bounds bd;
     spr_cloud_bounds(&s->cloud, &bd);
@@ -99,14 +99,14 @@ static int bench_scene(cli_args *a, const char *label, cli_scene *s, int reps, i
     spr_grouping_desc gd; /* hash K = 8, mode 1, BSP axes: the dynamic-scene grouping */
     spr_grouping_defaults(&gd);
     gd.method = SPR_GROUP_HASH;
-    gd.progress = cli_progress(quiet);
-    if (cli_make_groups(a, s, &gd, NULL)) return -1;
+    gd.progress = spr__progress(quiet);
+    if (spr__make_groups(a, s, &gd, NULL)) return -1;
     printf("\nscene %s: %zu splats, %dx%d\n", label, s->cloud.n, s->view.width, s->view.height);
     /* the domain pipeline (SPEC 7) for the domain-* rows: its phases timed */
     {
         spr_decomp_desc dd;
         spr_decomp_defaults(&dd);
-        dd.progress = cli_progress(quiet);
+        dd.progress = spr__progress(quiet);
         spr_decomp dc = {0};
         double t0 = spr_now_ms();
         if (spr_decompose(&s->cloud, &dd, &dc, &err)) { fprintf(stderr, "splatref bench: %s: %s\n", label, err.msg); return -1; }
@@ -178,21 +178,21 @@ static int bench_scene(cli_args *a, const char *label, cli_scene *s, int reps, i
 
 int cmd_bench(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "bench", bench_opts, "[--scene bunny|armadillo-1m|all] [--size WxH] [--reps N]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "bench", bench_opts, "[--scene bunny|armadillo-1m|all] [--size WxH] [--reps N]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    int W = 1024, H = 1024, reps = 5, quiet = cli_flag(&a, "quiet");
+    int W = 1024, H = 1024, reps = 5, quiet = spr__flag(&a, "quiet");
     size_t npts = 1000000;
-    const char *scene = cli_get(&a, "scene") ? cli_get(&a, "scene") : "all";
-    if ((strcmp(scene, "grouping") && cli_get_wh(&a, "size", &W, &H) < 0) || cli_get_int(&a, "reps", &reps, 1, 100) < 0 ||
-        (strcmp(scene, "bunny") && cli_get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0) || cli_reject_unused(&a))
+    const char *scene = spr__get(&a, "scene") ? spr__get(&a, "scene") : "all";
+    if ((strcmp(scene, "grouping") && spr__get_wh(&a, "size", &W, &H) < 0) || spr__get_int(&a, "reps", &reps, 1, 100) < 0 ||
+        (strcmp(scene, "bunny") && spr__get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0) || spr__reject_unused(&a))
         return 2;
     if (!strcmp(scene, "grouping")) {
-        if (!cli_get(&a, "points")) npts = 1100000;
+        if (!spr__get(&a, "points")) npts = 1100000;
         return cli_bench_grouping(&a, npts, reps, quiet);
     }
     if (strcmp(scene, "all") && strcmp(scene, "bunny") && strcmp(scene, "armadillo-1m")) {
-        cli_error(&a, "--scene: '%s' is not bunny, armadillo-1m, all or grouping", scene);
+        spr__error(&a, "--scene: '%s' is not bunny, armadillo-1m, all or grouping", scene);
         return 2;
     }
     spr_error gerr = {0};
@@ -202,12 +202,12 @@ int cmd_bench(int argc, char **argv)
            bench_gl ? spr_gl_renderer(bench_gl) : bench_gl_reason, reps);
     spr_load_desc ld;
     spr_load_defaults(&ld);
-    ld.progress = cli_progress(quiet);
+    ld.progress = spr__progress(quiet);
     spr_error err = {0};
     char path[1200];
     int rc = 0;
     if (!strcmp(scene, "all") || !strcmp(scene, "bunny")) {
-        cli_scene s;
+        spr_scene s;
         memset(&s, 0, sizeof s);
         spr_camera_defaults(&s.cam);
         s.cam.width = W;
@@ -215,10 +215,10 @@ int cmd_bench(int argc, char **argv)
         snprintf(path, sizeof path, "%s/meshes/bunny00.off", cli_data_dir());
         if (spr_load(path, &ld, &s.cloud, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
         rc |= bench_scene(&a, "bunny00.off", &s, reps, quiet);
-        cli_scene_free(&s);
+        spr_scene_free(&s);
     }
     if (!rc && (!strcmp(scene, "all") || !strcmp(scene, "armadillo-1m"))) {
-        cli_scene s;
+        spr_scene s;
         memset(&s, 0, sizeof s);
         spr_camera_defaults(&s.cam);
         s.cam.width = W;
@@ -230,7 +230,7 @@ int cmd_bench(int argc, char **argv)
         char label[64];
         snprintf(label, sizeof label, "armadillo resampled to %zu", npts);
         rc |= bench_scene(&a, label, &s, reps, quiet);
-        cli_scene_free(&s);
+        spr_scene_free(&s);
     }
     spr_backend_destroy(bench_gl);
     bench_gl = NULL;
@@ -250,11 +250,11 @@ static double streaming_pass(const spr_cloud *c, int32_t *out)
     return spr_now_ms() - t0;
 }
 
-int cli_bench_grouping(cli_args *a, size_t npts, int reps, int quiet)
+int cli_bench_grouping(spr__args *a, size_t npts, int reps, int quiet)
 {
     spr_load_desc ld;
     spr_load_defaults(&ld);
-    ld.progress = cli_progress(quiet);
+    ld.progress = spr__progress(quiet);
     spr_error err = {0};
     char path[1200];
     snprintf(path, sizeof path, "%s/meshes/armadillo.off", cli_data_dir());
@@ -295,7 +295,7 @@ int cli_bench_grouping(cli_args *a, size_t npts, int reps, int quiet)
     spr_cloud_bounds(&c, &b);
     spr_knn *kn;
     spr_graph g;
-    spr_progress prog = cli_progress(quiet);
+    spr_progress prog = spr__progress(quiet);
     if (spr_knn_build(c.pos, c.n, &kn, &err) || spr_knn_radius_graph(kn, c.radius, 1.0, b.max_radius, 2, &g, &prog, &err)) {
         fprintf(stderr, "splatref bench: %s\n", err.msg);
         return 2;

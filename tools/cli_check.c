@@ -3,7 +3,7 @@
  * PARITY.md's tiers (spr_check.h): a one-screen verdict, report.json, a
  * heat map and a side-by-side picture, exit 0 (pass) or 1 (fail). */
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 #include "spr_check.h"
 #include "spr_image.h"
 #include "spr_swrast.h"
@@ -19,16 +19,16 @@
     {"lsb", "N", "Tier B: a channel passes within N LSB (float images: of their 8-bit values)"}, \
     {"position-tolerance", "P", "Tier B: 1 = a failing pixel passes when a match lies within one pixel both ways (edges)"}
 
-static const cli_opt check_opts[] = {
+static const spr__opt check_opts[] = {
     {"image", "F.png|F.pfm", "the image to check (PNG 8/16-bit or PFM; row 0 of a PNG is the top)"},
     {"plane", "NAME", "what the image holds: color (final image, default) | weight | depth | test | id | count | opacity"},
     {"pass", "N", "the plane after pass N (as numbered by render --dump; default: the last pass that has it)"},
     CLI_TIER_OPTS,
     {"out", "DIR", "report.json, heatmap.png and side-by-side.png (default check-report)"},
-    CLI_SCENE_OPTS,
+    SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
-static const cli_opt compare_opts[] = {
+static const spr__opt compare_opts[] = {
     CLI_TIER_OPTS,
     {"out", "DIR", "report.json, heatmap.png and side-by-side.png (default: none)"},
     {"metric", "NAME", "also print: covered (mean and max over pixels not background in both, default) | zp-eps ([ZP] 6.3's eps)"},
@@ -37,21 +37,21 @@ static const cli_opt compare_opts[] = {
     {NULL, NULL, NULL}};
 
 /* The tier options into d; bits: of the image under test.  0 or −1. */
-static int tier_opts(cli_args *a, int bits, spr_check_desc *d)
+static int tier_opts(spr__args *a, int bits, spr_check_desc *d)
 {
-    const char *t = cli_get(a, "tier");
+    const char *t = spr__get(a, "tier");
     int64_t ulp = -1;
     int lsb = -1, pos = 0;
     double u = -1.0;
-    if (cli_get_double(a, "ulp", &u, 0.0, 4294967296.0) < 0 || cli_get_int(a, "lsb", &lsb, 0, 65535) < 0 ||
-        cli_get_int(a, "position-tolerance", &pos, 0, 1) < 0)
+    if (spr__get_double(a, "ulp", &u, 0.0, 4294967296.0) < 0 || spr__get_int(a, "lsb", &lsb, 0, 65535) < 0 ||
+        spr__get_int(a, "position-tolerance", &pos, 0, 1) < 0)
         return -1;
     if (u >= 0.0) ulp = (int64_t)u;
-    if (t && strcmp(t, "A") && strcmp(t, "B") && strcmp(t, "C")) { cli_error(a, "--tier: '%s' is not A, B or C", t); return -1; }
+    if (t && strcmp(t, "A") && strcmp(t, "B") && strcmp(t, "C")) { spr__error(a, "--tier: '%s' is not A, B or C", t); return -1; }
     const int bounds = ulp >= 0 || lsb >= 0 || pos;
     d->tier = t ? (spr_tier)(t[0] - 'A') : bounds ? SPR_TIER_B : SPR_TIER_A;
-    if (d->tier == SPR_TIER_A && bounds) { cli_error(a, "Tier A is bit-exact: --ulp, --lsb and --position-tolerance need --tier B"); return -1; }
-    if (ulp >= 0 && bits != 32) { cli_error(a, "--ulp applies to float (PFM) images; this one has %d-bit values: use --lsb", bits); return -1; }
+    if (d->tier == SPR_TIER_A && bounds) { spr__error(a, "Tier A is bit-exact: --ulp, --lsb and --position-tolerance need --tier B"); return -1; }
+    if (ulp >= 0 && bits != 32) { spr__error(a, "--ulp applies to float (PFM) images; this one has %d-bit values: use --lsb", bits); return -1; }
     if (d->tier == SPR_TIER_B && ulp < 0 && lsb < 0) lsb = 1; /* PARITY.md: ≤ 1 LSB expected */
     d->bits = bits, d->ulp = ulp, d->lsb = lsb, d->position = pos;
     return 0;
@@ -59,7 +59,7 @@ static int tier_opts(cli_args *a, int bits, spr_check_desc *d)
 
 /* Make test's channels agree with the reference's: a grey PNG (read as
  * three equal channels) checks a one-channel plane.  0, or −1 after a line. */
-static int match_channels(cli_args *a, const char *name, float **test, int *tch, int rch, int w, int h)
+static int match_channels(spr__args *a, const char *name, float **test, int *tch, int rch, int w, int h)
 {
     if (*tch == rch) return 0;
     if (rch == 1 && *tch == 3) {
@@ -71,7 +71,7 @@ static int match_channels(cli_args *a, const char *name, float **test, int *tch,
         return 0;
     }
 mismatch:
-    cli_error(a, "%s has %d channel%s, the reference has %d%s", name, *tch, *tch > 1 ? "s" : "", rch,
+    spr__error(a, "%s has %d channel%s, the reference has %d%s", name, *tch, *tch > 1 ? "s" : "", rch,
               *tch == 4 ? " (write RGB without alpha)" : "");
     return -1;
 }
@@ -92,7 +92,7 @@ typedef struct check_io {
     const char *explain;   /* command explaining a pixel, "%d,%d" for it (NULL: none) */
 } check_io;
 
-static int write_side_by_side(cli_args *a, const char *path, const float *ref, const float *test, const float *heat, int w, int h, int ch)
+static int write_side_by_side(spr__args *a, const char *path, const float *ref, const float *test, const float *heat, int w, int h, int ch)
 {
     const int gap = 4, W = 3 * w + 2 * gap;
     const size_t np = (size_t)w * h;
@@ -118,7 +118,7 @@ static int write_side_by_side(cli_args *a, const char *path, const float *ref, c
         rc = spr_write_png(path, img, W, h, 3, &err) ? -1 : 0;
         if (rc) fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg);
     } else {
-        cli_error(a, "out of memory for the side-by-side picture");
+        spr__error(a, "out of memory for the side-by-side picture");
     }
     free(img);
     free(tmp);
@@ -127,12 +127,12 @@ static int write_side_by_side(cli_args *a, const char *path, const float *ref, c
 
 /* Compare, print the verdict, write the report directory (out may be NULL).
  * 0 pass, 1 fail, 2 error. */
-static int check_and_report(cli_args *a, const check_io *io, const float *ref, const float *test, int w, int h, int ch,
+static int check_and_report(spr__args *a, const check_io *io, const float *ref, const float *test, int w, int h, int ch,
                             const spr_check_desc *d, const char *out)
 {
     const size_t np = (size_t)w * h;
     float *heat = malloc(np * 3 * sizeof *heat);
-    if (!heat) { cli_error(a, "out of memory"); return 2; }
+    if (!heat) { spr__error(a, "out of memory"); return 2; }
     spr_check_result r;
     spr_check_images(ref, test, w, h, ch, d, &r, heat);
     const char *cmd = a->cmd;
@@ -210,7 +210,7 @@ static int check_and_report(cli_args *a, const check_io *io, const float *ref, c
         cJSON_AddStringToObject(o, "side_by_side", "side-by-side.png");
         cJSON_AddStringToObject(o, "verdict", d->tier == SPR_TIER_C ? "diagnostic" : r.pass ? "pass" : "fail");
         snprintf(path, sizeof path, "%s/report.json", tmp);
-        if (!rc && cli_write_json(a, path, o)) rc = 2;
+        if (!rc && spr__write_json(a, path, o)) rc = 2;
         if (cli_outdir_end(a, "out", tmp, out, rc == 0)) rc = 2;
         if (!rc) printf("%s: report %s/report.json, heat map %s/heatmap.png (blue within bounds, yellow only within one pixel, red failing), "
                         "side by side %s/side-by-side.png (reference | image | heat map)\n", cmd, out, out, out);
@@ -246,7 +246,7 @@ static void grab_hook(void *user, spr_backend *b, const spr_pass_info *info)
 }
 
 /* The command explaining a pixel of this scene: the scene options given. */
-static void explain_command(cli_args *a, char *s, size_t cap)
+static void explain_command(spr__args *a, char *s, size_t cap)
 {
     size_t at = (size_t)snprintf(s, cap, "splatref explain");
     for (int k = 0; a->opts[k].name && at < cap; k++) {
@@ -262,11 +262,11 @@ static void explain_command(cli_args *a, char *s, size_t cap)
 
 int cmd_check(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "check", check_opts, "--scene S.json | [scene options]  --image THEIRS.png|.pfm [--plane P] [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "check", check_opts, "--scene S.json | [scene options]  --image THEIRS.png|.pfm [--plane P] [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    const char *image = cli_get(&a, "image"), *pname = cli_get(&a, "plane"), *out = cli_get(&a, "out");
-    if (!image) { cli_error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
+    const char *image = spr__get(&a, "image"), *pname = spr__get(&a, "plane"), *out = spr__get(&a, "out");
+    if (!image) { spr__error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
     if (!out) out = "check-report";
     plane_grab g = {SPR_PLANE_COLOR, -1, -1, NULL, -1, "", 0, {0}};
     if (pname && strcmp(pname, "color") && strcmp(pname, "colour")) {
@@ -274,32 +274,32 @@ int cmd_check(int argc, char **argv)
         while (p < SPR_PLANE__COUNT && strcmp(spr_plane_name((spr_plane)p), pname)) p++;
         if (!strcmp(pname, "weight")) p = SPR_PLANE_COLOR, g.channel = 3;
         else if (p == SPR_PLANE__COUNT || p == SPR_PLANE_NORMAL) {
-            cli_error(&a, "--plane: '%s' is not color, weight, depth, test, id, count or opacity", pname);
+            spr__error(&a, "--plane: '%s' is not color, weight, depth, test, id, count or opacity", pname);
             return 2;
         }
         g.plane = (spr_plane)p;
     }
-    if (cli_get_int(&a, "pass", &g.want_pass, 0, 100000) < 0) return 2;
+    if (spr__get_int(&a, "pass", &g.want_pass, 0, 100000) < 0) return 2;
     const int final = g.plane == SPR_PLANE_COLOR && g.channel < 0 && g.want_pass < 0;
     float *theirs = NULL;
     int tw, th, tch, bits;
     spr_error err = {0};
     if (spr_read_image_bits(image, &theirs, &tw, &th, &tch, &bits, &err)) { fprintf(stderr, "splatref check: %s\n", err.msg); return 2; }
     spr_check_desc d;
-    cli_scene s;
+    spr_scene s;
     spr_render_desc rd;
     spr_backend *b = NULL;
     spr_render_result res = {0};
     int rc = 2;
     memset(&s, 0, sizeof s);
-    if (tier_opts(&a, bits, &d) || cli_scene_setup(&a, &s, &rd, 0)) goto done;
+    if (tier_opts(&a, bits, &d) || spr__scene_setup(&a, &s, &rd, 0)) goto done;
     if (tw != s.view.width || th != s.view.height) {
-        cli_error(&a, "%s is %dx%d, the scene renders %dx%d", image, tw, th, s.view.width, s.view.height);
+        spr__error(&a, "%s is %dx%d, the scene renders %dx%d", image, tw, th, s.view.width, s.view.height);
         goto done;
     }
     const size_t np = (size_t)tw * th;
     const int pch = spr_plane_channels(g.plane);
-    if (!(g.buf = malloc(np * (size_t)pch * sizeof(float)))) { cli_error(&a, "out of memory"); goto done; }
+    if (!(g.buf = malloc(np * (size_t)pch * sizeof(float)))) { spr__error(&a, "out of memory"); goto done; }
     if (!final) rd.hook = grab_hook, rd.hook_user = &g;
     if (!(b = spr_swrast_create(s.threads, &err)) || spr_render(b, &s.view, &s.cloud, &rd, &res, &err)) {
         fprintf(stderr, "splatref check: %s\n", err.msg);
@@ -312,8 +312,8 @@ int cmd_check(int argc, char **argv)
         for (size_t p = 0; p < np; p++)
             for (int c = 0; c < 3; c++) ref[3 * p + c] = res.rgba[4 * p + c];
     } else if (g.got_pass < 0) {
-        if (g.want_pass >= 0) cli_error(&a, "--pass %d: no such pass has a %s plane (render --dump lists them)", g.want_pass, spr_plane_name(g.plane));
-        else cli_error(&a, "no pass of %s has a %s plane", spr_algo_name(rd.algo), spr_plane_name(g.plane));
+        if (g.want_pass >= 0) spr__error(&a, "--pass %d: no such pass has a %s plane (render --dump lists them)", g.want_pass, spr_plane_name(g.plane));
+        else spr__error(&a, "no pass of %s has a %s plane", spr_algo_name(rd.algo), spr_plane_name(g.plane));
         goto done;
     } else if (g.plane == SPR_PLANE_COLOR) { /* rgb, or the weight alone */
         rch = g.channel == 3 ? 1 : 3;
@@ -343,22 +343,22 @@ done:
     free(g.buf);
     spr_render_result_free(&res);
     spr_backend_destroy(b);
-    cli_scene_free(&s);
+    spr_scene_free(&s);
     return rc;
 }
 
 /* `splatref compare A B`: A is the reference. */
 int cmd_compare(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "compare", compare_opts, "A.png|A.pfm B.png|B.pfm [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1] [--out DIR]", 2,
+    spr__args a;
+    int pr = spr__parse(&a, "compare", compare_opts, "A.png|A.pfm B.png|B.pfm [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1] [--out DIR]", 2,
                        argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    if (a.n_positional != 2) { cli_error(&a, "two images (.png or .pfm) are required"); return 2; }
-    const char *metric = cli_get(&a, "metric"), *heatmap = cli_get(&a, "heatmap"), *out = cli_get(&a, "out");
-    if (metric && strcmp(metric, "covered") && strcmp(metric, "zp-eps")) { cli_error(&a, "--metric: '%s' is not covered or zp-eps", metric); return 2; }
+    if (a.n_positional != 2) { spr__error(&a, "two images (.png or .pfm) are required"); return 2; }
+    const char *metric = spr__get(&a, "metric"), *heatmap = spr__get(&a, "heatmap"), *out = spr__get(&a, "out");
+    if (metric && strcmp(metric, "covered") && strcmp(metric, "zp-eps")) { spr__error(&a, "--metric: '%s' is not covered or zp-eps", metric); return 2; }
     double bg[3] = {0, 0, 0};
-    if (cli_get_vec3(&a, "background", bg) < 0) return 2;
+    if (spr__get_vec3(&a, "background", bg) < 0) return 2;
     float *im[2] = {NULL, NULL};
     int w[2], h[2], ch[2], bits[2];
     spr_error err = {0};
@@ -369,9 +369,9 @@ int cmd_compare(int argc, char **argv)
             goto done;
         }
     spr_check_desc d;
-    if (tier_opts(&a, bits[1] < bits[0] ? bits[1] : bits[0], &d) || cli_reject_unused(&a)) goto done;
+    if (tier_opts(&a, bits[1] < bits[0] ? bits[1] : bits[0], &d) || spr__reject_unused(&a)) goto done;
     if (w[0] != w[1] || h[0] != h[1]) {
-        cli_error(&a, "%s is %dx%d, %s is %dx%d", a.positional[0], w[0], h[0], a.positional[1], w[1], h[1]);
+        spr__error(&a, "%s is %dx%d, %s is %dx%d", a.positional[0], w[0], h[0], a.positional[1], w[1], h[1]);
         goto done;
     }
     if (ch[0] == 1 && match_channels(&a, a.positional[1], &im[1], &ch[1], 1, w[0], h[0])) goto done;

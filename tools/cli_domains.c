@@ -3,7 +3,7 @@
  * rectangles, and files that let a reader or another tool check them. */
 #include "spr_util.h"
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 #include "spr_domain.h"
 #include "spr_swrast.h"
 #include "spr_image.h"
@@ -13,9 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const cli_opt domains_opts[] = {
-    CLI_MODEL_OPTS,
-    CLI_DOMAIN_OPTS,
+static const spr__opt domains_opts[] = {
+    SPR__MODEL_OPTS,
+    SPR__DOMAIN_OPTS,
     {"stats", NULL, "print [R] Table 5.2's columns, one row per level (--level: that level only)"},
     {"basis-out", "F", "one line per point of --level, in input order: x y z strict_domain j:phi ... (phi > 0)"},
     {"dump", "F.ply", "the strict domains of --level as a colour-coded point cloud, and F.ply's textures as F-atlas.png"},
@@ -111,19 +111,19 @@ static int write_atlas(const char *path, const spr_rects *rs, spr_error *err)
 
 int cmd_domains(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "domains", domains_opts, "--model M [--stats] [--level L --basis-out F --dump F.ply] [options]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "domains", domains_opts, "--model M [--stats] [--level L --basis-out F --dump F.ply] [options]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    cli_scene s;
+    spr_scene s;
     memset(&s, 0, sizeof s);
     spr_load_desc ld;
-    cli_domain_opts_t o;
+    spr_scene_domain o;
     int rc = 2;
-    const char *basis_out = cli_get(&a, "basis-out"), *dump = cli_get(&a, "dump");
-    const int stats = cli_flag(&a, "stats");
-    if (cli_model_opts(&a, &s, &ld) || cli_domain_opts(&a, &o) || (cli_flag(&a, "quiet"), cli_reject_unused(&a))) return 2;
-    if ((basis_out || dump) && o.level < 0) { cli_error(&a, "--basis-out and --dump need --level"); return 2; }
-    if (!stats && !basis_out && !dump) { cli_error(&a, "nothing to do: give --stats, --basis-out or --dump"); return 2; }
+    const char *basis_out = spr__get(&a, "basis-out"), *dump = spr__get(&a, "dump");
+    const int stats = spr__flag(&a, "stats");
+    if (spr__model_opts(&a, &s, &ld) || spr__domain_opts(&a, &o) || (spr__flag(&a, "quiet"), spr__reject_unused(&a))) return 2;
+    if ((basis_out || dump) && o.level < 0) { spr__error(&a, "--basis-out and --dump need --level"); return 2; }
+    if (!stats && !basis_out && !dump) { spr__error(&a, "nothing to do: give --stats, --basis-out or --dump"); return 2; }
     o.dd.threads = o.pd.threads = s.threads;
     o.dd.progress = ld.progress;
     spr_error err = {0};
@@ -131,17 +131,17 @@ int cmd_domains(int argc, char **argv)
     int32_t *dom = NULL;
     size_t *merged_from = NULL;
     spr_rects rs = {0};
-    if (cli_load_model(&a, &s, &ld)) goto done;
+    if (spr__load_model(&a, &s, &ld)) goto done;
     double t0 = spr_now_ms();
     if (spr_decompose(&s.cloud, &o.dd, &dc, &err)) { fprintf(stderr, "splatref domains: %s: %s\n", s.model, err.msg); goto done; }
     const double ms_decomp = spr_now_ms() - t0;
-    if (o.level >= dc.levels) { cli_error(&a, "--level %d: the decomposition has levels 0..%d", o.level, dc.levels - 1); goto done; }
+    if (o.level >= dc.levels) { spr__error(&a, "--level %d: the decomposition has levels 0..%d", o.level, dc.levels - 1); goto done; }
     merged_from = calloc((size_t)dc.levels, sizeof *merged_from);
-    if (!merged_from) { cli_error(&a, "out of memory"); goto done; }
+    if (!merged_from) { spr__error(&a, "out of memory"); goto done; }
     double ms_merge = 0.0;
     for (int l = 0; l < dc.levels; l++) { /* every level's basis replaced by its merged one */
         double t1 = spr_now_ms();
-        if (cli_domain_merge(&a, &s.cloud, &o, &dc, l, &merged_from[l])) goto done;
+        if (spr__domain_merge(&a, &s.cloud, &o, &dc, l, &merged_from[l])) goto done;
         ms_merge += spr_now_ms() - t1;
     }
     printf("domains: %s, %zu points, %d levels (local analysis %.0f ms, coarsening and basis %.0f ms, all %.0f ms%s)\n", s.model, s.cloud.n,
@@ -178,7 +178,7 @@ int cmd_domains(int argc, char **argv)
     if (basis_out || dump) {
         const spr_csr *B = &dc.basis[o.level];
         dom = malloc(s.cloud.n * sizeof *dom);
-        if (!dom) { cli_error(&a, "out of memory"); goto done; }
+        if (!dom) { spr__error(&a, "out of memory"); goto done; }
         spr_domain_strict(B, dom);
         if (basis_out) {
             basis_file bf = {&s.cloud, B, dom};
@@ -205,6 +205,6 @@ done:
     free(dom);
     free(merged_from);
     spr_decomp_free(&dc);
-    cli_scene_free(&s);
+    spr_scene_free(&s);
     return rc;
 }

@@ -3,7 +3,7 @@
  * itself (the probe variant of its programs), side by side with the first
  * difference marked.  --json writes the same as JSON for tools. */
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 #include "spr_glbackend.h"
 #include "spr_history.h"
 #include "spr_swrast.h"
@@ -13,12 +13,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const cli_opt explain_opts[] = {
+static const spr__opt explain_opts[] = {
     {"pixel", "X,Y", "the pixel, x from the left, y from the bottom (GL convention; check prints both)"},
     {"backend", "WHICH", "both (default: the CPU reference and GL side by side) | cpu | gl"},
     {"gl-device", "N", "GL backend: the N-th EGL device instead of the surfaceless platform"},
     {"json", NULL, "print the history as JSON (for tools)"},
-    CLI_SCENE_OPTS,
+    SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
 static const char *const depth_names[SPR_DEPTH__COUNT] = {"d_f", "d_f + eps_t", "z~ (low precision, [ZP] Eq. 10)", "z~ + rho/n (Voronoi, [ZP] Eq. 14)"};
@@ -29,7 +29,7 @@ static const char *const blend_names[SPR_BLEND__COUNT] = {"replace", "add", "ove
 typedef struct explain_ctx { spr_history *h; } explain_ctx;
 static void label_hook(void *user, spr_backend *b, const spr_pass_info *info) { spr_history_pass(((explain_ctx *)user)->h, info); }
 
-int cli_run_history(cli_scene *s, const spr_render_desc *rd0, const char *which, int gl_device, int x, int y, cli_history_run *out)
+int cli_run_history(spr_scene *s, const spr_render_desc *rd0, const char *which, int gl_device, int x, int y, cli_history_run *out)
 {
     spr_error err = {0};
     spr_backend *inner;
@@ -310,25 +310,25 @@ static cJSON *history_json(const spr_history *h)
 
 int cmd_explain(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "explain", explain_opts, "--pixel X,Y [--backend both|cpu|gl] [--json] [scene options | --scene S.json]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "explain", explain_opts, "--pixel X,Y [--backend both|cpu|gl] [--json] [scene options | --scene S.json]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    const char *pix = cli_get(&a, "pixel"), *which = cli_get(&a, "backend");
-    const int json = cli_flag(&a, "json");
+    const char *pix = spr__get(&a, "pixel"), *which = spr__get(&a, "backend");
+    const int json = spr__flag(&a, "json");
     int x, y, gl_device = -1;
     char tail;
-    if (!pix || sscanf(pix, "%d,%d%c", &x, &y, &tail) != 2) { cli_error(&a, "--pixel X,Y is required (two whole numbers)"); return 2; }
+    if (!pix || sscanf(pix, "%d,%d%c", &x, &y, &tail) != 2) { spr__error(&a, "--pixel X,Y is required (two whole numbers)"); return 2; }
     if (!which) which = "both";
-    if (strcmp(which, "both") && strcmp(which, "cpu") && strcmp(which, "gl")) { cli_error(&a, "--backend: '%s' is not both, cpu or gl", which); return 2; }
-    if (strcmp(which, "cpu") && cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
-    cli_scene s;
+    if (strcmp(which, "both") && strcmp(which, "cpu") && strcmp(which, "gl")) { spr__error(&a, "--backend: '%s' is not both, cpu or gl", which); return 2; }
+    if (strcmp(which, "cpu") && spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
+    spr_scene s;
     spr_render_desc rd;
     cli_history_run runs[2];
     int nr = 0, rc = 2;
     memset(runs, 0, sizeof runs);
-    if (cli_scene_setup(&a, &s, &rd, 0)) goto done;
+    if (spr__scene_setup(&a, &s, &rd, 0)) goto done;
     if (x < 0 || y < 0 || x >= s.view.width || y >= s.view.height) {
-        cli_error(&a, "--pixel %d,%d lies outside the %dx%d image", x, y, s.view.width, s.view.height);
+        spr__error(&a, "--pixel %d,%d lies outside the %dx%d image", x, y, s.view.width, s.view.height);
         goto done;
     }
     if (strcmp(which, "gl")) {
@@ -369,7 +369,7 @@ int cmd_explain(int argc, char **argv)
         }
         char *text = cJSON_Print(o);
         cJSON_Delete(o);
-        if (!text) { cli_error(&a, "out of memory"); goto done; }
+        if (!text) { spr__error(&a, "out of memory"); goto done; }
         printf("%s\n", text);
         free(text);
     } else {
@@ -402,6 +402,6 @@ int cmd_explain(int argc, char **argv)
             if (!runs[i].h.ev[k].replay_matches) rc = 1;
 done:
     for (int i = 0; i < 2; i++) spr_history_free(&runs[i].h);
-    cli_scene_free(&s);
+    spr_scene_free(&s);
     return rc;
 }

@@ -2,24 +2,24 @@
  * [ZP] Tables 1–3 (K, degrees, overlap factor, cost L, duplication, time). */
 #include "spr_util.h"
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-static const cli_opt group_opts[] = {
-    CLI_MODEL_OPTS,
+static const spr__opt group_opts[] = {
+    SPR__MODEL_OPTS,
     {"method", "M", "mgc | wgc | hash | none (as render's --groups; default mgc)"},
-    CLI_GROUP_OPTS,
+    SPR__GROUP_OPTS,
     {"eye", "X,Y,Z", "hash mode 3: the eye collisions are measured from (default: render's framing)"},
     {"out", "FILE", "memberships, one line each: splat_index group"},
     {"stats", "FILE.json", "K, group sizes, degrees, overlap factor, cost L, duplication ratio, ms per phase"},
     {NULL, NULL, NULL}};
 
 typedef struct group_report {
-    const cli_scene *s;
+    const spr_scene *s;
     double overlap_factor, cost, ms_metrics;
     int max_degree;
     double avg_degree;
@@ -27,7 +27,7 @@ typedef struct group_report {
 
 static cJSON *stats_json(const group_report *r)
 {
-    const cli_scene *s = r->s;
+    const spr_scene *s = r->s;
     const spr_group_stats *st = &s->g.stats;
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "model", s->model);
@@ -60,39 +60,39 @@ static cJSON *stats_json(const group_report *r)
 
 int cmd_group(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "group", group_opts, "--model M --method mgc|wgc|hash [options] --out groups.txt --stats F.json", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "group", group_opts, "--model M --method mgc|wgc|hash [options] --out groups.txt --stats F.json", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    cli_scene s;
+    spr_scene s;
     memset(&s, 0, sizeof s);
     int rc = 2;
     spr_grouping_desc gd;
     const char *hash_near = NULL;
     spr_load_desc ld;
     spr_camera_defaults(&s.cam);
-    if (cli_model_opts(&a, &s, &ld) || cli_parse_group_opts(&a, "method", &gd, &hash_near) ||
-        (hash_near && cli_get_vec3(&a, "eye", s.cam.eye) < 0) ||
-        (cli_get(&a, "out"), cli_get(&a, "stats"), cli_get(&a, "quiet"), cli_reject_unused(&a)))
+    if (spr__model_opts(&a, &s, &ld) || spr__parse_group_opts(&a, "method", &gd, &hash_near) ||
+        (hash_near && spr__get_vec3(&a, "eye", s.cam.eye) < 0) ||
+        (spr__get(&a, "out"), spr__get(&a, "stats"), spr__get(&a, "quiet"), spr__reject_unused(&a)))
         goto done;
-    if (gd.method == SPR_GROUP_FILE) { cli_error(&a, "--groups-file: nothing to group"); goto done; }
-    s.cam.have_eye = hash_near && cli_get(&a, "eye");
+    if (gd.method == SPR_GROUP_FILE) { spr__error(&a, "--groups-file: nothing to group"); goto done; }
+    s.cam.have_eye = hash_near && spr__get(&a, "eye");
     gd.keep_graph = 1; /* WGC's overlap graph serves the metrics below */
     gd.progress = ld.progress;
-    if (cli_load_model(&a, &s, &ld)) goto done; /* framing gives hash mode 3 its eye when none is given */
-    if (cli_make_groups(&a, &s, &gd, hash_near)) goto done;
+    if (spr__load_model(&a, &s, &ld)) goto done; /* framing gives hash mode 3 its eye when none is given */
+    if (spr__make_groups(&a, &s, &gd, hash_near)) goto done;
     /* metrics on the overlap graph (|p_i − p_j| < r_i + r_j, areas A_ij) */
     group_report rep = {&s, 0, 0, 0, 0, 0};
     double t0 = spr_now_ms();
     spr_overlap_graph og = s.g.graph; /* WGC's own graph when it built one (same ε) */
     memset(&s.g.graph, 0, sizeof s.g.graph);
     spr_error err = {0};
-    spr_progress prog = cli_progress(cli_flag(&a, "quiet"));
+    spr_progress prog = spr__progress(spr__flag(&a, "quiet"));
     if (!og.g.start && spr_overlap_graph_build(&s.cloud, spr_cloud_default_eps(&s.cloud), s.threads, &prog, &og, &err)) {
         fprintf(stderr, "splatref group: %s\n", err.msg);
         goto done;
     }
     float *w = spr_wgc_weights(&s.cloud, &og);
-    if (!w) { spr_overlap_graph_free(&og); cli_error(&a, "out of memory"); goto done; }
+    if (!w) { spr_overlap_graph_free(&og); spr__error(&a, "out of memory"); goto done; }
     rep.overlap_factor = spr_overlap_factor(&s.cloud, &og.g, s.g.labels);
     rep.cost = spr_wgc_cost(&og, w, s.g.labels);
     if (!strcmp(s.group_method, "mgc")) {
@@ -108,11 +108,11 @@ int cmd_group(int argc, char **argv)
     free(w);
     spr_overlap_graph_free(&og);
     rep.ms_metrics = spr_now_ms() - t0;
-    if (cli_get(&a, "out") && spr_groups_write_memberships(cli_get(&a, "out"), &s.g.groups, &err)) {
+    if (spr__get(&a, "out") && spr_groups_write_memberships(spr__get(&a, "out"), &s.g.groups, &err)) {
         fprintf(stderr, "splatref group: %s\n", err.msg);
         goto done;
     }
-    if (cli_get(&a, "stats") && cli_write_json(&a, cli_get(&a, "stats"), stats_json(&rep))) goto done;
+    if (spr__get(&a, "stats") && spr__write_json(&a, spr__get(&a, "stats"), stats_json(&rep))) goto done;
     printf("group: %s, %zu splats, %s: K=%d, max degree %d, avg degree %.2f, overlap factor %.4f, cost L %.6g",
            s.model, s.cloud.n, s.group_method, s.g.groups.K, rep.max_degree, rep.avg_degree, rep.overlap_factor, rep.cost);
     if (!strcmp(s.group_method, "wgc")) printf(" (before optimisation %.6g)", s.g.stats.cost_before);
@@ -122,6 +122,6 @@ int cmd_group(int argc, char **argv)
     printf(", %.0f ms\n", s.g.ms_grouping + s.g.ms_extend);
     rc = 0;
 done:
-    cli_scene_free(&s);
+    spr_scene_free(&s);
     return rc;
 }

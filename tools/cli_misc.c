@@ -1,25 +1,26 @@
 /* cli_misc.c — `splatref info`, `splatref sample`, `splatref show`. */
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 #include "spr_image.h"
 
 #include <math.h>
+#include <unistd.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const cli_opt info_opts[] = {CLI_MODEL_OPTS, {NULL, NULL, NULL}}; /* without --model: what the library contains */
+static const spr__opt info_opts[] = {SPR__MODEL_OPTS, {NULL, NULL, NULL}}; /* without --model: what the library contains */
 
 int cmd_info(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "info", info_opts, "[--model M]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "info", info_opts, "[--model M]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    const char *model = cli_get(&a, "model");
+    const char *model = spr__get(&a, "model");
     spr_load_desc ld;
-    cli_scene sc;
+    spr_scene sc;
     memset(&sc, 0, sizeof sc);
-    if ((model && cli_model_opts(&a, &sc, &ld)) || (cli_flag(&a, "quiet"), cli_reject_unused(&a))) return 2;
+    if ((model && spr__model_opts(&a, &sc, &ld)) || (spr__flag(&a, "quiet"), spr__reject_unused(&a))) return 2;
     if (!model) { /* the registries: what can be rendered, composited and stored */
         printf("algorithms:\n");
         for (int al = 0; al < SPR_ALGO__COUNT; al++)
@@ -54,7 +55,7 @@ int cmd_info(int argc, char **argv)
     return 0;
 }
 
-static const cli_opt sample_opts[] = {
+static const spr__opt sample_opts[] = {
     {"model", "MESH", "mesh to resample (.off, or .ply with faces)"},
     {"points", "N", "number of points"},
     {"seed", "S", "random seed (default 1)"},
@@ -66,18 +67,18 @@ static const cli_opt sample_opts[] = {
 
 int cmd_sample(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "sample", sample_opts, "--model M --points N --out F.ply", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "sample", sample_opts, "--model M --points N --out F.ply", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    const char *model = cli_get(&a, "model"), *out = cli_get(&a, "out");
+    const char *model = spr__get(&a, "model"), *out = spr__get(&a, "out");
     size_t n = 0, seed = 1;
-    if (!model || !out || !cli_get(&a, "points")) { cli_error(&a, "--model, --points and --out are required"); return 2; }
-    if (cli_get_size(&a, "points", &n, 2, SPR_MAX_SPLATS) < 0 || cli_get_size(&a, "seed", &seed, 0, (size_t)-1) < 0) return 2;
+    if (!model || !out || !spr__get(&a, "points")) { spr__error(&a, "--model, --points and --out are required"); return 2; }
+    if (spr__get_size(&a, "points", &n, 2, SPR_MAX_SPLATS) < 0 || spr__get_size(&a, "seed", &seed, 0, (size_t)-1) < 0) return 2;
     spr_load_desc ld;
     spr_load_defaults(&ld);
-    if (cli_get_int(&a, "radius-k", &ld.radius_k, 1, 256) < 0 || cli_get_double(&a, "radius-scale", &ld.radius_rho, 1e-6, 1e6) < 0)
+    if (spr__get_int(&a, "radius-k", &ld.radius_k, 1, 256) < 0 || spr__get_double(&a, "radius-scale", &ld.radius_rho, 1e-6, 1e6) < 0)
         return 2;
-    ld.progress = cli_progress(cli_flag(&a, "quiet"));
+    ld.progress = spr__progress(spr__flag(&a, "quiet"));
     spr_cloud c;
     spr_error err = {0};
     if (spr_sample_mesh(model, n, seed, &ld, &c, &err) || spr_write_ply(out, &c, &err)) {
@@ -89,7 +90,7 @@ int cmd_sample(int argc, char **argv)
     return 0;
 }
 
-static const cli_opt show_opts[] = {
+static const spr__opt show_opts[] = {
     {"out", "FILE.png", "the picture (required)"},
     {"range", "LO,HI", "map LO..HI to black..white (default: the plane's finite range; -1 = none is excluded)"},
     {NULL, NULL, NULL}};
@@ -98,19 +99,19 @@ static const cli_opt show_opts[] = {
  * 1-channel planes, colour for RGB), values mapped linearly from a range. */
 int cmd_show(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "show", show_opts, "PLANE.pfm --out FILE.png [--range LO,HI]", 1, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "show", show_opts, "PLANE.pfm --out FILE.png [--range LO,HI]", 1, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    if (a.n_positional != 1 || !cli_get(&a, "out")) { cli_error(&a, "a PFM file and --out are required"); return 2; }
+    if (a.n_positional != 1 || !spr__get(&a, "out")) { spr__error(&a, "a PFM file and --out are required"); return 2; }
     float *im;
     int w, h, ch;
     spr_error err = {0};
     if (spr_read_pfm(a.positional[0], &im, &w, &h, &ch, &err)) { fprintf(stderr, "splatref show: %s\n", err.msg); return 2; }
     double lo = INFINITY, hi = -INFINITY;
-    const char *range = cli_get(&a, "range");
+    const char *range = spr__get(&a, "range");
     if (range) {
         char tail;
-        if (sscanf(range, "%lf,%lf%c", &lo, &hi, &tail) != 2 || !(hi > lo)) { cli_error(&a, "--range: '%s' is not LO,HI with HI > LO", range); free(im); return 2; }
+        if (sscanf(range, "%lf,%lf%c", &lo, &hi, &tail) != 2 || !(hi > lo)) { spr__error(&a, "--range: '%s' is not LO,HI with HI > LO", range); free(im); return 2; }
     } else {
         for (size_t i = 0; i < (size_t)w * h * ch; i++)
             if (isfinite(im[i]) && im[i] != -1.0f) { lo = im[i] < lo ? im[i] : lo; hi = im[i] > hi ? im[i] : hi; }
@@ -118,8 +119,16 @@ int cmd_show(int argc, char **argv)
     }
     for (size_t i = 0; i < (size_t)w * h * ch; i++) im[i] = (float)((im[i] - lo) / (hi - lo));
     int rc = 0;
-    if (spr_write_png(cli_get(&a, "out"), im, w, h, ch, &err)) { fprintf(stderr, "splatref show: %s\n", err.msg); rc = 2; }
-    else printf("show: %s [%g, %g] -> %s\n", a.positional[0], lo, hi, cli_get(&a, "out"));
+    if (spr_write_png(spr__get(&a, "out"), im, w, h, ch, &err)) { fprintf(stderr, "splatref show: %s\n", err.msg); rc = 2; }
+    else printf("show: %s [%g, %g] -> %s\n", a.positional[0], lo, hi, spr__get(&a, "out"));
     free(im);
     return rc;
+}
+
+const char *cli_data_dir(void)
+{
+    const char *d = getenv("SPLATREF_DATA");
+    if (d && *d) return d;
+    if (access("data/cgal/data/meshes", F_OK) == 0) return "data/cgal/data";
+    return SPR_DEFAULT_DATA; /* the source tree this binary was built from */
 }

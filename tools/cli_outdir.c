@@ -12,11 +12,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-int cli_outdir_begin(cli_args *a, const char *opt, const char *dir, char *tmp, size_t cap)
+int cli_outdir_begin(spr__args *a, const char *opt, const char *dir, char *tmp, size_t cap)
 {
     snprintf(tmp, cap, "%s.tmp%ld", dir, (long)getpid());
     if (mkdir(tmp, 0777) != 0) {
-        cli_error(a, "--%s: cannot create %s: %s", opt, tmp, strerror(errno));
+        spr__error(a, "--%s: cannot create %s: %s", opt, tmp, strerror(errno));
         return -1;
     }
     return 0;
@@ -24,11 +24,11 @@ int cli_outdir_begin(cli_args *a, const char *opt, const char *dir, char *tmp, s
 
 /* Move every file of tmp into dir (created if missing), then remove tmp;
  * with commit = 0 delete them instead.  0, or −1 after one line. */
-int cli_outdir_end(cli_args *a, const char *opt, const char *tmp, const char *dir, int commit)
+int cli_outdir_end(spr__args *a, const char *opt, const char *tmp, const char *dir, int commit)
 {
     int rc = 0;
     if (commit && mkdir(dir, 0777) != 0 && errno != EEXIST) {
-        cli_error(a, "--%s: cannot create %s: %s", opt, dir, strerror(errno));
+        spr__error(a, "--%s: cannot create %s: %s", opt, dir, strerror(errno));
         commit = 0;
         rc = -1;
     }
@@ -40,7 +40,7 @@ int cli_outdir_end(cli_args *a, const char *opt, const char *tmp, const char *di
         snprintf(from, sizeof from, "%s/%s", tmp, e->d_name);
         snprintf(to, sizeof to, "%s/%s", dir, e->d_name);
         if (commit && rename(from, to) != 0) {
-            cli_error(a, "--%s: cannot move %s into %s: %s", opt, e->d_name, dir, strerror(errno));
+            spr__error(a, "--%s: cannot move %s into %s: %s", opt, e->d_name, dir, strerror(errno));
             commit = 0;
             rc = -1;
         }

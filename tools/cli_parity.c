@@ -1,7 +1,7 @@
 /* cli_parity.c — `splatref parity`: the same scene on the CPU reference and
  * the GL backend, every plane of every pass compared (PARITY.md). */
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 #include "spr_glbackend.h"
 #include "spr_image.h"
 #include "spr_parity.h"
@@ -12,8 +12,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static const cli_opt parity_opts[] = {
-    CLI_SCENE_OPTS,
+static const spr__opt parity_opts[] = {
+    SPR__SCENE_OPTS,
     {"gl-device", "N", "GL backend on the N-th EGL device instead of the surfaceless platform"},
     {"report", "DIR", "write report.json and a diff heatmap PNG per differing plane"},
     {"gl-eps", "E", "use this eps for the GL side only (a deliberate perturbation, to see a report)"},
@@ -32,7 +32,7 @@ const char *cli_cpu_flags(void)
 
 typedef struct report_ref {
     const char *dir;        /* the report's directory once it is complete */
-    const cli_scene *s;
+    const spr_scene *s;
     const char *renderer;
     int n;
     const char *algo[SPR_ALGO__COUNT];
@@ -114,32 +114,32 @@ void cli_parity_summary(const char *algo, const spr_parity_report *p)
 
 int cmd_parity(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "parity", parity_opts, "[scene and algorithm options as for render] [--report DIR]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "parity", parity_opts, "[scene and algorithm options as for render] [--report DIR]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     int gl_device = -1, rc = 2, report_open = 0;
     char report_tmp[1200] = "";
     double gl_eps = 0.0;
-    if (cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || cli_get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
-    const char *dir = cli_get(&a, "report");
-    if (cli_get(&a, "random")) { /* differential fuzzing: no scene options apply */
+    if (spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || spr__get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
+    const char *dir = spr__get(&a, "report");
+    if (spr__get(&a, "random")) { /* differential fuzzing: no scene options apply */
         int count = 0;
         size_t seed = 1;
-        if (cli_get_int(&a, "random", &count, 1, 100000000) < 0 || cli_get_size(&a, "seed", &seed, 0, (size_t)-1) < 0 ||
-            (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
+        if (spr__get_int(&a, "random", &count, 1, 100000000) < 0 || spr__get_size(&a, "seed", &seed, 0, (size_t)-1) < 0 ||
+            (spr__flag(&a, "quiet"), spr__reject_unused(&a)))
             return 2;
         return cli_parity_random(&a, count, (uint64_t)seed, dir, gl_device);
     }
-    cli_scene s;
+    spr_scene s;
     spr_render_desc rd;
     spr_backend *cpu = NULL, *gl = NULL;
     spr_parity_report reps[SPR_ALGO__COUNT];
     int nrep = 0;
     memset(reps, 0, sizeof reps);
-    if (cli_scene_setup(&a, &s, &rd, 1)) goto done;
+    if (spr__scene_setup(&a, &s, &rd, 1)) goto done;
     if (dir && cli_outdir_begin(&a, "report", dir, report_tmp, sizeof report_tmp)) goto done;
     report_open = dir != NULL;
-    if (!(gl = cli_backend(&a, "gl", s.threads, gl_device)) || !(cpu = cli_backend(&a, "cpu", s.threads, -1))) goto done;
+    if (!(gl = spr__backend(&a, "gl", s.threads, gl_device)) || !(cpu = spr__backend(&a, "cpu", s.threads, -1))) goto done;
     printf("parity: cpu reference vs gl [%s], %s, %zu splats, %dx%d\n", spr_gl_renderer(gl), s.model, s.cloud.n, s.view.width,
            s.view.height);
     report_ref rr = {dir, &s, spr_gl_renderer(gl), 0, {0}, {0}};
@@ -174,7 +174,7 @@ int cmd_parity(int argc, char **argv)
     if (dir) {
         char path[1200];
         snprintf(path, sizeof path, "%s/report.json", report_tmp);
-        if (cli_write_json(&a, path, report_json(&rr))) goto done;
+        if (spr__write_json(&a, path, report_json(&rr))) goto done;
         printf("report: %s/report.json\n", dir);
     }
     printf("verdict: %s\n", all_exact ? "BIT-EXACT (Tier A)" : tier_b ? "DIFFERENT (Tier B mode: bounded error expected, see above)" : "DIFFERENT");
@@ -185,6 +185,6 @@ done:
     for (int i = 0; i < nrep; i++) spr_parity_report_free(&reps[i]);
     spr_backend_destroy(cpu);
     spr_backend_destroy(gl);
-    cli_scene_free(&s);
+    spr_scene_free(&s);
     return rc;
 }

@@ -424,7 +424,7 @@ static size_t minimise(spr_backend *cpu, spr_backend *gl, const rscene *s, spr_a
     return m;
 }
 
-int cli_parity_random(cli_args *a, int count, uint64_t seed, const char *dir, int gl_device)
+int cli_parity_random(spr__args *a, int count, uint64_t seed, const char *dir, int gl_device)
 {
     const char *out_dir = dir ? dir : "parity-random";
     spr_error err = {0};
@@ -464,7 +464,7 @@ int cli_parity_random(cli_args *a, int count, uint64_t seed, const char *dir, in
             cli_parity_summary(spr_algo_name((spr_algo)al), &rep);
             spr_parity_report_free(&rep);
             if (!made_dir && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
-                cli_error(a, "--report: cannot create %s: %s", out_dir, strerror(errno));
+                spr__error(a, "--report: cannot create %s: %s", out_dir, strerror(errno));
                 failed = 1;
                 break;
             }
@@ -487,9 +487,9 @@ int cli_parity_random(cli_args *a, int count, uint64_t seed, const char *dir, in
         }
         free(keep);
         rscene_free(&s);
-        if (isatty(2) && !cli_flag(a, "quiet") && (i & 63) == 63) fprintf(stderr, "\r\033[Kparity random: %d of %d scenes", i + 1, count);
+        if (isatty(2) && !spr__flag(a, "quiet") && (i & 63) == 63) fprintf(stderr, "\r\033[Kparity random: %d of %d scenes", i + 1, count);
     }
-    if (isatty(2) && !cli_flag(a, "quiet")) fprintf(stderr, "\r\033[K");
+    if (isatty(2) && !spr__flag(a, "quiet")) fprintf(stderr, "\r\033[K");
     remove(tmp);
     spr_backend_destroy(cpu);
     spr_backend_destroy(gl);

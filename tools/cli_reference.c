@@ -10,7 +10,7 @@
  * pictures before committing them).
  */
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 #include "spr_glbackend.h"
 #include "spr_image.h"
 #include "spr_parity.h"
@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const cli_opt ref_opts[] = {
+static const spr__opt ref_opts[] = {
     {"dir", "DIR", "the reference directory (default reference_images)"},
     {"update", NULL, "re-render on the CPU and rewrite hashes and PNGs"},
     {"only", "NAME", "just this scene"},
@@ -28,7 +28,7 @@ static const cli_opt ref_opts[] = {
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
 
-static const cli_opt scene_opts[] = {CLI_SCENE_OPTS, {NULL, NULL, NULL}};
+static const spr__opt scene_opts[] = {SPR__SCENE_OPTS, {NULL, NULL, NULL}};
 
 #define MAX_SCENES 128
 typedef struct scene_line {
@@ -85,21 +85,21 @@ static int split(char *args, char **argv, int cap)
 
 int cmd_reference(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "reference", ref_opts, "[--dir DIR] [--update] [--only NAME]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "reference", ref_opts, "[--dir DIR] [--update] [--only NAME]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    const char *dir = cli_get(&a, "dir") ? cli_get(&a, "dir") : "reference_images";
-    const char *only = cli_get(&a, "only");
-    int update = cli_flag(&a, "update"), gl_device = -1, threads = 0;
-    if ((!update && cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) || cli_get_int(&a, "threads", &threads, 0, 1024) < 0 ||
-        (cli_flag(&a, "quiet"), cli_reject_unused(&a)))
+    const char *dir = spr__get(&a, "dir") ? spr__get(&a, "dir") : "reference_images";
+    const char *only = spr__get(&a, "only");
+    int update = spr__flag(&a, "update"), gl_device = -1, threads = 0;
+    if ((!update && spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0) || spr__get_int(&a, "threads", &threads, 0, 1024) < 0 ||
+        (spr__flag(&a, "quiet"), spr__reject_unused(&a)))
         return 2;
     char mpath[1200];
     snprintf(mpath, sizeof mpath, "%s/manifest.txt", dir);
     static scene_line sl[MAX_SCENES];
     int n;
     if (read_manifest(mpath, sl, &n)) return 2;
-    spr_backend *cpu = cli_backend(&a, "cpu", threads, -1), *gl = NULL;
+    spr_backend *cpu = spr__backend(&a, "cpu", threads, -1), *gl = NULL;
     if (!cpu) return 2;
     const char *gl_reason = NULL;
     spr_error gerr = {0};
@@ -127,13 +127,13 @@ int cmd_reference(int argc, char **argv)
         char args[1024], *sargv[64];
         snprintf(args, sizeof args, "%s", sl[i].args);
         int sargc = split(args, sargv, 62);
-        if (cli_flag(&a, "quiet")) sargv[sargc++] = "--quiet";
-        cli_args sa;
-        cli_scene s;
+        if (spr__flag(&a, "quiet")) sargv[sargc++] = "--quiet";
+        spr__args sa;
+        spr_scene s;
         spr_render_desc rd;
         char cmd[80];
         snprintf(cmd, sizeof cmd, "reference %.63s", sl[i].name);
-        if (cli_parse(&sa, cmd, scene_opts, "", 0, sargc, sargv) || cli_scene_setup(&sa, &s, &rd, 0)) {
+        if (spr__parse(&sa, cmd, scene_opts, "", 0, sargc, sargv) || spr__scene_setup(&sa, &s, &rd, 0)) {
             bad++;
             continue;
         }
@@ -141,7 +141,7 @@ int cmd_reference(int argc, char **argv)
         spr_render_result res;
         if (spr_render(cpu, &s.view, &s.cloud, &rd, &res, &err)) {
             fprintf(stderr, "splatref reference: %s: %s\n", sl[i].name, err.msg);
-            cli_scene_free(&s);
+            spr_scene_free(&s);
             bad++;
             continue;
         }
@@ -175,7 +175,7 @@ int cmd_reference(int argc, char **argv)
         checked++;
         per_algo[rd.algo]++;
         spr_render_result_free(&res);
-        cli_scene_free(&s);
+        spr_scene_free(&s);
     }
     if (update && !bad) {
         spr_error err = {0};

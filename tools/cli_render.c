@@ -1,7 +1,7 @@
 /* cli_render.c — `splatref render`: load, frame, group, render, write. */
 #include "spr_util.h"
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 #include "spr_image.h"
 #include "spr_swrast.h"
 #include "spr_trace.h"
@@ -13,8 +13,8 @@
 #include <sys/stat.h>
 #include <time.h>
 
-static const cli_opt render_opts[] = {
-    CLI_SCENE_OPTS,
+static const spr__opt render_opts[] = {
+    SPR__SCENE_OPTS,
     {"groups-out", "F", "write the groups used, one per line"},
     {"out", "FILE.png", "8-bit image (default splatref.png)"},
     {"float", "FILE.pfm", "final RGB as little-endian PFM"},
@@ -67,7 +67,7 @@ static void dump_hook(void *user, spr_backend *b, const spr_pass_info *info)
 
 /* ---- --stats JSON ---- */
 typedef struct stats_ref {
-    const cli_scene *s;
+    const spr_scene *s;
     const spr_render_desc *rd;
     const spr_render_result *res;
     double total_ms, load_ms, group_ms;
@@ -76,7 +76,7 @@ typedef struct stats_ref {
 
 static cJSON *stats_json(const stats_ref *st)
 {
-    const cli_scene *s = st->s;
+    const spr_scene *s = st->s;
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "model", s->model);
     cJSON_AddNumberToObject(o, "splats", (double)s->cloud.n);
@@ -126,8 +126,8 @@ static int write_text(FILE *f, const void *user)
 
 int cmd_render(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "render", render_opts, "[options]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "render", render_opts, "[options]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     int rc = 2;
     char *trace_buf = NULL;
@@ -135,23 +135,23 @@ int cmd_render(int argc, char **argv)
     FILE *trace_f = NULL;
     char dump_tmp[1200] = "";
     int dump_open = 0;
-    cli_scene s;
+    spr_scene s;
     spr_backend *b = NULL;
     spr_render_result res = {0};
     spr_error err = {0};
     spr_render_desc rd;
-    const char *out = cli_get(&a, "out") ? cli_get(&a, "out") : "splatref.png";
-    const char *bname = cli_get(&a, "backend") ? cli_get(&a, "backend") : "cpu";
+    const char *out = spr__get(&a, "out") ? spr__get(&a, "out") : "splatref.png";
+    const char *bname = spr__get(&a, "backend") ? spr__get(&a, "backend") : "cpu";
     int gl_device = -1;
-    if (strcmp(bname, "cpu") && strcmp(bname, "gl")) { cli_error(&a, "--backend: '%s' is not cpu or gl", bname); return 2; }
-    if (!strcmp(bname, "gl") && cli_get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
-    const char *trace_out = cli_get(&a, "trace"), *dump_dir = cli_get(&a, "dump"), *groups_out = cli_get(&a, "groups-out"), *float_out = cli_get(&a, "float"), *stats_out = cli_get(&a, "stats");
-    if (cli_scene_setup(&a, &s, &rd, 0)) goto done;
-    if (groups_out && !rd.groups) { cli_error(&a, "--groups-out: %s uses no groups", spr_algo_name(rd.algo)); goto done; }
-    if (!(b = cli_backend(&a, bname, s.threads, gl_device))) goto done;
+    if (strcmp(bname, "cpu") && strcmp(bname, "gl")) { spr__error(&a, "--backend: '%s' is not cpu or gl", bname); return 2; }
+    if (!strcmp(bname, "gl") && spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
+    const char *trace_out = spr__get(&a, "trace"), *dump_dir = spr__get(&a, "dump"), *groups_out = spr__get(&a, "groups-out"), *float_out = spr__get(&a, "float"), *stats_out = spr__get(&a, "stats");
+    if (spr__scene_setup(&a, &s, &rd, 0)) goto done;
+    if (groups_out && !rd.groups) { spr__error(&a, "--groups-out: %s uses no groups", spr_algo_name(rd.algo)); goto done; }
+    if (!(b = spr__backend(&a, bname, s.threads, gl_device))) goto done;
     if (trace_out) { /* the trace backend in front of the real one; written out at the end */
         spr_backend *tb = (trace_f = open_memstream(&trace_buf, &trace_len)) ? spr_trace_create(b, trace_f, &err) : NULL;
-        if (!tb) { cli_error(&a, "--trace: %s", trace_f ? err.msg : "out of memory"); goto done; }
+        if (!tb) { spr__error(&a, "--trace: %s", trace_f ? err.msg : "out of memory"); goto done; }
         b = tb;
     }
     dump_ctx dc = {dump_tmp, 0, {0}};
@@ -188,7 +188,7 @@ int cmd_render(int argc, char **argv)
     }
     if (stats_out) {
         stats_ref st = {&s, &rd, &res, render_ms, s.load_ms, s.g.ms_grouping + s.g.ms_extend, covered};
-        if (cli_write_json(&a, stats_out, stats_json(&st))) goto done;
+        if (spr__write_json(&a, stats_out, stats_json(&st))) goto done;
     }
     printf("render: %s, %zu splats, %s%s, K=%d, %dx%d, %s backend, %zu covered pixels, %.1f ms -> %s\n", s.model, s.cloud.n,
            spr_algo_name(rd.algo), rd.voronoi && rd.algo == SPR_ALGO_DEFERRED ? "+voronoi" : "", res.K, res.width, res.height,
@@ -200,6 +200,6 @@ done:
     free(trace_buf);
     spr_render_result_free(&res);
     spr_backend_destroy(b);
-    cli_scene_free(&s);
+    spr_scene_free(&s);
     return rc;
 }

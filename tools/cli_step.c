@@ -10,7 +10,7 @@
  * embedded too.  Grouping gets its own section: which splat went to which
  * group, with its overlapping neighbours' groups, on a small cloud. */
 #include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__scene_opts.h"
 #include "spr_image.h"
 #include "spr_swrast.h"
 #include "spr_arith_c.h"
@@ -20,10 +20,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const cli_opt step_opts[] = {
+static const spr__opt step_opts[] = {
     {"out", "DIR", "the walk-through: DIR/index.html, its pictures and scene.json (required)"},
     {"pixels", "N", "pixel histories to embed, 0..16 (default 6)"},
-    CLI_SCENE_OPTS,
+    SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
 /* ---- captured passes ---- */
@@ -127,7 +127,7 @@ static void range(const float *v, size_t n, int stride, float skip, double *lo, 
     if (!(*hi >= *lo)) *lo = 0.0, *hi = 1.0;
 }
 
-static int write_view(cli_args *a, const char *dir, const float *rgb, int W, int H, view_out *vo)
+static int write_view(spr__args *a, const char *dir, const float *rgb, int W, int H, view_out *vo)
 {
     char path[1400];
     snprintf(path, sizeof path, "%s/%s", dir, vo->file);
@@ -210,13 +210,13 @@ static void figure(page *pg, const view_out *vo, int pass, const char *plane, in
 }
 
 /* The pictures of one pass; writes its PNGs into dir. */
-static int pass_views(cli_args *a, page *pg, const char *dir, const cap_pass *p, const cap_pass *all, int n_all, const spr_composite_op *op,
+static int pass_views(spr__args *a, page *pg, const char *dir, const cap_pass *p, const cap_pass *all, int n_all, const spr_composite_op *op,
                       const int *inputs, int n_inputs, float eps_t)
 {
     const int W = pg->W, H = pg->H;
     const size_t np = (size_t)W * H;
     float *rgb = malloc(np * 3 * sizeof *rgb);
-    if (!rgb) { cli_error(a, "out of memory"); return -1; }
+    if (!rgb) { spr__error(a, "out of memory"); return -1; }
     int rc = 0;
     for (int q = 0; q < SPR_PLANE__COUNT && !rc; q++) {
         const float *v = p->plane[q];
@@ -426,7 +426,7 @@ static const char *const page_js =
 
 /* The grouping section: sizes, the rule, and for a small cloud which
  * splat went where with its overlapping neighbours' groups. */
-static void grouping_section(page *pg, const cli_scene *s)
+static void grouping_section(page *pg, const spr_scene *s)
 {
     FILE *f = pg->f;
     const spr_groups *g = &s->g.groups;
@@ -488,17 +488,17 @@ static void grouping_section(page *pg, const cli_scene *s)
 
 int cmd_step(int argc, char **argv)
 {
-    cli_args a;
-    int pr = cli_parse(&a, "step", step_opts, "--out DIR [scene options | --scene S.json]", 0, argc, argv);
+    spr__args a;
+    int pr = spr__parse(&a, "step", step_opts, "--out DIR [scene options | --scene S.json]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    const char *dir = cli_get(&a, "out");
+    const char *dir = spr__get(&a, "out");
     int npix = 6;
-    if (!dir) { cli_error(&a, "--out DIR is required"); return 2; }
-    if (cli_get_int(&a, "pixels", &npix, 0, 16) < 0) return 2;
+    if (!dir) { spr__error(&a, "--out DIR is required"); return 2; }
+    if (spr__get_int(&a, "pixels", &npix, 0, 16) < 0) return 2;
     /* small by default: every pixel is shown and embedded */
     for (int k = 0; a.opts[k].name; k++)
         if (!strcmp(a.opts[k].name, "size") && !a.value[k]) a.value[k] = "128x128";
-    cli_scene s;
+    spr_scene s;
     spr_render_desc rd;
     cap_ctx cc = {0};
     spr_backend *b = NULL;
@@ -510,11 +510,11 @@ int cmd_step(int argc, char **argv)
     int nh = 0;
     FILE *f = NULL;
     memset(hist, 0, sizeof hist);
-    if (cli_scene_setup(&a, &s, &rd, 0)) goto done;
+    if (spr__scene_setup(&a, &s, &rd, 0)) goto done;
     if (cli_outdir_begin(&a, "out", dir, tmp, sizeof tmp)) goto done;
     open_dir = 1;
     snprintf(path, sizeof path, "%s/scene.json", tmp);
-    if (cli_scene_save(&a, &s, &rd, path, 0)) goto done;
+    if (spr__scene_save(&a, &s, &rd, path, 0)) goto done;
     rd.hook = cap_hook;
     rd.hook_user = &cc;
     if (!(b = spr_swrast_create(s.threads, &err)) || spr_render(b, &s.view, &s.cloud, &rd, &res, &err)) {
@@ -538,7 +538,7 @@ int cmd_step(int argc, char **argv)
                 }
     }
     snprintf(path, sizeof path, "%s/index.html", tmp);
-    if (!(f = fopen(path, "w"))) { cli_error(&a, "cannot write %s", path); goto done; }
+    if (!(f = fopen(path, "w"))) { spr__error(&a, "cannot write %s", path); goto done; }
     page pg = {f, W, H};
     const spr_algo_info *ai = spr_algo_info_of(rd.algo);
     fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>splatref step: %s</title><style>", spr_algo_name(rd.algo));
@@ -570,7 +570,7 @@ int cmd_step(int argc, char **argv)
     /* the final image */
     {
         float *rgb = malloc((size_t)W * H * 3 * sizeof *rgb);
-        if (!rgb) { cli_error(&a, "out of memory"); goto done; }
+        if (!rgb) { spr__error(&a, "out of memory"); goto done; }
         for (size_t i = 0; i < (size_t)W * H; i++)
             for (int c = 0; c < 3; c++) rgb[3 * i + c] = res.rgba[4 * i + c];
         view_out vo = {"final.png", "the final image", ""};
@@ -588,14 +588,14 @@ int cmd_step(int argc, char **argv)
         char *buf = NULL;
         size_t len = 0;
         FILE *m = open_memstream(&buf, &len);
-        if (!m) { cli_error(&a, "out of memory"); goto done; }
+        if (!m) { spr__error(&a, "out of memory"); goto done; }
         for (int e = 0; e < hist[i].h.n; e++) cli_explain_event(m, &hist[i].h.ev[e], e, NULL, -1, -1, "");
         fclose(m);
         cJSON *str = cJSON_CreateString(buf ? buf : "");
         char *js = str ? cJSON_PrintUnformatted(str) : NULL;
         cJSON_Delete(str);
         free(buf);
-        if (!js) { cli_error(&a, "out of memory"); goto done; }
+        if (!js) { spr__error(&a, "out of memory"); goto done; }
         /* a JSON string is a JS string; escape what would end the script element, then HTML-escape in the page */
         fprintf(f, "SPR.histories[\"%d,%d\"] = ", hist[i].h.x, hist[i].h.y);
         for (const char *c = js; *c; c++) {
@@ -608,7 +608,7 @@ int cmd_step(int argc, char **argv)
         free(js);
     }
     fprintf(f, "</script>\n<script>\n%s</script>\n</body></html>\n", page_js);
-    if (ferror(f) | fclose(f)) { f = NULL; cli_error(&a, "cannot write %s", path); goto done; }
+    if (ferror(f) | fclose(f)) { f = NULL; spr__error(&a, "cannot write %s", path); goto done; }
     f = NULL;
     rc = 0;
 done:
@@ -621,6 +621,6 @@ done:
     free(cc.p);
     spr_render_result_free(&res);
     spr_backend_destroy(b);
-    cli_scene_free(&s);
+    spr_scene_free(&s);
     return rc;
 }

@@ -1,11 +1,11 @@
-/* cli_scene_opts.h — option table rows shared by the subcommands, in
- * groups, so each command lists only what it can use (and cli_reject_unused
+/* spr__scene_opts.h — option table rows shared by the subcommands, in
+ * groups, so each command lists only what it can use (and spr__reject_unused
  * refuses what the chosen algorithm or grouping does not read). */
-#ifndef CLI_SCENE_OPTS_H
-#define CLI_SCENE_OPTS_H
+#ifndef SPR__SCENE_OPTS_H
+#define SPR__SCENE_OPTS_H
 
 /* Loading a model. */
-#define CLI_MODEL_OPTS \
+#define SPR__MODEL_OPTS \
     {"model", "PATH|builtin:NAME", "model file (.ply .off .xyz .pwn) or builtin:sphere|torus|octahedron|planes|cube|spheres (default builtin:torus)"}, \
     {"points", "N", "size of a built-in model (default 20000)"}, \
     {"radius-k", "K", "k of the radius rule r = rho*d_k when the file has no radii (default 8)"}, \
@@ -16,7 +16,7 @@
     {"quiet", NULL, "no progress on stderr"}
 
 /* The camera and the image. */
-#define CLI_CAMERA_OPTS \
+#define SPR__CAMERA_OPTS \
     {"eye", "X,Y,Z", "camera position (default: frame the model from +z)"}, \
     {"target", "X,Y,Z", "point looked at (default: model centre)"}, \
     {"up", "X,Y,Z", "up vector (default 0,1,0)"}, \
@@ -30,7 +30,7 @@
     {"background", "R,G,B", "background colour in [0,1] (default 0,0,0)"}
 
 /* The algorithm and its parameters (which ones an algorithm reads: the registry). */
-#define CLI_ALGO_OPTS \
+#define SPR__ALGO_OPTS \
     {"algo", "NAME", "algorithm from the registry (listed below; default deferred)"}, \
     {"kernel", "NAME", "gauss | constant | linear | epanechnikov (default gauss)"}, \
     {"eps", "E", "depth tolerance in world units (default 2 x mean radius)"}, \
@@ -50,7 +50,7 @@
     {"alpha-ref", "A", "domain-overlap: lock pixels where alpha >= A (default 0.1)"}
 
 /* Grouping parameters; the method itself is render's --groups or group's --method. */
-#define CLI_GROUP_OPTS \
+#define SPR__GROUP_OPTS \
     {"groups-file", "F", "read the groups from F (one group per splat, or `splat group` memberships)"}, \
     {"c", "C", "mgc: overlap relaxation factor in [0,1] (default 1.0; 0: no edge, one group)"}, \
     {"relax", "LIST", "mgc: relaxations coplanar,opposite | coplanar | opposite | none (default both)"}, \
@@ -61,7 +61,7 @@
     {"extend", "HOW", "extended grouping: dup (duplication) | radius (Eq. 13) | hash-radius (sqrt(50)/4 for K=8)"}
 
 /* The domain pipeline (SPEC 7): `domains` and the domain-* algorithms. */
-#define CLI_DOMAIN_OPTS \
+#define SPR__DOMAIN_OPTS \
     {"level", "L", "decomposition level, 0 = coarsest (render default 2)"}, \
     {"domain", "HOW", "thresholded (phi >= --threshold, default) | strict (largest phi)"}, \
     {"threshold", "K", "thresholded domains: phi >= K (default 0.01)"}, \
@@ -80,12 +80,12 @@
     {"nbr-ratio", "R", "neighbours share more than R of either domain's points (default 0.05, [R] 4.4.4)"}
 
 /* Everything that determines a rendered scene (render, parity, reference). */
-#define CLI_SCENE_OPTS \
+#define SPR__SCENE_OPTS \
     {"scene", "F.json", "read the scene from F (docs/scene-format.md); options given here override it"}, \
     {"save-scene", "F.json", "write everything that determines the image to F (camera resolved)"}, \
     {"scene-camera", "FORM", "save-scene: the camera as lookat (eye/target/up/fov, default) | matrices"}, \
-    CLI_MODEL_OPTS, CLI_CAMERA_OPTS, CLI_ALGO_OPTS, CLI_DOMAIN_OPTS, \
+    SPR__MODEL_OPTS, SPR__CAMERA_OPTS, SPR__ALGO_OPTS, SPR__DOMAIN_OPTS, \
     {"groups", "METHOD", "grouping of the algorithms that use groups: none | mgc | wgc | hash (default mgc)"}, \
-    CLI_GROUP_OPTS
+    SPR__GROUP_OPTS
 
 #endif

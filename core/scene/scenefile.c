@@ -7,8 +7,8 @@
  * (model.path is --model), so every option an algorithm reads is stored
  * without a second table to keep in step.  The camera is written resolved
  * (after framing), as eye/target/up/fov or as the raw matrices. */
-#include "cli.h"
-#include "cli_scene_opts.h"
+#include "spr__options.h"
+#include "spr__scene_opts.h"
 #include "spr_image.h"
 #include "spr_version.h"
 
@@ -21,13 +21,13 @@
 
 #define SCENE_VERSION 1
 
-static const cli_opt model_rows[] = {CLI_MODEL_OPTS, {NULL, NULL, NULL}};
-static const cli_opt camera_rows[] = {CLI_CAMERA_OPTS, {NULL, NULL, NULL}};
-static const cli_opt algo_rows[] = {CLI_ALGO_OPTS, {NULL, NULL, NULL}};
-static const cli_opt domain_rows[] = {CLI_DOMAIN_OPTS, {NULL, NULL, NULL}};
-static const cli_opt group_rows[] = {{"groups", "", ""}, CLI_GROUP_OPTS, {NULL, NULL, NULL}};
+static const spr__opt model_rows[] = {SPR__MODEL_OPTS, {NULL, NULL, NULL}};
+static const spr__opt camera_rows[] = {SPR__CAMERA_OPTS, {NULL, NULL, NULL}};
+static const spr__opt algo_rows[] = {SPR__ALGO_OPTS, {NULL, NULL, NULL}};
+static const spr__opt domain_rows[] = {SPR__DOMAIN_OPTS, {NULL, NULL, NULL}};
+static const spr__opt group_rows[] = {{"groups", "", ""}, SPR__GROUP_OPTS, {NULL, NULL, NULL}};
 
-static int in_rows(const cli_opt *rows, const char *name)
+static int in_rows(const spr__opt *rows, const char *name)
 {
     for (; rows->name; rows++)
         if (!strcmp(rows->name, name)) return 1;
@@ -48,7 +48,7 @@ static const char *section_of(const char *name)
     return NULL;
 }
 
-static int opt_index(const cli_args *a, const char *name)
+static int opt_index(const spr__args *a, const char *name)
 {
     for (int k = 0; a->opts[k].name; k++)
         if (!strcmp(a->opts[k].name, name)) return k;
@@ -70,13 +70,13 @@ static const struct { const char *key; const char *const by[8]; } displaced[] = 
     {"groups-file", {"groups"}},
 };
 
-static int given_on_command_line(const cli_args *a, const char *name)
+static int given_on_command_line(const spr__args *a, const char *name)
 {
     int k = opt_index(a, name);
     return k >= 0 && a->value[k] && !a->from_scene[k];
 }
 
-static int displaced_by_command_line(const cli_args *a, const char *key)
+static int displaced_by_command_line(const spr__args *a, const char *key)
 {
     if (!strcmp(key, "near") || !strcmp(key, "far"))
         for (int i = 0; camera_place[i]; i++)
@@ -90,7 +90,7 @@ static int displaced_by_command_line(const cli_args *a, const char *key)
 
 /* Strings made from the scene live as long as the process (the option
  * values point into them); kept reachable here. */
-static char *scene_pool[CLI_MAX_OPTS * 2];
+static char *scene_pool[SPR__MAX_OPTS * 2];
 static int scene_pool_n;
 static const char *keep(char *s)
 {
@@ -115,11 +115,11 @@ static int is_path_option(const char *name, const char *v)
 
 /* A JSON value as the option's command-line text (malloc'd), or NULL
  * after an error naming the key. */
-static char *value_text(cli_args *a, const char *file, const char *sec, const char *key, const cli_opt *o, const cJSON *v)
+static char *value_text(spr__args *a, const char *file, const char *sec, const char *key, const spr__opt *o, const cJSON *v)
 {
     if (!o->arg) { /* a flag */
         if (cJSON_IsBool(v)) return cJSON_IsTrue(v) ? strdup("1") : NULL;
-        cli_error(a, "%s: %s.%s: expected true or false", file, sec, key);
+        spr__error(a, "%s: %s.%s: expected true or false", file, sec, key);
         return NULL;
     }
     if (cJSON_IsString(v)) return strdup(v->valuestring);
@@ -168,11 +168,11 @@ static char *value_text(cli_args *a, const char *file, const char *sec, const ch
             for (int i = 0; i < n; i++) at += (size_t)snprintf(s + at, 4 * 26 - at, "%s%.17g", i ? "," : "", x[i]);
             return s;
         }
-        cli_error(a, "%s: %s.%s: expected %s", file, sec, key,
+        spr__error(a, "%s: %s.%s: expected %s", file, sec, key,
                   matrix ? "4 rows of 4 numbers" : size ? "[width, height]" : "a number, a string or up to 4 numbers");
         return NULL;
     }
-    cli_error(a, "%s: %s.%s: expected %s", file, sec, key, "a number, a string or an array of numbers");
+    spr__error(a, "%s: %s.%s: expected %s", file, sec, key, "a number, a string or an array of numbers");
     return NULL;
 }
 
@@ -186,13 +186,13 @@ static void line_col(const char *text, size_t at, int *line, int *col)
     }
 }
 
-int cli_scene_read(cli_args *a, const char *file)
+int spr__scene_read(spr__args *a, const char *file)
 {
     char *text = NULL;
     size_t len = 0;
     spr_error err = {0};
     snprintf(a->scene_file, sizeof a->scene_file, "%s", file);
-    if (spr__read_file(file, &text, &len, &err)) { cli_error(a, "--scene: %s", err.msg); return -1; }
+    if (spr__read_file(file, &text, &len, &err)) { spr__error(a, "--scene: %s", err.msg); return -1; }
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
     int rc = -1;
@@ -200,13 +200,13 @@ int cli_scene_read(cli_args *a, const char *file)
         int line, col;
         const char *at = cJSON_GetErrorPtr();
         line_col(text, at && at >= text && at <= text + len ? (size_t)(at - text) : len, &line, &col);
-        cli_error(a, "%s:%d:%d: not valid JSON", file, line, col);
+        spr__error(a, "%s:%d:%d: not valid JSON", file, line, col);
         goto done;
     }
     const cJSON *ver = cJSON_GetObjectItemCaseSensitive(root, "splatref_scene");
-    if (!cJSON_IsObject(root) || !cJSON_IsNumber(ver)) { cli_error(a, "%s: not a splatref scene (no \"splatref_scene\": version)", file); goto done; }
+    if (!cJSON_IsObject(root) || !cJSON_IsNumber(ver)) { spr__error(a, "%s: not a splatref scene (no \"splatref_scene\": version)", file); goto done; }
     if (ver->valuedouble != SCENE_VERSION) {
-        cli_error(a, "%s: scene format version %g, this splatref reads version %d", file, ver->valuedouble, SCENE_VERSION);
+        spr__error(a, "%s: scene format version %g, this splatref reads version %d", file, ver->valuedouble, SCENE_VERSION);
         goto done;
     }
     /* the scene's own folder, for relative paths */
@@ -222,14 +222,14 @@ int cli_scene_read(cli_args *a, const char *file)
         if (!strcmp(sec->string, "splatref_scene") || !strcmp(sec->string, "generator")) continue;
         int si = 0;
         while (sections[si] && strcmp(sections[si], sec->string)) si++;
-        if (!sections[si]) { cli_error(a, "%s: unknown key '%s' (sections: model, camera, render, domain, grouping)", file, sec->string); goto done; }
-        if (!cJSON_IsObject(sec)) { cli_error(a, "%s: '%s' must be an object", file, sec->string); goto done; }
+        if (!sections[si]) { spr__error(a, "%s: unknown key '%s' (sections: model, camera, render, domain, grouping)", file, sec->string); goto done; }
+        if (!cJSON_IsObject(sec)) { spr__error(a, "%s: '%s' must be an object", file, sec->string); goto done; }
         const cJSON *it;
         cJSON_ArrayForEach(it, sec)
         {
             const char *key = it->string;
             if (si == 0 && !strcmp(key, "fnv1a64")) {
-                if (!cJSON_IsString(it) || strlen(it->valuestring) != 16) { cli_error(a, "%s: model.fnv1a64: expected 16 hex digits", file); goto done; }
+                if (!cJSON_IsString(it) || strlen(it->valuestring) != 16) { spr__error(a, "%s: model.fnv1a64: expected 16 hex digits", file); goto done; }
                 snprintf(a->scene_hash, sizeof a->scene_hash, "%s", it->valuestring);
                 continue;
             }
@@ -237,7 +237,7 @@ int cli_scene_read(cli_args *a, const char *file)
             const char *s_of = si == 0 && !strcmp(key, "model") ? NULL : section_of(name);
             int k = opt_index(a, name);
             if (!s_of || strcmp(s_of, sections[si]) || k < 0) {
-                cli_error(a, "%s: unknown key '%s.%s' (see docs/scene-format.md)", file, sections[si], key);
+                spr__error(a, "%s: unknown key '%s.%s' (see docs/scene-format.md)", file, sections[si], key);
                 goto done;
             }
             char *v = value_text(a, file, sections[si], key, &a->opts[k], it);
@@ -268,16 +268,16 @@ done:
     return rc;
 }
 
-int cli_scene_check_model(cli_args *a, const char *model)
+int spr__scene_check_model(spr__args *a, const char *model)
 {
     if (!a->scene_hash[0] || !strncmp(model, "builtin:", 8)) return 0;
     uint64_t h;
     spr_error err = {0};
-    if (spr_hash_file(model, &h, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return -1; }
+    if (spr_hash_file(model, &h, &err)) { spr__error(a, "%s", err.msg); return -1; }
     char now[17];
     snprintf(now, sizeof now, "%016llx", (unsigned long long)h);
     if (strcmp(now, a->scene_hash)) {
-        cli_error(a, "%s: model %s changed since the scene was saved (FNV-1a 64 %s, the file now %s); give --model to use it anyway",
+        spr__error(a, "%s: model %s changed since the scene was saved (FNV-1a 64 %s, the file now %s); give --model to use it anyway",
                   a->scene_file, model, a->scene_hash, now);
         return -1;
     }
@@ -286,7 +286,7 @@ int cli_scene_check_model(cli_args *a, const char *model)
 
 /* An option's text as JSON: true for flags, numbers and lists of numbers
  * as numbers, anything else a string; paths made absolute. */
-static cJSON *json_of(const cli_opt *o, const char *v)
+static cJSON *json_of(const spr__opt *o, const char *v)
 {
     if (!o->arg) return cJSON_CreateTrue();
     if (is_path_option(o->name, v)) {
@@ -325,17 +325,17 @@ static cJSON *matrix_json(const double m[16])
     return rows;
 }
 
-int cli_scene_save(cli_args *a, const cli_scene *s, const spr_render_desc *rd, const char *path, int matrices)
+int spr__scene_save(spr__args *a, const spr_scene *s, const spr_render_desc *rd, const char *path, int matrices)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON_AddNumberToObject(root, "splatref_scene", SCENE_VERSION);
     cJSON_AddStringToObject(root, "generator", "splatref " SPR_VERSION_STRING);
     cJSON *model = add_section(root, "model");
-    cJSON_AddItemToObject(model, "path", json_of(&(cli_opt){"model", "PATH", ""}, s->model));
+    cJSON_AddItemToObject(model, "path", json_of(&(spr__opt){"model", "PATH", ""}, s->model));
     if (strncmp(s->model, "builtin:", 8)) {
         uint64_t h;
         spr_error err = {0};
-        if (spr_hash_file(s->model, &h, &err)) { fprintf(stderr, "splatref %s: --save-scene: %s\n", a->cmd, err.msg); cJSON_Delete(root); return -1; }
+        if (spr_hash_file(s->model, &h, &err)) { spr__error(a, "--save-scene: %s", err.msg); cJSON_Delete(root); return -1; }
         char hex[17];
         snprintf(hex, sizeof hex, "%016llx", (unsigned long long)h);
         cJSON_AddStringToObject(model, "fnv1a64", hex);
@@ -364,5 +364,5 @@ int cli_scene_save(cli_args *a, const cli_scene *s, const spr_render_desc *rd, c
         if (!a->value[k] || !sec || !strcmp(sec, "camera") || !strcmp(name, "model") || !strcmp(name, "algo")) continue;
         cJSON_AddItemToObject(add_section(root, sec), name, json_of(&a->opts[k], a->value[k]));
     }
-    return cli_write_json(a, path, root);
+    return spr__write_json(a, path, root);
 }

@@ -1,5 +1,5 @@
-/* cli_args.c — option table parsing and typed getters for the CLI. */
-#include "cli.h"
+/* spr__args.c — option table parsing and typed getters for the CLI. */
+#include "spr__options.h"
 
 #include <errno.h>
 #include <math.h>
@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-void cli_error(cli_args *a, const char *fmt, ...)
+void spr__error(spr__args *a, const char *fmt, ...)
 {
     char msg[2048];
     va_list ap;
@@ -22,19 +22,24 @@ void cli_error(cli_args *a, const char *fmt, ...)
         size_t L = strlen(a->opts[k].name);
         if (a->from_scene[k] && !strncmp(msg, "--", 2) && !strncmp(msg + 2, a->opts[k].name, L) && msg[2 + L] == ':') where = a->scene_file;
     }
+    if (a->sink) { /* a library call: the message is the error */
+        a->sink->code = SPR_E_ARG;
+        snprintf(a->sink->msg, sizeof a->sink->msg, "%.300s%s%.150s%s", msg, *where ? " (from " : "", where, *where ? ")" : "");
+        return;
+    }
     fprintf(stderr, "splatref %s: %s%s%s%s\n", a->cmd, msg, *where ? " (from " : "", where, *where ? ")" : "");
 }
 
-static void print_help(const char *cmd, const cli_opt *opts, const char *usage)
+static void print_help(const char *cmd, const spr__opt *opts, const char *usage)
 {
     printf("usage: splatref %s %s\n\n", cmd, usage);
-    for (const cli_opt *o = opts; o->name; o++) {
+    for (const spr__opt *o = opts; o->name; o++) {
         char left[64];
         snprintf(left, sizeof left, "--%s%s%s", o->name, o->arg ? " " : "", o->arg ? o->arg : "");
         printf("  %-24s %s\n", left, o->help);
     }
     printf("  %-24s %s\n", "--help", "show this text");
-    for (const cli_opt *o = opts; o->name; o++)
+    for (const spr__opt *o = opts; o->name; o++)
         if (!strcmp(o->name, "algo")) { /* the registry, so help never lists a stale set */
             printf("\nalgorithms (--algo):\n");
             for (int al = 0; al < SPR_ALGO__COUNT; al++)
@@ -43,15 +48,15 @@ static void print_help(const char *cmd, const cli_opt *opts, const char *usage)
         }
 }
 
-int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usage, int max_positional, int argc, char **argv)
+int spr__parse(spr__args *a, const char *cmd, const spr__opt *opts, const char *usage, int max_positional, int argc, char **argv)
 {
     memset(a, 0, sizeof *a);
     a->cmd = cmd;
     a->opts = opts;
     int n_opts = 0;
     while (opts[n_opts].name) n_opts++;
-    if (n_opts > CLI_MAX_OPTS) { /* a programming error: the table outgrew the arrays */
-        cli_error(a, "%d options, more than CLI_MAX_OPTS (%d)", n_opts, CLI_MAX_OPTS);
+    if (n_opts > SPR__MAX_OPTS) { /* a programming error: the table outgrew the arrays */
+        spr__error(a, "%d options, more than SPR__MAX_OPTS (%d)", n_opts, SPR__MAX_OPTS);
         return 2;
     }
     for (int i = 0; i < argc; i++) {
@@ -62,7 +67,7 @@ int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usa
         }
         if (strncmp(s, "--", 2) != 0) {
             if (a->n_positional >= max_positional) {
-                cli_error(a, "unexpected argument '%s' (see splatref %s --help)", s, cmd);
+                spr__error(a, "unexpected argument '%s' (see splatref %s --help)", s, cmd);
                 return 2;
             }
             a->positional[a->n_positional++] = s;
@@ -74,25 +79,28 @@ int cli_parse(cli_args *a, const char *cmd, const cli_opt *opts, const char *usa
         for (; opts[k].name; k++)
             if (strlen(opts[k].name) == nl && !strncmp(opts[k].name, name, nl)) break;
         if (!opts[k].name) {
-            cli_error(a, "unknown option '--%.*s' (see splatref %s --help)", (int)nl, name, cmd);
+            spr__error(a, "unknown option '--%.*s' (see splatref %s --help)", (int)nl, name, cmd);
             return 2;
         }
         if (!opts[k].arg) {
-            if (eq) { cli_error(a, "--%s takes no value", opts[k].name); return 2; }
+            if (eq) { spr__error(a, "--%s takes no value", opts[k].name); return 2; }
             a->value[k] = "1";
         } else if (eq) {
             a->value[k] = eq + 1;
         } else {
-            if (i + 1 >= argc) { cli_error(a, "--%s needs a value (%s)", opts[k].name, opts[k].arg); return 2; }
+            if (i + 1 >= argc) { spr__error(a, "--%s needs a value (%s)", opts[k].name, opts[k].arg); return 2; }
             a->value[k] = argv[++i];
         }
     }
-    for (int k = 0; opts[k].name; k++) /* a scene file fills what the command line left out */
-        if (!strcmp(opts[k].name, "scene") && a->value[k] && (a->used[k] = 1, cli_scene_read(a, a->value[k]))) return 2;
+    /* a scene file fills what the command line left out (tables with the scene rows, SPR__SCENE_OPTS) */
+    int has_scene_rows = 0;
+    for (int k = 0; opts[k].name; k++) has_scene_rows |= !strcmp(opts[k].name, "save-scene");
+    for (int k = 0; has_scene_rows && opts[k].name; k++)
+        if (!strcmp(opts[k].name, "scene") && a->value[k] && (a->used[k] = 1, spr__scene_read(a, a->value[k]))) return 2;
     return 0;
 }
 
-const char *cli_get(cli_args *a, const char *name)
+const char *spr__get(spr__args *a, const char *name)
 {
     for (int k = 0; a->opts[k].name; k++)
         if (!strcmp(a->opts[k].name, name)) {
@@ -102,85 +110,85 @@ const char *cli_get(cli_args *a, const char *name)
     return NULL;
 }
 
-int cli_reject_unused(cli_args *a)
+int spr__reject_unused(spr__args *a)
 {
     for (int k = 0; a->opts[k].name; k++)
         if (a->value[k] && !a->used[k] && !a->from_scene[k]) {
-            cli_error(a, "--%s is not used here: the command, algorithm or grouping chosen does not read it (see splatref %s --help)",
+            spr__error(a, "--%s is not used here: the command, algorithm or grouping chosen does not read it (see splatref %s --help)",
                       a->opts[k].name, a->cmd);
             return -1;
         }
     return 0;
 }
 
-int cli_flag(cli_args *a, const char *name) { return cli_get(a, name) != NULL; }
+int spr__flag(spr__args *a, const char *name) { return spr__get(a, name) != NULL; }
 
-int cli_get_double(cli_args *a, const char *name, double *out, double lo, double hi)
+int spr__get_double(spr__args *a, const char *name, double *out, double lo, double hi)
 {
-    const char *v = cli_get(a, name);
+    const char *v = spr__get(a, name);
     if (!v) return 0;
     char *e;
     double d = strtod(v, &e);
     if (e == v || *e || !isfinite(d) || d < lo || d > hi) {
-        cli_error(a, "--%s: '%s' is not a number in [%g, %g]", name, v, lo, hi);
+        spr__error(a, "--%s: '%s' is not a number in [%g, %g]", name, v, lo, hi);
         return -1;
     }
     *out = d;
     return 1;
 }
 
-int cli_get_int(cli_args *a, const char *name, int *out, int lo, int hi)
+int spr__get_int(spr__args *a, const char *name, int *out, int lo, int hi)
 {
-    const char *v = cli_get(a, name);
+    const char *v = spr__get(a, name);
     if (!v) return 0;
     char *e;
     errno = 0;
     long d = strtol(v, &e, 10);
     if (e == v || *e || errno || d < lo || d > hi) {
-        cli_error(a, "--%s: '%s' is not an integer in [%d, %d]", name, v, lo, hi);
+        spr__error(a, "--%s: '%s' is not an integer in [%d, %d]", name, v, lo, hi);
         return -1;
     }
     *out = (int)d;
     return 1;
 }
 
-int cli_get_size(cli_args *a, const char *name, size_t *out, size_t lo, size_t hi)
+int spr__get_size(spr__args *a, const char *name, size_t *out, size_t lo, size_t hi)
 {
-    const char *v = cli_get(a, name);
+    const char *v = spr__get(a, name);
     if (!v) return 0;
     char *e;
     errno = 0;
     unsigned long long d = strtoull(v, &e, 10);
     if (e == v || *e || errno || v[0] == '-' || d < lo || d > hi) {
-        cli_error(a, "--%s: '%s' is not a count in [%zu, %zu]", name, v, lo, hi);
+        spr__error(a, "--%s: '%s' is not a count in [%zu, %zu]", name, v, lo, hi);
         return -1;
     }
     *out = (size_t)d;
     return 1;
 }
 
-int cli_get_vec3(cli_args *a, const char *name, double out[3])
+int spr__get_vec3(spr__args *a, const char *name, double out[3])
 {
-    const char *v = cli_get(a, name);
+    const char *v = spr__get(a, name);
     if (!v) return 0;
     double t[3];
     char tail;
     if (sscanf(v, "%lf,%lf,%lf%c", &t[0], &t[1], &t[2], &tail) != 3 || !isfinite(t[0]) || !isfinite(t[1]) || !isfinite(t[2])) {
-        cli_error(a, "--%s: '%s' is not three finite numbers x,y,z", name, v);
+        spr__error(a, "--%s: '%s' is not three finite numbers x,y,z", name, v);
         return -1;
     }
     memcpy(out, t, sizeof t);
     return 1;
 }
 
-int cli_get_wh(cli_args *a, const char *name, int *w, int *h)
+int spr__get_wh(spr__args *a, const char *name, int *w, int *h)
 {
-    const char *v = cli_get(a, name);
+    const char *v = spr__get(a, name);
     if (!v) return 0;
     int x, y;
     char tail;
     if (sscanf(v, "%dx%d%c", &x, &y, &tail) != 2 || x < 1 || y < 1 || x > SPR_MAX_IMAGE_SIDE || y > SPR_MAX_IMAGE_SIDE) {
-        cli_error(a, "--%s: '%s' is not WxH with sides in 1..%d", name, v, SPR_MAX_IMAGE_SIDE);
+        spr__error(a, "--%s: '%s' is not WxH with sides in 1..%d", name, v, SPR_MAX_IMAGE_SIDE);
         return -1;
     }
     *w = x;
@@ -202,17 +210,30 @@ static void progress_tty(void *user, const char *phase, size_t done, size_t tota
     fflush(stderr);
 }
 
-spr_progress cli_progress(int quiet)
+spr_progress spr__progress(int quiet)
 {
     spr_progress p = {NULL, NULL};
     if (!quiet && isatty(2)) p.fn = progress_tty;
     return p;
 }
 
-const char *cli_data_dir(void)
+
+static int put_text(FILE *f, const void *user)
 {
-    const char *d = getenv("SPLATREF_DATA");
-    if (d && *d) return d;
-    if (access("data/cgal/data/meshes", F_OK) == 0) return "data/cgal/data";
-    return SPR_DEFAULT_DATA; /* the source tree this binary was built from */
+    const char *s = user;
+    size_t n = strlen(s);
+    return fwrite(s, 1, n, f) == n && fputc('\n', f) != EOF ? 0 : -1;
 }
+
+int spr__write_json(spr__args *a, const char *path, cJSON *root)
+{
+    char *text = root ? cJSON_Print(root) : NULL;
+    cJSON_Delete(root);
+    if (!text) { spr__error(a, "%s: out of memory building JSON", path); return -1; }
+    spr_error err = {0};
+    int rc = spr__write_atomic(path, put_text, text, &err) ? -1 : 0;
+    if (rc) spr__error(a, "%s", err.msg);
+    free(text);
+    return rc;
+}
+

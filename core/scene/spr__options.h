@@ -1,0 +1,98 @@
+/* spr__options.h — the option tables behind the command line and scene
+ * files (internal to splatref: the `splatref` tool and spr_scene_load()).
+ *
+ * Each command declares its options in a table; spr__parse() rejects
+ * anything not in it with one line and exit status 2.  Values are read with
+ * the spr__get_* helpers, which name the option in their error messages.
+ * A scene is built from option values by spr__scene_setup(); a scene file
+ * is those values in sections (spr__scene_read(), docs/scene-format.md).
+ */
+#ifndef SPR__OPTIONS_H
+#define SPR__OPTIONS_H
+
+#include <stddef.h>
+#include <stdio.h>
+#include <cjson/cJSON.h>
+#include "spr_scene.h"
+
+typedef struct spr__opt {
+    const char *name;   /* without the leading "--" */
+    const char *arg;    /* NULL for a flag, else the metavariable shown in --help */
+    const char *help;
+} spr__opt;
+
+#define SPR__MAX_OPTS 128
+typedef struct spr__args {
+    const char *cmd;
+    const spr__opt *opts;
+    const char *value[SPR__MAX_OPTS]; /* NULL = not given; flags get "1" */
+    unsigned char used[SPR__MAX_OPTS]; /* read by the command (spr__get) */
+    unsigned char from_scene[SPR__MAX_OPTS]; /* value read from --scene (never refused as unused) */
+    char scene_hash[32];  /* the scene's model.fnv1a64 while its model is used ("" otherwise) */
+    char scene_file[1024];
+    const char *positional[4];
+    int n_positional;
+    spr_error *sink;      /* set: messages go here instead of stderr (the library's callers) */
+} spr__args;
+
+/* 0 on success, 1 when --help was printed, 2 after printing an error. */
+int spr__parse(spr__args *a, const char *cmd, const spr__opt *opts, const char *usage, int max_positional, int argc, char **argv);
+/* The value of --NAME (NULL when not given), marking the option as used. */
+const char *spr__get(spr__args *a, const char *name);
+/* −1 after one line naming the first option given but never read: an option
+ * the command, algorithm or grouping chosen does not use. */
+int spr__reject_unused(spr__args *a);
+int spr__flag(spr__args *a, const char *name);
+/* The helpers print "splatref CMD: --NAME: …" and return −1 on bad values. */
+int spr__get_double(spr__args *a, const char *name, double *out, double lo, double hi);
+int spr__get_int(spr__args *a, const char *name, int *out, int lo, int hi);
+int spr__get_size(spr__args *a, const char *name, size_t *out, size_t lo, size_t hi);
+int spr__get_vec3(spr__args *a, const char *name, double out[3]);
+int spr__get_wh(spr__args *a, const char *name, int *w, int *h);
+void spr__error(spr__args *a, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Progress on stderr, only when it is a terminal and --quiet is absent. */
+spr_progress spr__progress(int quiet);
+
+int spr__domain_opts(spr__args *a, spr_scene_domain *o);
+/* Replace level l's basis by its merged one when --merge was given. */
+int spr__domain_merge(spr__args *a, const spr_cloud *c, const spr_scene_domain *o, spr_decomp *dc, int l, size_t *before);
+/* Decompose c and build the primitives of o->level (default 2). 0 or −1 after one line. */
+int spr__domain_prims(spr__args *a, const char *model, const spr_cloud *c, spr_scene_domain *o, int threads, const spr_progress *prog,
+                     spr_rects *out, spr_prims_stats *st);
+
+/* The model options of SPR__MODEL_OPTS (model, points for built-ins only,
+ * radius rule, threads, quiet) into s->model, s->threads and ld. */
+int spr__model_opts(spr__args *a, spr_scene *s, spr_load_desc *ld);
+/* Load s->model, time it, and frame s->cam on it.  0 or −1 after one line. */
+int spr__load_model(spr__args *a, spr_scene *s, const spr_load_desc *ld);
+/* Read the grouping options (method from `method_opt`: "groups" or
+ * "method"), only those the method uses.  0, or −1 after one line. */
+int spr__parse_group_opts(spr__args *a, const char *method_opt, spr_grouping_desc *gd, const char **hash_near);
+/* Group s->cloud as gd says (hash mode 3's eye from s->cam). */
+int spr__make_groups(spr__args *a, spr_scene *s, spr_grouping_desc *gd, const char *hash_near);
+/* Read the scene options, load and frame the model, build the groups when
+ * the algorithm uses them; fills rd (no hook).  allow_all: accept --algo all.
+ * Options not used are refused (spr__reject_unused).  0 or −1 after one line. */
+int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_all);
+/* "cpu" or "gl" backend, or NULL after printing the reason. */
+spr_backend *spr__backend(spr__args *a, const char *name, int threads, int gl_device);
+
+/* Scene files (cli_scenefile.c, docs/scene-format.md).  spr__parse reads
+ * --scene F itself: its values fill the options the command line did not
+ * give.  0, or −1 after one line naming the file and the key. */
+int spr__scene_read(spr__args *a, const char *file);
+/* −1 after one line when the model file differs from the scene's hash. */
+int spr__scene_check_model(spr__args *a, const char *model);
+/* Write what determines s's image to path; matrices: the camera as raw
+ * view and projection matrices instead of eye/target/up/fov. */
+int spr__scene_save(spr__args *a, const spr_scene *s, const spr_render_desc *rd, const char *path, int matrices);
+
+/* Print root (consumed) to path through a temporary file; 0 or −1 after a line. */
+int spr__write_json(spr__args *a, const char *path, cJSON *root);
+
+#endif
