@@ -13,20 +13,8 @@
 
 static char dir[64];
 
-static const char *path_in(const char *name)
-{
-    static char p[16][200];
-    static int k;
-    k = (k + 1) % 16;
-    snprintf(p[k], sizeof p[k], "%s/%s", dir, name);
-    return p[k];
-}
-
-static void setup_dir(void)
-{
-    strcpy(dir, "/tmp/spr_cli_XXXXXX");
-    ck_assert_ptr_nonnull(mkdtemp(dir));
-}
+#define path_in(name) tu_in(dir, (name))
+static void setup_dir(void) { tu_tmpdir(dir, "cli"); }
 
 static void write_text(const char *name, const char *s, size_t n)
 {

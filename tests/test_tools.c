@@ -14,19 +14,8 @@
 #include "test_util.h"
 
 static char dir[64];
-static const char *in_dir(const char *name)
-{
-    static char p[16][256];
-    static int k;
-    k = (k + 1) % 16;
-    snprintf(p[k], sizeof p[k], "%s/%s", dir, name);
-    return p[k];
-}
-static void setup_dir(void)
-{
-    strcpy(dir, "/tmp/spr_tools_XXXXXX");
-    ck_assert_ptr_nonnull(mkdtemp(dir));
-}
+#define in_dir(name) tu_in(dir, (name))
+static void setup_dir(void) { tu_tmpdir(dir, "tools"); }
 
 /* `splatref ARG…` (NULL-terminated); exit status, output (stdout and stderr) in out. */
 static char out[1 << 16];
@@ -76,16 +65,30 @@ static const char *const *algo_args(const char *algo)
     return none;
 }
 
+/* `splatref CMD --algo ALGO --size SIZE --points 3000 EXTRA… --quiet` with
+ * the algorithm's scene options (algo_args; they come last, so the domain
+ * scenes' --points wins). */
+static int algo_run(const char *cmd, const char *algo, const char *size, ...)
+{
+    char *argv[64] = {"splatref", (char *)cmd, "--algo", (char *)algo, "--size", (char *)size, "--points", "3000"};
+    int n = 8;
+    va_list ap;
+    va_start(ap, size);
+    const char *s;
+    while ((s = va_arg(ap, const char *)) && n < 50) argv[n++] = (char *)s;
+    va_end(ap);
+    argv[n++] = "--quiet";
+    for (const char *const *x = algo_args(algo); *x && n < 62; x++) argv[n++] = (char *)*x;
+    argv[n] = NULL;
+    return tu_run(NULL, NULL, 1, argv, out, sizeof out);
+}
+
 START_TEST(scene_round_trip_every_algorithm)
 {
     setup_dir();
     for (int al = 0; al < SPR_ALGO__COUNT; al++) {
         const char *name = spr_algo_name((spr_algo)al);
-        const char *const *x = algo_args(name);
-        const char *a[8] = {0};
-        for (int i = 0; x[i]; i++) a[i] = x[i];
-        int rc = cli("render", "--algo", name, "--size", "96x80", "--points", "3000", "--save-scene", in_dir("s.json"), "--float",
-                     in_dir("a.pfm"), "--out", in_dir("a.png"), "--quiet", a[0], a[1], a[2], a[3], a[4], a[5], NULL);
+        int rc = algo_run("render", name, "96x80", "--save-scene", in_dir("s.json"), "--float", in_dir("a.pfm"), "--out", in_dir("a.png"), NULL);
         ck_assert_msg(rc == 0, "%s: %s", name, out);
         rc = cli("render", "--scene", in_dir("s.json"), "--float", in_dir("b.pfm"), "--out", in_dir("b.png"), "--quiet", NULL);
         ck_assert_msg(rc == 0, "%s: %s", name, out);
@@ -392,11 +395,7 @@ START_TEST(explain_cpu_gl_identical_every_algorithm)
     setup_dir();
     for (int al = 0; al < SPR_ALGO__COUNT; al++) {
         const char *name = spr_algo_name((spr_algo)al);
-        const char *const *x = algo_args(name);
-        const char *a[8] = {0};
-        for (int i = 0; x[i]; i++) a[i] = x[i];
-        int rc = cli("render", "--algo", name, "--size", "72x60", "--points", "3000", "--save-scene", in_dir("s.json"), "--out", in_dir("a.png"),
-                     "--quiet", a[0], a[1], a[2], a[3], a[4], a[5], NULL);
+        int rc = algo_run("render", name, "72x60", "--save-scene", in_dir("s.json"), "--out", in_dir("a.png"), NULL);
         ck_assert_msg(rc == 0, "%s: %s", name, out);
         int frags = 0, steps = 0, calls = 0;
         static const int px[][2] = {{18, 30}, {24, 30}, {36, 40}, {30, 22}, {50, 30}};
@@ -569,11 +568,7 @@ START_TEST(step_every_algorithm)
     setup_dir();
     for (int al = 0; al < SPR_ALGO__COUNT; al++) {
         const char *name = spr_algo_name((spr_algo)al);
-        const char *const *x = algo_args(name);
-        const char *a[8] = {0};
-        for (int i = 0; x[i]; i++) a[i] = x[i];
-        int rc = cli("step", "--algo", name, "--size", "48x40", "--points", "2000", "--pixels", "2", "--out", in_dir(name), "--quiet", a[0], a[1],
-                     a[2], a[3], a[4], a[5], NULL);
+        int rc = algo_run("step", name, "48x40", "--pixels", "2", "--out", in_dir(name), NULL);
         ck_assert_msg(rc == 0, "%s: %s", name, out);
         char p[400];
         snprintf(p, sizeof p, "%s/index.html", in_dir(name));

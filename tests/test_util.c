@@ -161,3 +161,18 @@ int tu_run(const char *prog, const char *env, int out_too, char *const argv[], c
     waitpid(pid, &st, 0);
     return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }
+
+void tu_tmpdir(char dir[64], const char *tag)
+{
+    snprintf(dir, 64, "/tmp/spr_%s_XXXXXX", tag);
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+}
+
+const char *tu_in(const char *dir, const char *name)
+{
+    static char p[16][300];
+    static int k;
+    k = (k + 1) % 16;
+    snprintf(p[k], sizeof p[k], "%s/%s", dir, name);
+    return p[k];
+}

@@ -45,6 +45,10 @@ void tu_bunny_free(tu_bunny *s);
 /* Run `prog` (the splatref CLI when NULL) with NAME=VALUE added to its
  * environment when env is not NULL; the exit status, stderr (and stdout
  * when out_too) in err. */
+/* A fresh folder /tmp/spr_TAG_XXXXXX written into dir. */
+void tu_tmpdir(char dir[64], const char *tag);
+/* dir/name, in one of 16 rotating buffers. */
+const char *tu_in(const char *dir, const char *name);
 int tu_run(const char *prog, const char *env, int out_too, char *const argv[], char *err, size_t cap);
 
 #endif

@@ -239,7 +239,7 @@ static void grab_hook(void *user, spr_backend *b, const spr_pass_info *info)
     plane_grab *g = user;
     if (g->failed || (g->want_pass >= 0 && info->index != g->want_pass)) return;
     if (!(spr_backend_target_planes(b, info->target) & SPR_PLANE_BIT(g->plane))) return;
-    if (spr_backend_read_plane(b, info->target, g->plane, g->buf)) { g->failed = 1; g->err = b->err; return; }
+    if (spr_backend_read_plane_f(b, info->target, g->plane, g->buf)) { g->failed = 1; g->err = b->err; return; }
     g->got_pass = info->index;
     if (info->group >= 0) snprintf(g->pass_name, sizeof g->pass_name, "%s k%d", info->name, info->group);
     else snprintf(g->pass_name, sizeof g->pass_name, "%s", info->name);
@@ -320,14 +320,7 @@ int cmd_check(int argc, char **argv)
         for (size_t p = 0; p < np; p++)
             for (int c = 0; c < rch; c++) ref[rch * p + c] = ref[4 * p + (g.channel == 3 ? 3 : c)];
     } else {
-        rch = pch;
-        const spr_plane_type ty = spr_plane_info_of(g.plane)->type;
-        if (ty == SPR_PLANE_U32 || ty == SPR_PLANE_COUNTER) /* ids and counts as floats, none = −1 (as --dump) */
-            for (size_t p = 0; p < np; p++) {
-                uint32_t u;
-                memcpy(&u, &ref[p], 4);
-                ref[p] = u == UINT32_MAX ? -1.0f : (float)u;
-            }
+        rch = pch; /* ids and counts as floats, none = −1 (as --dump) */
     }
     if (match_channels(&a, image, &theirs, &tch, rch, tw, th)) goto done;
     char what[96], ref_label[160], explain[2400];

@@ -42,12 +42,7 @@ static void dump_hook(void *user, spr_backend *b, const spr_pass_info *info)
     for (int p = 0; p < SPR_PLANE__COUNT && !dc->failed; p++) {
         if (!(spr_backend_target_planes(b, info->target) & SPR_PLANE_BIT(p))) continue;
         if (!info->state && p == SPR_PLANE_TEST) continue; /* a composite's test plane repeats its depth */
-        if (spr_backend_read_plane(b, info->target, (spr_plane)p, buf)) { dc->failed = 1; dc->err = b->err; break; }
-        const spr_plane_type type = spr_plane_info_of((spr_plane)p)->type;
-        if (type == SPR_PLANE_U32 || type == SPR_PLANE_COUNTER) {
-            uint32_t *u = (uint32_t *)buf;
-            for (size_t i = 0; i < (size_t)W * H; i++) buf[i] = u[i] == UINT32_MAX ? -1.0f : (float)u[i];
-        }
+        if (spr_backend_read_plane_f(b, info->target, (spr_plane)p, buf)) { dc->failed = 1; dc->err = b->err; break; }
         /* PFM holds 1 or 3 channels: the colour plane's 4th channel (the
          * weight sum, or coverage after compositing) goes to its own file. */
         for (int part = 0; part < (p == SPR_PLANE_COLOR ? 2 : 1) && !dc->failed; part++) {

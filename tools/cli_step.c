@@ -69,19 +69,12 @@ static void cap_hook(void *user, spr_backend *b, const spr_pass_info *info)
         if (!(p->planes & SPR_PLANE_BIT(q)) || (p->composite && q == SPR_PLANE_TEST)) continue;
         const int ch = spr_plane_channels((spr_plane)q);
         float *buf = malloc(np * (size_t)ch * sizeof *buf);
-        if (!buf || spr_backend_read_plane(b, info->target, (spr_plane)q, buf)) {
+        if (!buf || spr_backend_read_plane_f(b, info->target, (spr_plane)q, buf)) {
             free(buf);
             c->failed = 1;
             c->err = b->err;
             return;
         }
-        const spr_plane_type ty = spr_plane_info_of((spr_plane)q)->type;
-        if (ty == SPR_PLANE_U32 || ty == SPR_PLANE_COUNTER)
-            for (size_t i = 0; i < np; i++) {
-                uint32_t u;
-                memcpy(&u, &buf[i], 4);
-                buf[i] = u == UINT32_MAX ? -1.0f : (float)u;
-            }
         p->plane[q] = buf;
     }
 }

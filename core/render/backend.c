@@ -301,6 +301,21 @@ spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void 
     return b->read_plane(b, target, p, out);
 }
 
+spr_result spr_backend_read_plane_f(spr_backend *b, int target, spr_plane p, float *out)
+{
+    spr_result r = spr_backend_read_plane(b, target, p, out);
+    const spr_plane_type type = r ? SPR_PLANE_F32 : spr_plane_info_of(p)->type;
+    if (type == SPR_PLANE_U32 || type == SPR_PLANE_COUNTER) {
+        const size_t n = (size_t)b->view.width * b->view.height;
+        for (size_t i = 0; i < n; i++) {
+            uint32_t u;
+            memcpy(&u, &out[i], 4);
+            out[i] = u == UINT32_MAX ? -1.0f : (float)u; /* exact below 2^24 */
+        }
+    }
+    return r;
+}
+
 void spr_backend_destroy(spr_backend *b)
 {
     if (!b) return;

@@ -1,7 +1,5 @@
 /* backend_trace.c — the trace backend of spr_trace.h: each entry point
- * forwards to the inner backend through its validating wrapper and writes
- * one line.  Target handles stay equal on both sides because every target
- * call goes through here and both take the lowest free handle. */
+ * forwards to the inner backend (backend_wrap.c) and writes one line. */
 #include "spr_algo.h"
 #include "spr_trace.h"
 
@@ -9,20 +7,12 @@
 #include <string.h>
 
 typedef struct trace_backend {
-    spr_backend base; /* first: a trace_backend is an spr_backend */
-    spr_backend *inner;
+    spr__wrap w; /* first: a trace_backend is a wrapping spr_backend */
     FILE *out;
-    unsigned char *slots; /* spr__backend_add_target bookkeeping, one byte each */
-    int cap;
 } trace_backend;
 
 static trace_backend *tr(spr_backend *b) { return (trace_backend *)b; }
-
-static spr_result pass_on(spr_backend *b, spr_result r)
-{
-    if (r) b->err = tr(b)->inner->err;
-    return r;
-}
+#define pass_on spr__wrap_pass_on
 
 static void planes(FILE *f, unsigned mask)
 {
@@ -35,21 +25,15 @@ static void planes(FILE *f, unsigned mask)
 static spr_result t_set_view(spr_backend *b, const spr_view *v)
 {
     fprintf(tr(b)->out, "set_view %dx%d%s near %.9g far %.9g\n", v->width, v->height, v->ortho ? " ortho" : "", v->near_plane, v->far_plane);
-    return pass_on(b, spr_backend_set_view(tr(b)->inner, v));
+    return pass_on(b, spr_backend_set_view(tr(b)->w.inner, v));
 }
 
 static spr_result t_target_create(spr_backend *b, unsigned mask, int *out)
 {
     trace_backend *t = tr(b);
-    int theirs;
-    spr_result r = spr__backend_add_target(b, mask, out, (void **)&t->slots, &t->cap, 1);
+    spr_result r = spr__wrap_target_create(b, mask, out);
     if (r) return r;
-    const int mine = *out;
-    if ((r = spr_backend_target_create(t->inner, mask, &theirs)) || theirs != mine) {
-        if (!r) spr_backend_target_destroy(t->inner, theirs);
-        return r ? pass_on(b, r) : spr__fail(&b->err, SPR_E_BACKEND, "trace: handles out of step (%d vs %d)", mine, theirs);
-    }
-    fprintf(t->out, "target_create t%d planes ", mine);
+    fprintf(t->out, "target_create t%d planes ", *out);
     planes(t->out, mask);
     fprintf(t->out, "\n");
     return SPR_OK;
@@ -58,14 +42,14 @@ static spr_result t_target_create(spr_backend *b, unsigned mask, int *out)
 static void t_target_destroy(spr_backend *b, int target)
 {
     fprintf(tr(b)->out, "target_destroy t%d\n", target);
-    spr_backend_target_destroy(tr(b)->inner, target);
+    spr_backend_target_destroy(tr(b)->w.inner, target);
 }
 
 static spr_result t_clear(spr_backend *b, int target, const float c[4])
 {
     fprintf(tr(b)->out, "clear t%d color (%.9g, %.9g, %.9g, %.9g), other planes to the plane table's values\n", target, c[0], c[1],
             c[2], c[3]);
-    return pass_on(b, spr_backend_clear(tr(b)->inner, target, c));
+    return pass_on(b, spr_backend_clear(tr(b)->w.inner, target, c));
 }
 
 static const char *const depth_names[SPR_DEPTH__COUNT] = {"d_f", "d_f+eps_t", "z_lowres", "voronoi"};
@@ -84,14 +68,14 @@ static void print_state(FILE *f, const spr_pass_state *s)
 static void print_result(trace_backend *t, spr_result r, const spr_draw_stats *st)
 {
     if (!r) fprintf(t->out, " -> %llu fragments, %llu passed\n", (unsigned long long)st->generated, (unsigned long long)st->passed);
-    else fprintf(t->out, " -> failed: %s\n", t->base.err.msg);
+    else fprintf(t->out, " -> failed: %s\n", t->w.base.err.msg);
 }
 
 static spr_result t_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
 {
     static const char *const outk[] = {"(w*c, w)", "(c, alpha)"};
     const spr_pass_state *s = &d->state;
-    spr_result r = pass_on(b, spr_backend_draw(tr(b)->inner, target, d, st));
+    spr_result r = pass_on(b, spr_backend_draw(tr(b)->w.inner, target, d, st));
     FILE *f = tr(b)->out;
     fprintf(f, "draw t%d: %zu splats%s, kernel %s, output %s, ", target, d->indices ? d->count : d->cloud->n,
             d->radius_override ? " (radii overridden)" : "", spr_kernel_name(s->kernel), outk[s->output]);
@@ -108,7 +92,7 @@ static spr_result t_draw_rects(spr_backend *b, int target, const spr_rect_draw_d
 {
     static const char *const outk[SPR_ROUT__COUNT] = {"(alpha*c, alpha)", "(c, 1)", "(0, 0, 0, 1)", "(alpha, alpha, alpha, 0)"};
     static const char *const smp[SPR_SAMPLE__COUNT] = {"nearest", "linear", "hardware"};
-    spr_result r = pass_on(b, spr_backend_draw_rects(tr(b)->inner, target, d, st));
+    spr_result r = pass_on(b, spr_backend_draw_rects(tr(b)->w.inner, target, d, st));
     FILE *f = tr(b)->out;
     fprintf(f, "draw_rects t%d: %zu rectangles, sampling %s, alpha >= %.9g, ", target, d->indices ? d->count : d->rects->n, smp[d->sampling],
             d->alpha_ref);
@@ -125,21 +109,19 @@ static spr_result t_composite(spr_backend *b, const spr_composite_desc *c)
     for (int k = 0; k < c->n_inputs; k++) fprintf(f, " t%d", c->inputs[k]);
     fprintf(f, " -> t%d, eps_t %.9g, background (%.9g, %.9g, %.9g)\n", c->output, c->eps_t, c->background[0], c->background[1],
             c->background[2]);
-    return pass_on(b, spr_backend_composite(tr(b)->inner, c));
+    return pass_on(b, spr_backend_composite(tr(b)->w.inner, c));
 }
 
 static spr_result t_read(spr_backend *b, int target, spr_plane p, void *out)
 {
     fprintf(tr(b)->out, "read t%d %s\n", target, spr_plane_name(p));
-    return pass_on(b, spr_backend_read_plane(tr(b)->inner, target, p, out));
+    return pass_on(b, spr_backend_read_plane(tr(b)->w.inner, target, p, out));
 }
 
 static void t_destroy(spr_backend *b)
 {
-    trace_backend *t = tr(b);
-    spr_backend_destroy(t->inner);
-    free(t->slots);
-    free(t);
+    spr__wrap_release(&tr(b)->w);
+    free(b);
 }
 
 spr_backend *spr_trace_create(spr_backend *inner, FILE *out, spr_error *err)
@@ -149,10 +131,9 @@ spr_backend *spr_trace_create(spr_backend *inner, FILE *out, spr_error *err)
         spr__fail(err, SPR_E_NOMEM, "trace: out of memory");
         return NULL;
     }
-    t->inner = inner;
+    spr__wrap_init(&t->w, inner, t_destroy);
     t->out = out;
-    spr_backend *b = &t->base;
-    b->name = inner->name; /* the planes are the inner backend's */
+    spr_backend *b = &t->w.base;
     b->set_view = t_set_view;
     b->target_create = t_target_create;
     b->target_destroy = t_target_destroy;
@@ -161,6 +142,5 @@ spr_backend *spr_trace_create(spr_backend *inner, FILE *out, spr_error *err)
     b->draw_rects = t_draw_rects;
     b->composite = t_composite;
     b->read_plane = t_read;
-    b->destroy = t_destroy;
     return b;
 }

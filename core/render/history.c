@@ -10,23 +10,15 @@
 #include <string.h>
 
 typedef struct hist_backend {
-    spr_backend base; /* first: a hist_backend is an spr_backend */
-    spr_backend *inner;
+    spr__wrap w;      /* first: a hist_backend is a wrapping spr_backend (backend_wrap.c) */
     spr_history *h;
     spr_probe *probe;
     float *buf;       /* one plane of the view */
     size_t buf_cap;
-    unsigned char *slots;
-    int cap;
 } hist_backend;
 
 static hist_backend *hb(spr_backend *b) { return (hist_backend *)b; }
-
-static spr_result pass_on(spr_backend *b, spr_result r)
-{
-    if (r) b->err = hb(b)->inner->err;
-    return r;
-}
+#define pass_on spr__wrap_pass_on
 
 double spr_history_value(spr_plane p, uint32_t bits)
 {
@@ -41,7 +33,7 @@ double spr_history_value(spr_plane p, uint32_t bits)
 static spr_result read_pixel(spr_backend *b, int t, unsigned planes, uint32_t out[SPR_PLANE__COUNT][4])
 {
     hist_backend *w = hb(b);
-    const spr_view *v = &w->inner->view;
+    const spr_view *v = &w->w.inner->view;
     const size_t need = (size_t)v->width * v->height * 4;
     if (need > w->buf_cap) {
         float *nb = realloc(w->buf, need * sizeof *nb);
@@ -52,7 +44,7 @@ static spr_result read_pixel(spr_backend *b, int t, unsigned planes, uint32_t ou
     const size_t pix = (size_t)w->h->y * v->width + (size_t)w->h->x;
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         if (!(planes & SPR_PLANE_BIT(p))) continue;
-        spr_result r = spr_backend_read_plane(w->inner, t, (spr_plane)p, w->buf);
+        spr_result r = spr_backend_read_plane(w->w.inner, t, (spr_plane)p, w->buf);
         if (r) return pass_on(b, r);
         const int ch = spr_plane_channels((spr_plane)p);
         memcpy(out[p], (const uint32_t *)(const void *)w->buf + pix * (size_t)ch, (size_t)ch * 4);
@@ -75,7 +67,7 @@ static spr_hist_event *new_event(spr_backend *b, spr_hist_kind kind, int target)
     e->pass = -1;
     e->group = -1;
     e->target = target;
-    e->planes = spr_backend_target_planes(hb(b)->inner, target);
+    e->planes = spr_backend_target_planes(hb(b)->w.inner, target);
     e->replay_matches = 1;
     return e;
 }
@@ -163,39 +155,44 @@ static void replay(spr_hist_event *e, const float *normals)
     }
 }
 
+/* Around a call: the pixel's planes before, the probe armed; then
+ * disarmed, the planes after and the probe's records. */
+static spr_result call_begin(spr_backend *b, spr_hist_event *e)
+{
+    spr_result r = read_pixel(b, e->target, e->planes, e->before);
+    if (!r) hb(b)->w.inner->probe = hb(b)->probe;
+    return r;
+}
+static spr_result call_end(spr_backend *b, spr_hist_event *e, spr_result r)
+{
+    hb(b)->w.inner->probe = NULL;
+    if (r || (r = read_pixel(b, e->target, e->planes, e->after))) return r;
+    return take_probe(b, e);
+}
+
 static spr_result h_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
 {
-    hist_backend *w = hb(b);
     spr_hist_event *e = new_event(b, SPR_HIST_SPLATS, target);
     if (!e) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
     e->state = d->state;
     e->submitted = d->indices ? d->count : d->cloud->n;
     e->depth_mask = d->depth_mask, e->mask_target = d->mask_target;
-    spr_result r = read_pixel(b, target, e->planes, e->before);
-    if (r) return r;
-    w->inner->probe = w->probe;
-    r = pass_on(b, spr_backend_draw(w->inner, target, d, st));
-    w->inner->probe = NULL;
-    if (r || (r = read_pixel(b, target, e->planes, e->after)) || (r = take_probe(b, e))) return r;
+    spr_result r = call_begin(b, e);
+    if (r || (r = call_end(b, e, pass_on(b, spr_backend_draw(hb(b)->w.inner, target, d, st))))) return r;
     replay(e, d->cloud->nrm);
     return SPR_OK;
 }
 
 static spr_result h_draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st)
 {
-    hist_backend *w = hb(b);
     spr_hist_event *e = new_event(b, SPR_HIST_RECTS, target);
     if (!e) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
     e->state = d->state;
     e->submitted = d->indices ? d->count : d->rects->n;
     e->list = d->list;
     e->rect_output = (int)d->output;
-    spr_result r = read_pixel(b, target, e->planes, e->before);
-    if (r) return r;
-    w->inner->probe = w->probe;
-    r = pass_on(b, spr_backend_draw_rects(w->inner, target, d, st));
-    w->inner->probe = NULL;
-    if (r || (r = read_pixel(b, target, e->planes, e->after)) || (r = take_probe(b, e))) return r;
+    spr_result r = call_begin(b, e);
+    if (r || (r = call_end(b, e, pass_on(b, spr_backend_draw_rects(hb(b)->w.inner, target, d, st))))) return r;
     replay(e, NULL);
     return SPR_OK;
 }
@@ -211,46 +208,19 @@ static spr_result h_composite(spr_backend *b, const spr_composite_desc *c)
     spr_result r;
     for (int k = 0; k < c->n_inputs; k++) {
         e->inputs[k] = c->inputs[k];
-        e->in_planes[k] = spr_backend_target_planes(w->inner, c->inputs[k]);
+        e->in_planes[k] = spr_backend_target_planes(w->w.inner, c->inputs[k]);
         if ((r = read_pixel(b, c->inputs[k], e->in_planes[k], e->in_vals[k]))) return r;
     }
-    if ((r = read_pixel(b, c->output, e->planes, e->before))) return r;
-    w->inner->probe = w->probe;
-    r = pass_on(b, spr_backend_composite(w->inner, c));
-    w->inner->probe = NULL;
-    if (r || (r = read_pixel(b, c->output, e->planes, e->after))) return r;
-    return take_probe(b, e);
-}
-
-static spr_result h_set_view(spr_backend *b, const spr_view *v) { return pass_on(b, spr_backend_set_view(hb(b)->inner, v)); }
-
-static spr_result h_target_create(spr_backend *b, unsigned mask, int *out)
-{
-    hist_backend *w = hb(b);
-    int theirs;
-    spr_result r = spr__backend_add_target(b, mask, out, (void **)&w->slots, &w->cap, 1);
-    if (r) return r;
-    if ((r = spr_backend_target_create(w->inner, mask, &theirs)) || theirs != *out) {
-        if (!r) spr_backend_target_destroy(w->inner, theirs);
-        return r ? pass_on(b, r) : spr__fail(&b->err, SPR_E_BACKEND, "history: handles out of step (%d vs %d)", *out, theirs);
-    }
-    return SPR_OK;
-}
-
-static void h_target_destroy(spr_backend *b, int target) { spr_backend_target_destroy(hb(b)->inner, target); }
-static spr_result h_clear(spr_backend *b, int target, const float c[4]) { return pass_on(b, spr_backend_clear(hb(b)->inner, target, c)); }
-static spr_result h_read(spr_backend *b, int target, spr_plane p, void *out)
-{
-    return pass_on(b, spr_backend_read_plane(hb(b)->inner, target, p, out));
+    if ((r = call_begin(b, e))) return r;
+    return call_end(b, e, pass_on(b, spr_backend_composite(w->w.inner, c)));
 }
 
 static void h_destroy(spr_backend *b)
 {
     hist_backend *w = hb(b);
-    spr_backend_destroy(w->inner);
+    spr__wrap_release(&w->w);
     free(w->probe);
     free(w->buf);
-    free(w->slots);
     free(w);
 }
 
@@ -266,20 +236,13 @@ spr_backend *spr_history_create(spr_backend *inner, int x, int y, spr_history *h
     }
     p->x = x, p->y = y;
     h->x = x, h->y = y;
-    w->inner = inner;
+    spr__wrap_init(&w->w, inner, h_destroy);
     w->h = h;
     w->probe = p;
-    spr_backend *b = &w->base;
-    b->name = inner->name;
-    b->set_view = h_set_view;
-    b->target_create = h_target_create;
-    b->target_destroy = h_target_destroy;
-    b->clear = h_clear;
+    spr_backend *b = &w->w.base;
     b->draw_splats = h_draw;
     b->draw_rects = h_draw_rects;
     b->composite = h_composite;
-    b->read_plane = h_read;
-    b->destroy = h_destroy;
     return b;
 }
 

@@ -432,7 +432,27 @@ spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, 
 spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c);
 spr_result spr_backend_draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out);
+/* The same, every plane as floats: id and count planes as their integer
+ * values, "none" ids as −1 (what --dump, check and step show). */
+spr_result spr_backend_read_plane_f(spr_backend *b, int target, spr_plane p, float *out);
 void spr_backend_destroy(spr_backend *b);
+
+/* Backends that wrap another (the trace and history backends) start with
+ * this: spr__wrap_init forwards every entry point to `inner` (through the
+ * validating wrappers; failures carry inner's message) — the wrapper then
+ * replaces the entry points it watches, calling spr__wrap_pass_on on what
+ * it forwards itself; spr__wrap_release destroys inner. */
+typedef struct spr__wrap {
+    spr_backend base;
+    spr_backend *inner;
+    unsigned char *slots;   /* spr__backend_add_target bookkeeping */
+    int cap;
+} spr__wrap;
+void spr__wrap_init(spr__wrap *w, spr_backend *inner, void (*destroy)(spr_backend *));
+spr_result spr__wrap_pass_on(spr_backend *b, spr_result r);
+/* The forwarded target_create (handles kept in step with inner's). */
+spr_result spr__wrap_target_create(spr_backend *b, unsigned mask, int *out);
+void spr__wrap_release(spr__wrap *w);
 
 /* Bookkeeping for implementations: take the lowest free handle (set in
  * *out_target at once, so that spr_backend_target_create frees it again if the
