@@ -19,17 +19,23 @@ static void setup_dir(void) { tu_tmpdir(dir, "tools"); }
 
 /* `splatref ARG…` (NULL-terminated); exit status, output (stdout and stderr) in out. */
 static char out[1 << 16];
+/* argv[0 … n−1], then the NULL-terminated ap, then tail (NULL-terminated, or NULL). */
+static int run_va(char **argv, int n, va_list ap, const char *const *tail)
+{
+    const char *s;
+    while ((s = va_arg(ap, const char *)) && n < 50) argv[n++] = (char *)s;
+    for (; tail && *tail && n < 62; tail++) argv[n++] = (char *)*tail;
+    argv[n] = NULL;
+    return tu_run(NULL, NULL, 1, argv, out, sizeof out);
+}
 static int cli(const char *first, ...)
 {
     char *argv[64] = {"splatref", (char *)first};
-    int n = 2;
     va_list ap;
     va_start(ap, first);
-    const char *s;
-    while ((s = va_arg(ap, const char *)) && n < 63) argv[n++] = (char *)s;
+    int rc = run_va(argv, 2, ap, NULL);
     va_end(ap);
-    argv[n] = NULL;
-    return tu_run(NULL, NULL, 1, argv, out, sizeof out);
+    return rc;
 }
 
 static int same_file(const char *a, const char *b)
@@ -70,17 +76,12 @@ static const char *const *algo_args(const char *algo)
  * scenes' --points wins). */
 static int algo_run(const char *cmd, const char *algo, const char *size, ...)
 {
-    char *argv[64] = {"splatref", (char *)cmd, "--algo", (char *)algo, "--size", (char *)size, "--points", "3000"};
-    int n = 8;
+    char *argv[64] = {"splatref", (char *)cmd, "--algo", (char *)algo, "--size", (char *)size, "--points", "3000", "--quiet"};
     va_list ap;
     va_start(ap, size);
-    const char *s;
-    while ((s = va_arg(ap, const char *)) && n < 50) argv[n++] = (char *)s;
+    int rc = run_va(argv, 9, ap, algo_args(algo));
     va_end(ap);
-    argv[n++] = "--quiet";
-    for (const char *const *x = algo_args(algo); *x && n < 62; x++) argv[n++] = (char *)*x;
-    argv[n] = NULL;
-    return tu_run(NULL, NULL, 1, argv, out, sizeof out);
+    return rc;
 }
 
 START_TEST(scene_round_trip_every_algorithm)
