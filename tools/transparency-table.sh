@@ -36,10 +36,10 @@ while IFS='|' read -r name model view; do
   $S render $common --algo transparent1 $WGC --out "$O/${name}_a1_wgc.png" >/dev/null
   $S render $common --algo transparent2 $WGC --voronoi --out "$O/${name}_a2_wgc.png" >/dev/null
   $S render $common --algo transparent2 $HASH --voronoi --shade phong --env sky --out "$O/${name}_a2_env.png" >/dev/null
-  $S compare "$O/${name}_a2_wgc.png" "$O/${name}_peel8.png" --metric zp-eps --heatmap "$O/${name}_a2_wgc_heat.png" >/dev/null
-  $S compare "$O/${name}_peel3.png" "$O/${name}_peel8.png" --metric zp-eps --heatmap "$O/${name}_peel3_heat.png" >/dev/null
+  $S compare "$O/${name}_a2_wgc.png" "$O/${name}_peel8.png" --metric zp-eps --tier C --heatmap "$O/${name}_a2_wgc_heat.png" >/dev/null
+  $S compare "$O/${name}_peel3.png" "$O/${name}_peel8.png" --metric zp-eps --tier C --heatmap "$O/${name}_peel3_heat.png" >/dev/null
   n=$($S info $model --quiet | sed -n 's/^splats: *\([0-9]*\).*/\1/p')
-  four=$($S compare "$O/${name}_peel3.png" "$O/${name}_peel8.png" --metric zp-eps | sed -n 's/.* \([0-9]*\) pixels differ.*/\1/p')
+  four=$($S compare "$O/${name}_peel3.png" "$O/${name}_peel8.png" --metric zp-eps --tier C | sed -n 's/^compare: zp-eps .* \([0-9]*\) pixels differ$/\1/p')
   P8="$O/${name}_peel8.png"
   echo "| $name | $n | $four | $(eps "$O/${name}_a1_hash.png" "$P8") | $(eps "$O/${name}_a2_hash.png" "$P8") |" \
        "$(eps "$O/${name}_a1_wgc.png" "$P8") | $(eps "$O/${name}_a2_wgc.png" "$P8") | $(eps "$O/${name}_peel3.png" "$P8") | $ta1 / $ta2 / $t3 / $t8 |"
