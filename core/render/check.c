@@ -90,7 +90,7 @@ void spr_check_images(const float *ref, const float *test, int w, int h, int ch,
                 }
                 if (lsb > r->max_lsb) r->max_lsb = lsb;
                 if (ad > r->max_abs || !isfinite(ad)) r->max_abs = isfinite(ad) ? ad : INFINITY;
-                if (!matches(a, b, d) && !fails) fails = 1, fc = c;
+                if (d->tier != SPR_TIER_C && !matches(a, b, d) && !fails) fails = 1, fc = c; /* Tier C fails nothing */
             }
             if (pix_sum) pix_sum[p] = s, max_sum = s > max_sum ? s : max_sum;
             if (!differs) continue;
