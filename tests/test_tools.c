@@ -376,6 +376,51 @@ START_TEST(explain_two_groups_within_eps)
 }
 END_TEST
 
+/* The new commands on bad input: one line naming the problem, exit 2, no output. */
+START_TEST(tools_bad_inputs)
+{
+    setup_dir();
+    int rc = cli("render", "--size", "40x30", "--save-scene", in_dir("s.json"), "--out", in_dir("a.png"), "--quiet", NULL);
+    ck_assert_msg(rc == 0, "%s", out);
+    static const struct { const char *argv[8]; const char *expect; } cases[] = {
+        {{"explain", "--pixel", "40,3"}, "outside the 40x30 image"},
+        {{"explain", "--pixel", "4"}, "--pixel X,Y is required"},
+        {{"explain", "--pixel", "4,4", "--backend", "vulkan"}, "is not both, cpu or gl"},
+        {{"check"}, "--image is required"},
+        {{"check", "--image", "/nonexistent.png"}, "/nonexistent.png"},
+        {{"check", "--image", "x.tif"}, "unknown image type"},
+        {{"check", "--image", "a.png", "--tier", "D"}, "is not A, B or C"},
+        {{"check", "--image", "a.png", "--tier", "A", "--lsb", "1"}, "Tier A is bit-exact"},
+        {{"check", "--image", "a.png", "--ulp", "3"}, "--ulp applies to float"},
+        {{"check", "--image", "a.png", "--plane", "sparkle"}, "--plane: 'sparkle'"},
+        {{"step"}, "--out DIR is required"},
+        {{"render", "--view-matrix", "1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1"}, "go together"},
+        {{"render", "--eye", "0,0,5", "--view-matrix", "1,0,0,0,0,1,0,0,0,0,1,-5,0,0,0,1", "--projection-matrix", "1,0,0,0,0,1,0,0,0,0,-1,-1,0,0,-1,0"},
+         "both place the camera"},
+        {{"render", "--view-matrix", "1,0,0,0,0,1,0,0,0,0,1,-5,0,0,0,1", "--projection-matrix", "1,0,0,0,0,1,0,0,0,0,-1,-1,0,0,1,1"}, "row 4 must be"},
+        {{"render", "--view-matrix", "1,0,0", "--projection-matrix", "1,0,0,0,0,1,0,0,0,0,-1,-1,0,0,-1,0"}, "has 3 numbers"},
+        {{"render", "--view-matrix", "1,0,x,0,0,1,0,0,0,0,1,-5,0,0,0,1", "--projection-matrix", "1,0,0,0,0,1,0,0,0,0,-1,-1,0,0,-1,0"}, "element 3"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *argv[20] = {"splatref"};
+        int n = 1;
+        for (int k = 0; k < 8 && cases[i].argv[k]; k++) argv[n++] = (char *)cases[i].argv[k];
+        if (strcmp(cases[i].argv[0], "render")) argv[n++] = "--scene", argv[n++] = (char *)in_dir("s.json");
+        if (strcmp(cases[i].argv[0], "explain") && strcmp(cases[i].argv[0], "step")) /* explain has no --out; step's is the error */
+            argv[n++] = "--out", argv[n++] = (char *)in_dir("bad-out");
+        argv[n++] = "--quiet";
+        argv[n] = NULL;
+        for (int k = 0; argv[k]; k++)
+            if (!strcmp(argv[k], "a.png")) argv[k] = (char *)in_dir("a.png");
+        rc = tu_run(NULL, NULL, 1, argv, out, sizeof out);
+        printf("bad input %zu (%s): exit %d: %s", i, cases[i].argv[0], rc, out);
+        ck_assert_msg(rc == 2 && strstr(out, cases[i].expect), "case %zu: expected '%s', exit %d: %s", i, cases[i].expect, rc, out);
+        ck_assert_msg(strchr(out, '\n') == out + strlen(out) - 1, "case %zu: not one line: %s", i, out);
+        ck_assert_msg(access(in_dir("bad-out"), F_OK) != 0, "case %zu: output written", i);
+    }
+}
+END_TEST
+
 Suite *make_tools_suite(void)
 {
     Suite *s = suite_create("tools");
@@ -385,6 +430,7 @@ Suite *make_tools_suite(void)
     tcase_add_test(tc, scene_hand_matrices_equal_lookat);
     tcase_add_test(tc, scene_bad_files);
     tcase_add_test(tc, explain_two_groups_within_eps);
+    tcase_add_test(tc, tools_bad_inputs);
     suite_add_tcase(s, tc);
     return s;
 }

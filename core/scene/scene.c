@@ -190,6 +190,10 @@ static int camera_matrices(spr__args *a, spr_camera_desc *c)
             char *e;
             errno = 0;
             out[i] = strtod(p, &e);
+            if (e != p && !errno && isfinite(out[i]) && i < 15 && !*e) {
+                spr__error(a, "--%s: '%s' has %d numbers: give 16, row by row", m ? "projection-matrix" : "view-matrix", v, i + 1);
+                return -1;
+            }
             if (e == p || errno || !isfinite(out[i]) || (i < 15 && *e != ',') || (i == 15 && *e)) {
                 spr__error(a, "--%s: element %d of '%s' is not a number: give 16 finite numbers, row by row", m ? "projection-matrix" : "view-matrix", i + 1, v);
                 return -1;
