@@ -204,9 +204,13 @@ static void figure(page *pg, const view_out *vo, int pass, const char *plane, in
 
 /* The pictures of one pass; writes its PNGs into dir. */
 static int pass_views(spr__args *a, page *pg, const char *dir, const cap_pass *p, const cap_pass *all, int n_all, const spr_composite_op *op,
-                      const int *inputs, int n_inputs, float eps_t)
+                      const int *inputs, int n_inputs, float eps_t, int list)
 {
     const int W = pg->W, H = pg->H;
+    if (list) { /* a list draw writes no plane: its fragments live in the lists the next composite reads */
+        fprintf(pg->f, "<p class=\"note\">No plane is written by a list draw; the next composite reads the lists (its pictures follow).</p>\n");
+        return 0;
+    }
     const size_t np = (size_t)W * H;
     float *rgb = malloc(np * 3 * sizeof *rgb);
     if (!rgb) { spr__error(a, "out of memory"); return -1; }
@@ -252,6 +256,7 @@ static int pass_views(spr__args *a, page *pg, const char *dir, const cap_pass *p
             range(v, np, 1, ty == SPR_PLANE_COUNTER ? -2.0f : clear, &lo, &hi);
             for (size_t i = 0; i < np; i++) {
                 if (v[i] == clear && ty != SPR_PLANE_COUNTER) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.12f;
+                else if (ty == SPR_PLANE_COUNTER && v[i] == 0.0f) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.0f;
                 else heat(hi > lo ? (v[i] - lo) / (hi - lo) : 1.0, rgb + 3 * i);
             }
             legend = 1;
@@ -335,8 +340,11 @@ static void pass_header(page *pg, const cap_pass *p, const spr_hist_event *ev)
             if (s->depth_value >= SPR_DEPTH_LOWRES) fprintf(f, ", d<sub>min</sub> = %.9g, d<sub>max</sub> = %.9g, n = %.9g", s->lowres.d_min, s->lowres.d_max, s->lowres.n);
             fprintf(f, ".</p>");
         }
-        fprintf(f, "<p class=\"stats\">%llu fragments covered a pixel, %llu passed the depth test (%.2f ms on the CPU reference).</p>",
-                (unsigned long long)p->stats.generated, (unsigned long long)p->stats.passed, p->ms);
+        if (ev && ev->list)
+            fprintf(f, "<p class=\"stats\">%llu fragments joined the lists (%.2f ms on the CPU reference).</p>", (unsigned long long)p->stats.generated, p->ms);
+        else
+            fprintf(f, "<p class=\"stats\">%llu fragments covered a pixel, %llu passed the depth test (%.2f ms on the CPU reference).</p>",
+                    (unsigned long long)p->stats.generated, (unsigned long long)p->stats.passed, p->ms);
     } else if (ev) {
         fprintf(f, "<p>Composite <b>%s</b> of", spr_composite_info_of(ev->op)->name);
         for (int k = 0; k < ev->n_inputs; k++) fprintf(f, " t%d", ev->inputs[k]);
@@ -556,7 +564,7 @@ int cmd_step(int argc, char **argv)
             if (events[e].pass == p->index) ev = &events[e];
         pass_header(&pg, p, ev);
         if (pass_views(&a, &pg, tmp, p, cc.p, cc.n, ev && ev->kind == SPR_HIST_COMPOSITE ? &ev->op : NULL, ev ? ev->inputs : NULL,
-                       ev ? ev->n_inputs : 0, ev ? ev->eps_t : 0.0f))
+                       ev ? ev->n_inputs : 0, ev ? ev->eps_t : 0.0f, ev && ev->list))
             goto done;
         fprintf(f, "</div></section>\n");
     }
