@@ -1,5 +1,7 @@
 /* cloud.c — allocation, validation and bounds of splat clouds. */
 #include "spr_cloud.h"
+#include "spr_util.h"
+#include <omp.h>
 
 #include <math.h>
 #include <stdlib.h>
@@ -107,4 +109,22 @@ double spr_cloud_default_eps(const spr_cloud *c)
     spr_bounds b;
     spr_cloud_bounds(c, &b);
     return 2.0 * b.mean_radius;
+}
+
+double spr_cloud_stream_ms(const spr_cloud *c, int threads, double *sum)
+{
+    const double t0 = spr_now_ms();
+    const long n = (long)c->n;
+    double acc = 0.0;
+#pragma omp parallel for num_threads(threads > 0 ? threads : omp_get_num_procs()) schedule(static) reduction(+ : acc)
+    for (long i = 0; i < n; i++) {
+        const size_t k = (size_t)i;
+        float s = c->pos[3 * k] + c->pos[3 * k + 1] + c->pos[3 * k + 2];
+        s += c->nrm[3 * k] + c->nrm[3 * k + 1] + c->nrm[3 * k + 2];
+        s += c->color[3 * k] + c->color[3 * k + 1] + c->color[3 * k + 2];
+        s += c->radius[k] + c->alpha[k];
+        acc += s;
+    }
+    *sum = acc;
+    return spr_now_ms() - t0;
 }

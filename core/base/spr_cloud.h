@@ -40,6 +40,12 @@ spr_result spr_cloud_validate(const spr_cloud *c, const char *what, spr_error *e
 /* Renormalise normal i in double; SPR_E_VALUE for a zero or non-finite normal. */
 spr_result spr__normalize3(float *n);
 
+/* The streaming pass: read every attribute of every splat once (11 floats)
+ * on `threads` threads (0: all cores), summing them so nothing is skipped —
+ * the physical floor of any per-splat phase, in ms; `splatref bench` reports
+ * every phase as a multiple of it.  *sum receives the sum (use it). */
+double spr_cloud_stream_ms(const spr_cloud *c, int threads, double *sum);
+
 /* Axis-aligned bounds of the centres and the largest radius. */
 typedef struct spr_bounds {
     double lo[3], hi[3];
