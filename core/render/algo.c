@@ -28,6 +28,12 @@ static spr_result record(spr__run *run, const char *name, int group, const spr_p
         spr_pass_info info = {o->n_passes, name, group, state, target, *st, ms};
         run->desc->hook(run->desc->hook_user, run->b, &info);
     }
+    if (run->desc->progress.fn) {
+        char phase[96];
+        if (group >= 0) snprintf(phase, sizeof phase, "frame: pass %d done (%s k%d)", o->n_passes, name, group);
+        else snprintf(phase, sizeof phase, "frame: pass %d done (%s)", o->n_passes, name);
+        spr_progress_report(&run->desc->progress, phase, 0, 1);
+    }
     o->n_passes++;
     return SPR_OK;
 }
@@ -196,6 +202,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
         else if ((r = spr_backend_read_plane(b, final_target, SPR_PLANE_COLOR, out->rgba))) backend_failed(&run, r);
     }
     for (int t = 0; t < b->n_targets; t++) spr_backend_target_destroy(b, t);
+    spr_progress_report(&desc->progress, "frame", 1, 1); /* done: the terminal line is cleared */
     if (r) spr_render_result_free(out);
     return r;
 }

@@ -134,6 +134,7 @@ typedef struct spr_render_desc {
     float alpha_ref;             /* domain-overlap: pixels locked where alpha >= alpha_ref (0 = 0.1) */
     spr_pass_hook hook;
     void *hook_user;
+    spr_progress progress;       /* one report per finished pass ("frame: pass 3 geometry"), cleared at the end */
 } spr_render_desc;
 
 typedef struct spr_pass_record {

@@ -271,6 +271,7 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     double aref = 0.1;
     if ((uses & SPR_USES_ALPHAREF) && spr__get_double(a, "alpha-ref", &aref, 0.0, 1.0) < 0) return -1;
     rd->alpha_ref = (float)aref;
+    rd->progress = spr__progress(quiet);
     spr_grouping_desc gd;
     const char *hash_near = NULL;
     if ((uses & SPR_USES_GROUPS) && spr__parse_group_opts(a, "groups", &gd, &hash_near)) return -1;
