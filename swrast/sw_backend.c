@@ -109,6 +109,7 @@ static void sw_destroy(spr_backend *b)
 {
     sw_context *c = sw_ctx(b);
     free(c->ray);
+    for (int k = 0; k < SW_SCRATCH__COUNT; k++) free(c->scratch[k].p);
     for (int t = 0; t < c->cap; t++) free_target(&c->targets[t]);
     free(c->targets);
     free(c);

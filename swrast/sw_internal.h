@@ -3,6 +3,7 @@
 #define SW_INTERNAL_H
 
 #include <stdint.h>
+#include <stdlib.h>
 #include "spr_backend.h"
 #include "spr_arith_c.h"
 #if defined(__SSE__)
@@ -21,9 +22,29 @@ typedef struct sw_target {
 #define SW_F(t, p) ((float *)(t)->plane[SPR_PLANE_##p])
 #define SW_U(t, p) ((uint32_t *)(t)->plane[SPR_PLANE_##p])
 
+/* A buffer kept from draw to draw, grown when a draw needs more: a frame's
+ * draws reuse the pages of the first (fresh pages cost a fault each). */
+typedef struct sw_scratch {
+    void *p;
+    size_t cap;
+} sw_scratch;
+/* bytes of s (contents undefined), or NULL when out of memory. */
+static inline void *sw_scratch_get(sw_scratch *s, size_t bytes)
+{
+    if (bytes > s->cap) {
+        free(s->p);
+        s->cap = bytes + bytes / 4;
+        s->p = malloc(s->cap);
+        if (!s->p) s->cap = 0;
+    }
+    return s->p;
+}
+enum { SW_SCRATCH_RECT, SW_SCRATCH_COUNTS, SW_SCRATCH_BIN_START, SW_SCRATCH_STATS, SW_SCRATCH_BIN, SW_SCRATCH__COUNT };
+
 typedef struct sw_context {
     spr_backend base; /* first: a sw_context is an spr_backend */
     int threads;
+    sw_scratch scratch[SW_SCRATCH__COUNT]; /* splat draws' binning (sw_raster.c) */
     float *ray;       /* 6 per pixel: o0, d (spr_pixel_ray), computed once per view */
     sw_target *targets;
     int cap;

@@ -1,10 +1,15 @@
 /* sw_raster.c — splat draws: bounds, binning to tiles, per-tile fragments.
  *
  *   1. rect[i]  = conservative pixel rectangle of the i-th submitted splat
- *   2. bins     = for each 32×32 tile, the submitted positions i touching it,
- *                 ascending (chunks of the submission are binned in parallel
- *                 and concatenated in chunk order)
- *   3. per tile = for i in bin order, for each pixel of rect ∩ tile:
+ *   2. bins     = for each 32×32 tile, an entry per submitted splat touching
+ *                 it, in submission order (chunks of the submission are
+ *                 binned in parallel and concatenated in chunk order); an
+ *                 entry carries everything the tile needs of its splat —
+ *                 rectangle, centre, normal, colour, radius, opacity — so
+ *                 the tile reads its bin as one stream instead of gathering
+ *                 from the cloud (a cache miss per splat per array when the
+ *                 file's order is not spatial: most of the time at 1M+)
+ *   3. per tile = for each entry, for each pixel of rect ∩ tile:
  *                 ray–disk test → depth mask → test value → depth test →
  *                 kernel → blend/write  (spr_arith.h, then sw_fixed.h)
  * Tiles are disjoint, so the result does not depend on which thread runs
@@ -18,10 +23,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* One splat in one tile's bin (64 bytes: one cache line). */
+typedef struct sw_bin_entry {
+    int16_t x0, y0, x1, y1;  /* its pixel rectangle (sides ≤ SPR_MAX_IMAGE_SIDE < 2^15) */
+    uint32_t seq;            /* position in the submission */
+    uint32_t sid;            /* splat id */
+    float p[3], n[3], c[3];
+    float r, alpha;
+} sw_bin_entry;
+_Static_assert(SPR_MAX_IMAGE_SIDE < 32768, "bin rectangles are int16");
+
 typedef struct sw_draw_job {
     const spr_draw_desc *d;
-    const int32_t *rect; /* 4 per submitted splat, x0 = −1: empty */
-    const uint32_t *bin_start, *bin;
+    const uint32_t *bin_start;
+    const sw_bin_entry *bin;
     int tiles_x;
 } sw_draw_job;
 
@@ -35,7 +50,6 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
 {
     const spr_draw_desc *d = job->d;
     const spr_pass_state *s = &d->state;
-    const spr_cloud *cl = d->cloud;
     const int W = c->base.view.width;
     const int tx0 = (tile % job->tiles_x) * SW_TILE, ty0 = (tile / job->tiles_x) * SW_TILE;
     const unsigned mask = s->write_mask;
@@ -45,15 +59,13 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     uint64_t gen = 0, passed = 0;
     spr_probe *probe = c->base.probe;
     for (uint32_t e = job->bin_start[tile]; e < job->bin_start[tile + 1]; e++) {
-        size_t i = job->bin[e];
-        uint32_t sid = splat_at(d, i);
-        const int32_t *rc = job->rect + 4 * i;
-        int x0 = rc[0] > tx0 ? rc[0] : tx0, y0 = rc[1] > ty0 ? rc[1] : ty0;
-        int x1 = rc[2] < tx0 + SW_TILE - 1 ? rc[2] : tx0 + SW_TILE - 1;
-        int y1 = rc[3] < ty0 + SW_TILE - 1 ? rc[3] : ty0 + SW_TILE - 1;
-        const float *p = cl->pos + 3 * (size_t)sid, *n = cl->nrm + 3 * (size_t)sid;
-        const float *col = cl->color + 3 * (size_t)sid;
-        const float r = d->radius_override ? d->radius_override[sid] : cl->radius[sid];
+        const sw_bin_entry *be = &job->bin[e];
+        const uint32_t sid = be->sid;
+        int x0 = be->x0 > tx0 ? be->x0 : tx0, y0 = be->y0 > ty0 ? be->y0 : ty0;
+        int x1 = be->x1 < tx0 + SW_TILE - 1 ? be->x1 : tx0 + SW_TILE - 1;
+        int y1 = be->y1 < ty0 + SW_TILE - 1 ? be->y1 : ty0 + SW_TILE - 1;
+        const float *p = be->p, *n = be->n, *col = be->c;
+        const float r = be->r;
         for (int y = y0; y <= y1; y++) {
             for (int x = x0; x <= x1; x++) {
                 size_t pix = (size_t)y * W + x;
@@ -65,20 +77,18 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                 gen++;
                 const float z = spr_test_value(s, t, rho);
                 if (probe && x == probe->x && y == probe->y) { /* pixel history: the fragment before its depth test */
-                    const float alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
-                    spr_probe_frag f = {(uint32_t)i, sid, t, rho, z, {0.0f, 0.0f, 0.0f, 0.0f}, 0.0f};
-                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, alpha, f.src);
-                    f.opacity = spr_fragment_opacity((int)s->output, f.src, alpha);
+                    spr_probe_frag f = {be->seq, sid, t, rho, z, {0.0f, 0.0f, 0.0f, 0.0f}, 0.0f};
+                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, be->alpha, f.src);
+                    f.opacity = spr_fragment_opacity((int)s->output, f.src, be->alpha);
                     spr_probe_add_frag(probe, &f);
                 }
                 if (!sw_depth_stage(s, test, pix, z)) continue;
                 passed++;
                 float src[4] = {0.0f, 0.0f, 0.0f, 0.0f};
                 if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY | SPR_WRITE_NORMAL)) {
-                    const float alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
-                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, alpha, src);
+                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, be->alpha, src);
                     if (mask & SPR_WRITE_OPACITY) /* replace or add (core refuses over) */
-                        opacity[pix] = spr_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, alpha), opacity[pix], 1.0f);
+                        opacity[pix] = spr_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, be->alpha), opacity[pix], 1.0f);
                     if (mask & SPR_WRITE_NORMAL) { /* (w·n, w) under the rgb blend: replace or add (core refuses over) */
                         float nw[4];
                         spr_fragment_normal(src, n, nw);
@@ -105,16 +115,14 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
     st->splats = n;
     if (n == 0) return SPR_OK;
 
-    int32_t *rect = malloc(n * 4 * sizeof(int32_t));
-    uint32_t *counts = calloc((size_t)nchunks * ntiles, sizeof(uint32_t));
-    uint32_t *bin_start = malloc(((size_t)ntiles + 1) * sizeof(uint32_t));
-    uint64_t *tile_stats = calloc((size_t)ntiles * 2, sizeof(uint64_t));
-    uint32_t *bin = NULL;
-    spr_result res = SPR_OK;
-    if (!rect || !counts || !bin_start || !tile_stats) {
-        res = spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory binning %zu splats", n);
-        goto done;
-    }
+    int32_t *rect = sw_scratch_get(&c->scratch[SW_SCRATCH_RECT], n * 4 * sizeof(int32_t));
+    uint32_t *counts = sw_scratch_get(&c->scratch[SW_SCRATCH_COUNTS], (size_t)nchunks * ntiles * sizeof(uint32_t));
+    uint32_t *bin_start = sw_scratch_get(&c->scratch[SW_SCRATCH_BIN_START], ((size_t)ntiles + 1) * sizeof(uint32_t));
+    uint64_t *tile_stats = sw_scratch_get(&c->scratch[SW_SCRATCH_STATS], (size_t)ntiles * 2 * sizeof(uint64_t));
+    sw_bin_entry *bin = NULL;
+    if (!rect || !counts || !bin_start || !tile_stats) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory binning %zu splats", n);
+    memset(counts, 0, (size_t)nchunks * ntiles * sizeof(uint32_t));
+    memset(tile_stats, 0, (size_t)ntiles * 2 * sizeof(uint64_t));
     const size_t chunk = (n + nchunks - 1) / nchunks;
 
     /* 1–2a: rectangles and per-chunk tile counts. */
@@ -146,31 +154,36 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
             counts[(size_t)ch * ntiles + t] = (uint32_t)total;
             total += k;
         }
-        if (total > UINT32_MAX) {
-            res = spr__fail(&b->err, SPR_E_TOO_LARGE, "cpu: more than 2^32 tile entries in one draw");
-            goto done;
-        }
+        if (total > UINT32_MAX) return spr__fail(&b->err, SPR_E_TOO_LARGE, "cpu: more than 2^32 tile entries in one draw");
     }
     bin_start[ntiles] = (uint32_t)total;
-    bin = malloc((total ? total : 1) * sizeof(uint32_t));
-    if (!bin) {
-        res = spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for %llu tile entries", (unsigned long long)total);
-        goto done;
-    }
+    bin = sw_scratch_get(&c->scratch[SW_SCRATCH_BIN], (total ? total : 1) * sizeof *bin);
+    if (!bin) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for %llu tile entries", (unsigned long long)total);
     /* 2c: fill, each chunk at its own offsets: bins stay in submission order. */
 #pragma omp parallel for num_threads(c->threads) schedule(static, 1)
     for (int ch = 0; ch < nchunks; ch++) {
         uint32_t *off = counts + (size_t)ch * ntiles;
         size_t lo = (size_t)ch * chunk, hi = lo + chunk < n ? lo + chunk : n;
+        const spr_cloud *cl = d->cloud;
         for (size_t i = lo; i < hi; i++) {
             const int32_t *rc = rect + 4 * i;
             if (rc[0] < 0) continue;
+            const uint32_t sid = splat_at(d, i);
+            sw_bin_entry be;
+            be.x0 = (int16_t)rc[0], be.y0 = (int16_t)rc[1], be.x1 = (int16_t)rc[2], be.y1 = (int16_t)rc[3];
+            be.seq = (uint32_t)i;
+            be.sid = sid;
+            memcpy(be.p, cl->pos + 3 * (size_t)sid, sizeof be.p);
+            memcpy(be.n, cl->nrm + 3 * (size_t)sid, sizeof be.n);
+            memcpy(be.c, cl->color + 3 * (size_t)sid, sizeof be.c);
+            be.r = d->radius_override ? d->radius_override[sid] : cl->radius[sid];
+            be.alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
             for (int ty = rc[1] / SW_TILE; ty <= rc[3] / SW_TILE; ty++)
-                for (int tx = rc[0] / SW_TILE; tx <= rc[2] / SW_TILE; tx++) bin[off[ty * tiles_x + tx]++] = (uint32_t)i;
+                for (int tx = rc[0] / SW_TILE; tx <= rc[2] / SW_TILE; tx++) bin[off[ty * tiles_x + tx]++] = be;
         }
     }
     /* 3: tiles in parallel, each in submission order. */
-    sw_draw_job job = {d, rect, bin_start, bin, tiles_x};
+    sw_draw_job job = {d, bin_start, bin, tiles_x};
 #pragma omp parallel num_threads(c->threads)
     {
         unsigned fp = sw_fp_enter();
@@ -182,11 +195,5 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
         st->generated += tile_stats[2 * t];
         st->passed += tile_stats[2 * t + 1];
     }
-done:
-    free(rect);
-    free(counts);
-    free(bin_start);
-    free(tile_stats);
-    free(bin);
-    return res;
+return SPR_OK;
 }

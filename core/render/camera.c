@@ -114,6 +114,11 @@ static spr_result view_finish(const spr_camera_desc *c, const double V[16], cons
     if (spr__mat4_inverse(PV, Minv) != 0) return spr__fail(err, SPR_E_ARG, "camera: P·V is singular");
     for (int i = 0; i < 16; i++) v->M[i] = (float)Minv[i];
     memcpy(v->PV, PV, sizeof PV);
+    static const int rows[3] = {0, 1, 3};
+    for (int j = 0; j < 3; j++) {
+        const double *q = PV + 4 * rows[j];
+        v->row_norm[j] = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+    }
     memcpy(v->V, V, sizeof v->V);
     memcpy(v->P, P, sizeof v->P);
     v->width = c->width;
@@ -246,36 +251,91 @@ static int ndc_extend(const spr_view *v, const double q[3], double box[4])
 
 /* Pixels whose centres an NDC box may cover (everything when `full`: a
  * corner behind the eye); 0 when none is on screen. */
+static inline double clampd(double x, double lo, double hi) { return x > lo ? (x < hi ? x : hi) : lo; } /* NaN → lo */
+/* floor and ceil of a value well inside the int range */
+static inline int floor_int(double x) { int i = (int)x; return (double)i > x ? i - 1 : i; }
+static inline int ceil_int(double x) { int i = (int)x; return (double)i < x ? i + 1 : i; }
+
 static int spr__pixel_bounds(const spr_view *v, int full, const double box[4], int *x0, int *y0, int *x1, int *y1)
 {
     const int W = v->width, H = v->height;
     const double xmin = box[0], xmax = box[1], ymin = box[2], ymax = box[3];
     if (full) { *x0 = 0; *y0 = 0; *x1 = W - 1; *y1 = H - 1; return 1; }
-    /* ndc → pixel-centre coordinate: x + 0.5 = (ndc + 1)·W/2; one pixel of slack. */
-    double fx0 = floor((xmin + 1.0) * 0.5 * W - 0.5) - 1.0, fx1 = ceil((xmax + 1.0) * 0.5 * W - 0.5) + 1.0;
-    double fy0 = floor((ymin + 1.0) * 0.5 * H - 0.5) - 1.0, fy1 = ceil((ymax + 1.0) * 0.5 * H - 0.5) + 1.0;
-    if (fx1 < 0.0 || fy1 < 0.0 || fx0 > W - 1 || fy0 > H - 1) return 0;
-    *x0 = fx0 < 0.0 ? 0 : (int)fx0;
-    *y0 = fy0 < 0.0 ? 0 : (int)fy0;
-    *x1 = fx1 > W - 1 ? W - 1 : (int)fx1;
-    *y1 = fy1 > H - 1 ? H - 1 : (int)fy1;
+    /* ndc → pixel-centre coordinate: x + 0.5 = (ndc + 1)·W/2.  The centres
+     * inside the box, and those up to half a pixel outside it: a margin
+     * thousands of times any rounding of the per-pixel test (whose float
+     * error is ~1e-6 of the image), while a sub-pixel splat is tested at 1–4
+     * pixels instead of the 9–16 a whole pixel of slack on each side gave. */
+    const double slack = 0.5;
+    /* clamped to a little beyond the image first, so the conversions to int
+     * below are exact floor/ceil of values that fit (and NaN-free) */
+    const double bx0 = clampd((xmin + 1.0) * 0.5 * W - 0.5 - slack, -2.0, W + 1.0), bx1 = clampd((xmax + 1.0) * 0.5 * W - 0.5 + slack, -2.0, W + 1.0);
+    const double by0 = clampd((ymin + 1.0) * 0.5 * H - 0.5 - slack, -2.0, H + 1.0), by1 = clampd((ymax + 1.0) * 0.5 * H - 0.5 + slack, -2.0, H + 1.0);
+    const int ix0 = ceil_int(bx0), ix1 = floor_int(bx1), iy0 = ceil_int(by0), iy1 = floor_int(by1);
+    if (ix1 < ix0 || iy1 < iy0) return 0; /* no centre near the box */
+    if (ix1 < 0 || iy1 < 0 || ix0 > W - 1 || iy0 > H - 1) return 0;
+    *x0 = ix0 < 0 ? 0 : ix0;
+    *y0 = iy0 < 0 ? 0 : iy0;
+    *x1 = ix1 > W - 1 ? W - 1 : ix1;
+    *y1 = iy1 > H - 1 ? H - 1 : iy1;
     return 1;
+}
+
+/* Bounds of the NDC coordinate num/den over the ball |d| ≤ r around the
+ * centre, num = a0 + a·d, den = w0 + b·d with |a·d| ≤ r|a|, |b·d| ≤ r|b|
+ * (Cauchy–Schwarz); den > 0 on the whole ball (checked by the caller). */
+static void ball_range(double a0, double an, double w0, double bn, double r, double *lo, double *hi)
+{
+    const double nlo = a0 - r * an, nhi = a0 + r * an, dlo = w0 - r * bn, dhi = w0 + r * bn;
+    *lo = nlo / (nlo >= 0.0 ? dhi : dlo);
+    *hi = nhi / (nhi >= 0.0 ? dlo : dhi);
 }
 
 int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], float r,
                          int *x0, int *y0, int *x1, int *y1)
 {
-    double ext[3];
+    /* First the bounding ball of the disk: one projection of the centre,
+     * four divisions.  Enough for the many splats that project to a few
+     * pixels (the ball is at most √2 wider than the disk's box there);
+     * larger ones take the tighter box below. */
+    const double *PV = v->PV;
+    const double cx0 = PV[0] * p[0] + PV[1] * p[1] + PV[2] * p[2] + PV[3];
+    const double cy0 = PV[4] * p[0] + PV[5] * p[1] + PV[6] * p[2] + PV[7];
+    const double cw0 = PV[12] * p[0] + PV[13] * p[1] + PV[14] * p[2] + PV[15];
+    const double rb = (double)r * 1.001 + 1e-7 * (double)r;
+    if (cw0 - rb * v->row_norm[2] > 1e-9 * v->far_plane) {
+        double box[4];
+        ball_range(cx0, v->row_norm[0], cw0, v->row_norm[2], rb, &box[0], &box[1]);
+        ball_range(cy0, v->row_norm[1], cw0, v->row_norm[2], rb, &box[2], &box[3]);
+        if ((box[1] - box[0]) * v->width < 8.0 && (box[3] - box[2]) * v->height < 8.0) /* at most 4 pixels across */
+            return spr__pixel_bounds(v, 0, box, x0, y0, x1, y1);
+    }
+    /* The 8 corners of the disk's bounding box p ± ext: clip coordinates are
+     * linear in the corner, c(p ± ext) = c(p) + Σ_k ±ext_k·PV[·][k], so the
+     * centre is projected once and each corner adds three terms (z is not
+     * needed).  Rounding differs from projecting each corner by a few ulps
+     * of a double: far inside the half-pixel slack of spr__pixel_bounds. */
+    double e[3][3];
+    const double c0[3] = {cx0, cy0, cw0}; /* rows x, y, w */
+    static const int row[3] = {0, 1, 3};
     for (int k = 0; k < 3; k++) {
         double nk = n[k], s = 1.0 - nk * nk;
-        ext[k] = (double)r * sqrt(s > 0.0 ? s : 0.0) * 1.001 + 1e-7 * (double)r;
+        const double ext = (double)r * sqrt(s > 0.0 ? s : 0.0) * 1.001 + 1e-7 * (double)r;
+        for (int j = 0; j < 3; j++) e[j][k] = ext * PV[4 * row[j] + k];
     }
     double box[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY}; /* NDC x min, max, y min, max */
     int full = 0;
-    for (int corner = 0; corner < 8; corner++) {
-        double q[3];
-        for (int k = 0; k < 3; k++) q[k] = (double)p[k] + ((corner >> k & 1) ? ext[k] : -ext[k]);
-        if (!ndc_extend(v, q, box)) { full = 1; break; }
+    const double wmin = 1e-9 * v->far_plane;
+    for (int corner = 0; corner < 8 && !full; corner++) {
+        double c[3];
+        for (int j = 0; j < 3; j++)
+            c[j] = c0[j] + ((corner & 1) ? e[j][0] : -e[j][0]) + ((corner & 2) ? e[j][1] : -e[j][1]) + ((corner & 4) ? e[j][2] : -e[j][2]);
+        if (!(c[2] > wmin)) { full = 1; break; } /* a corner behind the eye */
+        const double iw = 1.0 / c[2], cx = c[0] * iw, cy = c[1] * iw;
+        if (cx < box[0]) box[0] = cx;
+        if (cx > box[1]) box[1] = cx;
+        if (cy < box[2]) box[2] = cy;
+        if (cy > box[3]) box[3] = cy;
     }
     return spr__pixel_bounds(v, full, box, x0, y0, x1, y1);
 }

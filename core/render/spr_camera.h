@@ -33,6 +33,7 @@ typedef struct spr_view {
     float M[16];          /* (P·V)^-1, row-major, rounded from double */
     float ndc_sx, ndc_sy; /* 2/W and 2/H as floats: ndc = (x + 0.5)·sx − 1 */
     double PV[16];        /* P·V in double (host-side bounds only) */
+    double row_norm[3];   /* |(PV_r0, PV_r1, PV_r2)| of rows x, y, w (bounds of a ball's projection) */
     double V[16];         /* view matrix in double */
     double P[16];         /* projection matrix in double */
     double near_plane, far_plane;
