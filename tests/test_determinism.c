@@ -4,6 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "spr_domain.h"
+#include "spr_bsp.h"
+#include <math.h>
+#include <omp.h>
 #include "test_util.h"
 
 typedef struct hasher {
@@ -78,6 +81,84 @@ START_TEST(mgc_labels_independent_of_threads)
 }
 END_TEST
 
+/* SPEC 5.6 by the book: split at the median of the longest extent (a full
+ * sort by (coordinate, index)), ≤ 64 per leaf, nodes numbered depth first. */
+static const spr_cloud *ref_cloud;
+static int ref_axis;
+static int ref_cmp(const void *a, const void *b)
+{
+    uint32_t i = *(const uint32_t *)a, j = *(const uint32_t *)b;
+    float x = ref_cloud->pos[3 * (size_t)i + ref_axis], y = ref_cloud->pos[3 * (size_t)j + ref_axis];
+    if (x != y) return x < y ? -1 : 1;
+    return (i > j) - (i < j);
+}
+static int32_t ref_build(spr_bsp *t, uint32_t first, uint32_t count)
+{
+    int32_t id = (int32_t)t->n_nodes++;
+    spr_bsp_node *nd = &t->nodes[id];
+    memset(nd, 0, sizeof *nd);
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t k = first; k < first + count; k++)
+        for (int a = 0; a < 3; a++) {
+            float v = ref_cloud->pos[3 * (size_t)t->order[k] + a];
+            lo[a] = v < lo[a] ? v : lo[a];
+            hi[a] = v > hi[a] ? v : hi[a];
+        }
+    int axis = 0;
+    for (int a = 1; a < 3; a++)
+        if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+    if (count <= SPR_BSP_LEAF || !(hi[axis] > lo[axis])) {
+        nd->axis = -1, nd->first = first, nd->count = count;
+        double s[3] = {0, 0, 0};
+        for (uint32_t k = first; k < first + count; k++) {
+            for (int a = 0; a < 3; a++) s[a] += ref_cloud->nrm[3 * (size_t)t->order[k] + a];
+            t->leaf_of[t->order[k]] = (uint32_t)id;
+        }
+        double l = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+        for (int a = 0; a < 3; a++) nd->normal[a] = l > 0.0 ? (float)(s[a] / l) : (a == 2 ? 1.0f : 0.0f);
+        return id;
+    }
+    ref_axis = axis;
+    qsort(t->order + first, count, sizeof(uint32_t), ref_cmp);
+    float split = ref_cloud->pos[3 * (size_t)t->order[first + count / 2] + axis];
+    int32_t l = ref_build(t, first, count / 2), r = ref_build(t, first + count / 2, count - count / 2);
+    nd = &t->nodes[id];
+    nd->axis = axis, nd->split = split, nd->left = l, nd->right = r;
+    return id;
+}
+
+/* The parallel BSP build (selection, spliced subtrees) is the tree above,
+ * byte for byte, for 1, 2 and 7 threads. */
+START_TEST(bsp_equals_the_sorting_build_on_any_threads)
+{
+    spr_cloud c = tu_builtin("builtin:sphere", tu_small() ? 60000 : 250000);
+    spr_bsp ref = {0};
+    ref.n = c.n;
+    ref.nodes = malloc(c.n * sizeof *ref.nodes); /* ≥ 2n/64 nodes */
+    ref.order = malloc(c.n * sizeof *ref.order);
+    ref.leaf_of = malloc(c.n * sizeof *ref.leaf_of);
+    for (size_t i = 0; i < c.n; i++) ref.order[i] = (uint32_t)i;
+    ref_cloud = &c;
+    ref_build(&ref, 0, (uint32_t)c.n);
+    static const int threads[] = {1, 2, 7};
+    for (int k = 0; k < 3; k++) {
+        omp_set_num_threads(threads[k]);
+        spr_bsp t;
+        spr_error err;
+        ck_assert_int_eq(spr_bsp_build(&c, &t, &err), SPR_OK);
+        ck_assert_uint_eq(t.n_nodes, ref.n_nodes);
+        ck_assert_mem_eq(t.nodes, ref.nodes, t.n_nodes * sizeof *t.nodes);
+        ck_assert_mem_eq(t.order, ref.order, c.n * sizeof *t.order);
+        ck_assert_mem_eq(t.leaf_of, ref.leaf_of, c.n * sizeof *t.leaf_of);
+        spr_bsp_free(&t);
+    }
+    omp_set_num_threads(omp_get_num_procs());
+    printf("bsp: %zu splats, %zu nodes: the parallel build equals the sorting build on 1, 2 and 7 threads\n", c.n, ref.n_nodes);
+    spr_bsp_free(&ref);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 /* SPEC 7: the bunny's level-6 primitives built with 1, 2 and 7 threads are
  * the same bytes, and every domain method renders the same bits on 1, 2
  * and 7 CPU threads (the fragment lists of prefix included). */
@@ -133,6 +214,7 @@ Suite *make_determinism_suite(void)
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, bunny_bits_independent_of_threads);
     tcase_add_test(tc, mgc_labels_independent_of_threads);
+    tcase_add_test(tc, bsp_equals_the_sorting_build_on_any_threads);
     tcase_add_test(tc, domain_bits_independent_of_threads);
     suite_add_tcase(s, tc);
     return s;

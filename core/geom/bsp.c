@@ -16,50 +16,64 @@
  * top of the tree is split on the calling thread; the subtrees below it are
  * built in parallel into their own arrays and spliced in pre-order, so the
  * tree is the same for any thread count. */
-typedef struct key_idx { float key; uint32_t idx; } key_idx;
+/* A splat's centre and id, permuted along with the partitions so every
+ * scan of a range reads memory in order (a gather through the order array
+ * missed the cache once per splat per level). */
+typedef struct pt4 { float v[3]; uint32_t idx; } pt4;
 
-static inline int ki_less(key_idx a, key_idx b) { return a.key < b.key || (a.key == b.key && a.idx < b.idx); }
+static inline int pt_less(const pt4 *a, const pt4 *b, int axis)
+{
+    return a->v[axis] < b->v[axis] || (a->v[axis] == b->v[axis] && a->idx < b->idx);
+}
 
-static void ki_insertion(key_idx *v, size_t n)
+static _Thread_local int sort_axis;
+static int pt_cmp(const void *a, const void *b)
+{
+    const pt4 *x = a, *y = b;
+    return pt_less(x, y, sort_axis) ? -1 : pt_less(y, x, sort_axis) ? 1 : 0;
+}
+
+static void pt_sort(pt4 *v, size_t n, int axis)
+{
+    sort_axis = axis;
+    qsort(v, n, sizeof *v, pt_cmp);
+}
+
+static void pt_insertion(pt4 *v, size_t n, int axis)
 {
     for (size_t i = 1; i < n; i++) {
-        key_idx x = v[i];
+        pt4 x = v[i];
         size_t j = i;
-        while (j > 0 && ki_less(x, v[j - 1])) v[j] = v[j - 1], j--;
+        while (j > 0 && pt_less(&x, &v[j - 1], axis)) v[j] = v[j - 1], j--;
         v[j] = x;
     }
 }
 
-static int ki_cmp(const void *a, const void *b)
-{
-    const key_idx *x = a, *y = b;
-    return ki_less(*x, *y) ? -1 : ki_less(*y, *x) ? 1 : 0;
-}
-
-/* Put the k smallest of v[0 … n) first (any order on each side). */
-static void ki_select(key_idx *v, size_t n, size_t k)
+/* Put the k smallest of v[0 … n) by (v[axis], idx) first (any order on
+ * each side): introselect, a full sort after 64 unlucky rounds. */
+static void pt_select(pt4 *v, size_t n, size_t k, int axis)
 {
     size_t lo = 0, hi = n; /* the k-th lies in [lo, hi) */
     int budget = 64;
     while (hi - lo > 16) {
-        if (budget-- == 0) { qsort(v + lo, hi - lo, sizeof *v, ki_cmp); return; } /* guards the worst case */
-        /* median of three as the pivot */
+        if (budget-- == 0) { pt_sort(v + lo, hi - lo, axis); return; }
         size_t mid = lo + (hi - lo) / 2;
-        key_idx a = v[lo], b = v[mid], c = v[hi - 1], piv;
-        if (ki_less(a, b)) piv = ki_less(b, c) ? b : ki_less(a, c) ? c : a;
-        else piv = ki_less(a, c) ? a : ki_less(b, c) ? c : b;
-        /* three-way partition: < piv | == piv | > piv (keys are distinct, so == is the pivot alone) */
+        const pt4 *a = &v[lo], *b = &v[mid], *c = &v[hi - 1], *pp;
+        if (pt_less(a, b, axis)) pp = pt_less(b, c, axis) ? b : pt_less(a, c, axis) ? c : a;
+        else pp = pt_less(a, c, axis) ? a : pt_less(b, c, axis) ? c : b;
+        const pt4 piv = *pp;
+        /* three-way partition: < piv | piv | > piv (ids make keys distinct) */
         size_t i = lo, lt = lo, gt = hi;
         while (i < gt) {
-            if (ki_less(v[i], piv)) { key_idx t = v[lt]; v[lt++] = v[i]; v[i++] = t; }
-            else if (ki_less(piv, v[i])) { key_idx t = v[--gt]; v[gt] = v[i]; v[i] = t; }
+            if (pt_less(&v[i], &piv, axis)) { pt4 t = v[lt]; v[lt++] = v[i]; v[i++] = t; }
+            else if (pt_less(&piv, &v[i], axis)) { pt4 t = v[--gt]; v[gt] = v[i]; v[i] = t; }
             else i++;
         }
         if (k < lt) hi = lt;
         else if (k >= gt) lo = gt;
         else return;
     }
-    ki_insertion(v + lo, hi - lo);
+    pt_insertion(v + lo, hi - lo, axis);
 }
 
 typedef struct sub_tree {
@@ -70,7 +84,7 @@ typedef struct sub_tree {
 typedef struct build_ctx {
     const spr_cloud *c;
     uint32_t *order, *leaf_of;
-    key_idx *tmp;           /* n entries: selections work on [first, first + count) */
+    pt4 *pts;               /* n entries: centres in the current order */
 } build_ctx;
 
 static int32_t add_node(sub_tree *st)
@@ -90,13 +104,11 @@ static int32_t add_node(sub_tree *st)
  * splats or has no extent. */
 static int split_axis(const build_ctx *bc, uint32_t first, uint32_t count)
 {
-    const spr_cloud *c = bc->c;
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t k = first; k < first + count; k++)
+    for (const pt4 *q = bc->pts + first; q < bc->pts + first + count; q++)
         for (int a = 0; a < 3; a++) {
-            float v = c->pos[3 * (size_t)bc->order[k] + a];
-            if (v < lo[a]) lo[a] = v;
-            if (v > hi[a]) hi[a] = v;
+            if (q->v[a] < lo[a]) lo[a] = q->v[a];
+            if (q->v[a] > hi[a]) hi[a] = q->v[a];
         }
     int axis = 0;
     for (int a = 1; a < 3; a++)
@@ -104,30 +116,30 @@ static int split_axis(const build_ctx *bc, uint32_t first, uint32_t count)
     return count <= SPR_BSP_LEAF || !(hi[axis] > lo[axis]) ? -1 : axis;
 }
 
-/* Order [first, first+count) by `axis` completely (axis ≥ 0), or put the
- * `half` smallest first (half > 0). */
-static void arrange(build_ctx *bc, uint32_t first, uint32_t count, int axis, uint32_t half)
+/* Split [first, first+count) at its median along axis: the half smallest
+ * first; returns the split coordinate (the smallest of the right half). */
+static float split_at(build_ctx *bc, uint32_t first, uint32_t count, int axis)
 {
-    key_idx *v = bc->tmp + first;
-    for (uint32_t k = 0; k < count; k++) {
-        uint32_t i = bc->order[first + k];
-        v[k] = (key_idx){bc->c->pos[3 * (size_t)i + axis], i};
-    }
-    if (half) ki_select(v, count, half);
-    else qsort(v, count, sizeof *v, ki_cmp);
-    for (uint32_t k = 0; k < count; k++) bc->order[first + k] = v[k].idx;
+    const uint32_t half = count / 2;
+    pt_select(bc->pts + first, count, half, axis);
+    float split = INFINITY;
+    for (const pt4 *q = bc->pts + first + half; q < bc->pts + first + count; q++)
+        if (q->v[axis] < split) split = q->v[axis];
+    return split;
 }
 
 static void make_leaf(build_ctx *bc, spr_bsp_node *nd, int32_t id, uint32_t first, uint32_t count, int parent_axis)
 {
-    if (parent_axis >= 0) arrange(bc, first, count, parent_axis, 0); /* as the parent's full sort left it */
+    if (parent_axis >= 0) pt_sort(bc->pts + first, count, parent_axis); /* as the parent's full sort left it */
     nd->axis = -1;
     nd->first = first;
     nd->count = count;
     double s[3] = {0, 0, 0};
     for (uint32_t k = first; k < first + count; k++) {
-        for (int a = 0; a < 3; a++) s[a] += bc->c->nrm[3 * (size_t)bc->order[k] + a];
-        bc->leaf_of[bc->order[k]] = (uint32_t)id;
+        const uint32_t i = bc->pts[k].idx;
+        bc->order[k] = i;
+        for (int a = 0; a < 3; a++) s[a] += bc->c->nrm[3 * (size_t)i + a];
+        bc->leaf_of[i] = (uint32_t)id;
     }
     double l = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
     for (int a = 0; a < 3; a++) nd->normal[a] = l > 0.0 ? (float)(s[a] / l) : (a == 2 ? 1.0f : 0.0f);
@@ -143,14 +155,8 @@ static int32_t build(build_ctx *bc, sub_tree *st, uint32_t first, uint32_t count
         make_leaf(bc, &st->nodes[id], id, first, count, parent_axis);
         return id;
     }
-    uint32_t half = count / 2;
-    arrange(bc, first, count, axis, half);
-    /* the split: the smallest coordinate of the right half, the median the sort would give */
-    float split = INFINITY;
-    for (uint32_t k = first + half; k < first + count; k++) {
-        float v = bc->c->pos[3 * (size_t)bc->order[k] + axis];
-        if (v < split) split = v;
-    }
+    const uint32_t half = count / 2;
+    const float split = split_at(bc, first, count, axis); /* the median the sort would give */
     int32_t l = build(bc, st, first, half, axis);
     int32_t r = l < 0 ? -1 : build(bc, st, first + half, count - half, axis);
     if (l < 0 || r < 0) return -1;
@@ -162,49 +168,45 @@ static int32_t build(build_ctx *bc, sub_tree *st, uint32_t first, uint32_t count
     return id;
 }
 
-/* The top of the tree: nodes split here, subtrees from depth `depth` on
- * listed as jobs (their ranges), in pre-order. */
+/* The top of the tree, split here: heap-numbered nodes (children of h are
+ * 2h and 2h+1), so the numbering does not depend on which thread splits
+ * which; the two halves of a node are split as parallel tasks. A node
+ * at depth TOP_DEPTH, or a leaf, becomes a subtree job. */
+enum { TOP_DEPTH = 5, TOP_NODES = 2 << TOP_DEPTH };
 typedef struct top_node {
-    int job;                 /* ≥ 0: a subtree job; −1: an inner node split here */
+    int used, job;           /* job: 1 = a subtree built by build() */
     int axis;
     float split;
-    int left, right;         /* top nodes */
     uint32_t first, count;
     int parent_axis;
 } top_node;
 
-static int build_top(build_ctx *bc, top_node *tn, int *n_tn, uint32_t first, uint32_t count, int parent_axis, int depth, int *n_jobs)
+static void build_top(build_ctx *bc, top_node *tn, int h, uint32_t first, uint32_t count, int parent_axis, int depth)
 {
-    int me = (*n_tn)++;
-    tn[me] = (top_node){-1, -1, 0.0f, -1, -1, first, count, parent_axis};
-    int axis = depth > 0 ? split_axis(bc, first, count) : -1;
-    if (axis < 0) { /* a subtree job (a leaf, or the depth reached) */
-        tn[me].job = (*n_jobs)++;
-        return me;
+    top_node *me = &tn[h];
+    *me = (top_node){1, 0, -1, 0.0f, first, count, parent_axis};
+    const int axis = depth > 0 ? split_axis(bc, first, count) : -1;
+    if (axis < 0) {
+        me->job = 1;
+        return;
     }
-    uint32_t half = count / 2;
-    arrange(bc, first, count, axis, half);
-    float split = INFINITY;
-    for (uint32_t k = first + half; k < first + count; k++) {
-        float v = bc->c->pos[3 * (size_t)bc->order[k] + axis];
-        if (v < split) split = v;
-    }
-    tn[me].axis = axis;
-    tn[me].split = split;
-    int l = build_top(bc, tn, n_tn, first, half, axis, depth - 1, n_jobs);
-    int r = build_top(bc, tn, n_tn, first + half, count - half, axis, depth - 1, n_jobs);
-    tn[me].left = l;
-    tn[me].right = r;
-    return me;
+    const uint32_t half = count / 2;
+    me->axis = axis;
+    me->split = split_at(bc, first, count, axis);
+#pragma omp task if (count > 65536)
+    build_top(bc, tn, 2 * h, first, half, axis, depth - 1);
+#pragma omp task if (count > 65536)
+    build_top(bc, tn, 2 * h + 1, first + half, count - half, axis, depth - 1);
+#pragma omp taskwait
 }
 
-/* Splice in pre-order: returns the global id of top node `i`. */
-static int32_t splice(spr_bsp *t, const top_node *tn, int i, sub_tree *jobs, const build_ctx *bc)
+/* Splice in pre-order: returns the global id of top node h. */
+static int32_t splice(spr_bsp *t, const top_node *tn, int h, sub_tree *jobs, const build_ctx *bc)
 {
-    const top_node *x = &tn[i];
+    const top_node *x = &tn[h];
     int32_t id = (int32_t)t->n_nodes;
-    if (x->job >= 0) {
-        sub_tree *st = &jobs[x->job];
+    if (x->job) {
+        sub_tree *st = &jobs[h];
         for (size_t k = 0; k < st->n; k++) {
             spr_bsp_node nd = st->nodes[k];
             if (nd.axis >= 0) nd.left += id, nd.right += id;
@@ -217,8 +219,8 @@ static int32_t splice(spr_bsp *t, const top_node *tn, int i, sub_tree *jobs, con
     memset(nd, 0, sizeof *nd);
     nd->axis = x->axis;
     nd->split = x->split;
-    int32_t l = splice(t, tn, x->left, jobs, bc);
-    int32_t r = splice(t, tn, x->right, jobs, bc);
+    int32_t l = splice(t, tn, 2 * h, jobs, bc);
+    int32_t r = splice(t, tn, 2 * h + 1, jobs, bc);
     nd = &t->nodes[id];
     nd->left = l;
     nd->right = r;
@@ -231,30 +233,29 @@ spr_result spr_bsp_build(const spr_cloud *c, spr_bsp *t, spr_error *err)
     t->n = c->n;
     t->order = malloc((c->n ? c->n : 1) * sizeof(uint32_t));
     t->leaf_of = malloc((c->n ? c->n : 1) * sizeof(uint32_t));
-    key_idx *tmp = malloc((c->n ? c->n : 1) * sizeof *tmp);
-    if (!t->order || !t->leaf_of || !tmp) { free(tmp); spr_bsp_free(t); return spr__fail(err, SPR_E_NOMEM, "bsp: out of memory"); }
-    for (size_t i = 0; i < c->n; i++) t->order[i] = (uint32_t)i;
-    build_ctx bc = {c, t->order, t->leaf_of, tmp};
-    enum { TOP_DEPTH = 5 };          /* up to 32 subtrees, built in parallel */
-    top_node tn[2 << TOP_DEPTH];
-    int n_tn = 0, n_jobs = 0;
-    build_top(&bc, tn, &n_tn, 0, (uint32_t)c->n, -1, c->n > 4096 ? TOP_DEPTH : 0, &n_jobs);
-    sub_tree jobs[1 << TOP_DEPTH];
-    int job_node[1 << TOP_DEPTH];
+    pt4 *pts = malloc((c->n ? c->n : 1) * sizeof *pts);
+    if (!t->order || !t->leaf_of || !pts) { free(pts); spr_bsp_free(t); return spr__fail(err, SPR_E_NOMEM, "bsp: out of memory"); }
+    for (size_t i = 0; i < c->n; i++) {
+        memcpy(pts[i].v, c->pos + 3 * i, sizeof pts[i].v);
+        pts[i].idx = (uint32_t)i;
+    }
+    build_ctx bc = {c, t->order, t->leaf_of, pts};
+    top_node tn[TOP_NODES];
+    memset(tn, 0, sizeof tn);
+#pragma omp parallel
+#pragma omp single
+    build_top(&bc, tn, 1, 0, (uint32_t)c->n, -1, c->n > 4096 ? TOP_DEPTH : 0);
+    sub_tree jobs[TOP_NODES];
     memset(jobs, 0, sizeof jobs);
-    for (int i = 0; i < n_tn; i++)
-        if (tn[i].job >= 0) job_node[tn[i].job] = i;
     int failed = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(| : failed)
-    for (int j = 0; j < n_jobs; j++) {
-        const top_node *x = &tn[job_node[j]];
-        failed |= build(&bc, &jobs[j], x->first, x->count, x->parent_axis) < 0;
-    }
-    size_t total = (size_t)(n_tn - n_jobs);
-    for (int j = 0; j < n_jobs; j++) total += jobs[j].n;
-    if (!failed && (t->nodes = malloc((total ? total : 1) * sizeof *t->nodes))) splice(t, tn, 0, jobs, &bc);
-    for (int j = 0; j < n_jobs; j++) free(jobs[j].nodes);
-    free(tmp);
+    for (int h = 1; h < TOP_NODES; h++)
+        if (tn[h].used && tn[h].job) failed |= build(&bc, &jobs[h], tn[h].first, tn[h].count, tn[h].parent_axis) < 0;
+    size_t total = 0;
+    for (int h = 1; h < TOP_NODES; h++) total += tn[h].used ? (tn[h].job ? jobs[h].n : 1) : 0;
+    if (!failed && (t->nodes = malloc((total ? total : 1) * sizeof *t->nodes))) splice(t, tn, 1, jobs, &bc);
+    for (int h = 1; h < TOP_NODES; h++) free(jobs[h].nodes);
+    free(pts);
     if (failed || !t->nodes) { spr_bsp_free(t); return spr__fail(err, SPR_E_NOMEM, "bsp: out of memory"); }
     return SPR_OK;
 }
