@@ -122,7 +122,7 @@ static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, 
     if (spr__make_groups(a, s, &gd, NULL)) return -1;
     const double group_ms = spr_now_ms() - t0g;
     printf("\nscene %s: %zu splats, %dx%d\n", label, s->cloud.n, s->view.width, s->view.height);
-    printf("  streaming pass (every attribute of every splat read once): %.1f ms on 1 thread, %.1f ms on 2 (%.2fx);"
+    printf("  streaming pass (every attribute of every splat read once): %.3g ms on 1 thread, %.3g ms on 2 (%.2fx);"
            " the x-stream column below divides by it\n", floor_ms[0], floor_ms[1], floor_ms[0] / floor_ms[1]);
     printf("  %s %.0f ms = %.1fx stream (1 thread); hash grouping K=8 mode 1 with BSP axes, 2 threads: %.0f ms = %.1fx stream (2 threads)\n",
            load_ms > 0 ? "loading/sampling" : "loading", load_ms > 0 ? load_ms : 0.0, (load_ms > 0 ? load_ms : 0.0) / floor_ms[0], group_ms,
