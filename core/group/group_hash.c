@@ -155,6 +155,14 @@ static int same_cell(const cell_key *a, const cell_key *b) { return a->x == b->x
 
 enum { PLACED = 0, PENDING = 1, PENDING_COLLIDES = 2 };
 
+/* When pending splat i is placed, the placed splats are those placed from
+ * the start and the pending ones before it: the only areas it reads. */
+static int placed_before(const void *user, size_t i, uint32_t j)
+{
+    const unsigned char *state = user;
+    return state[j] == PLACED || j < i;
+}
+
 /* Place the pending splats in submission order, after every placed one: a
  * colliding splat takes the group of least total overlap A with the splats
  * placed before it (ties: its table group if minimal, else the smallest k);
@@ -173,7 +181,7 @@ static spr_result place_pending(const spr_cloud *c, spr_hash_desc *d, int32_t *l
     if (!(d->eps > 0.0)) d->eps = spr_cloud_default_eps(c); /* a full pass: only when collisions need areas */
     /* neighbours and areas only for the colliding splats: mode 3 does
      * collision work only for the splats nearer than its threshold */
-    spr_result r = spr_overlap_graph_build_rows(c, d->eps, state, PENDING_COLLIDES, d->threads, &d->progress, &og, err);
+    spr_result r = spr_overlap_graph_build_rows_need(c, d->eps, state, PENDING_COLLIDES, d->threads, &d->progress, placed_before, state, &og, err);
     st->ms_graph = spr_now_ms() - t1;
     for (size_t i = 0; !r && i < c->n; i++) {
         if (state[i] == PLACED) continue;
