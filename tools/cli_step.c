@@ -26,57 +26,11 @@ static const spr__opt step_opts[] = {
     SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
-/* ---- captured passes ---- */
-typedef struct cap_pass {
-    int index, group, target;
-    char name[32];
-    int composite;
-    spr_pass_state state;
-    spr_draw_stats stats;
-    double ms;
-    unsigned planes;
-    float *plane[SPR_PLANE__COUNT];  /* W·H·channels; id/count as floats (none = −1), as --dump */
-} cap_pass;
-
-typedef struct cap_ctx {
-    cap_pass *p;
-    int n, cap;
-    int failed;
-    spr_error err;
-} cap_ctx;
-
-static void cap_hook(void *user, spr_backend *b, const spr_pass_info *info)
+/* The passes come from spr_capture (planes as floats); a composite's test
+ * plane repeats its depth and is left out, as --dump leaves it out. */
+static const float *plane_of(const spr_captured_pass *p, int q)
 {
-    cap_ctx *c = user;
-    if (c->failed) return;
-    if (c->n == c->cap) {
-        int nc = c->cap ? 2 * c->cap : 16;
-        cap_pass *np = realloc(c->p, (size_t)nc * sizeof *np);
-        if (!np) { c->failed = 1; return; }
-        c->p = np, c->cap = nc;
-    }
-    cap_pass *p = &c->p[c->n++];
-    memset(p, 0, sizeof *p);
-    p->index = info->index, p->group = info->group, p->target = info->target;
-    snprintf(p->name, sizeof p->name, "%s", info->name);
-    p->composite = info->state == NULL;
-    if (info->state) p->state = *info->state;
-    p->stats = info->stats;
-    p->ms = info->ms;
-    p->planes = spr_backend_target_planes(b, info->target);
-    const size_t np = (size_t)b->view.width * b->view.height;
-    for (int q = 0; q < SPR_PLANE__COUNT; q++) {
-        if (!(p->planes & SPR_PLANE_BIT(q)) || (p->composite && q == SPR_PLANE_TEST)) continue;
-        const int ch = spr_plane_channels((spr_plane)q);
-        float *buf = malloc(np * (size_t)ch * sizeof *buf);
-        if (!buf || spr_backend_read_plane_f(b, info->target, (spr_plane)q, buf)) {
-            free(buf);
-            c->failed = 1;
-            c->err = b->err;
-            return;
-        }
-        p->plane[q] = buf;
-    }
+    return p->composite && q == SPR_PLANE_TEST ? NULL : (const float *)p->plane[q];
 }
 
 /* ---- pictures ---- */
@@ -203,7 +157,7 @@ static void figure(page *pg, const view_out *vo, int pass, const char *plane, in
 }
 
 /* The pictures of one pass; writes its PNGs into dir. */
-static int pass_views(spr__args *a, page *pg, const char *dir, const cap_pass *p, const cap_pass *all, int n_all, const spr_composite_op *op,
+static int pass_views(spr__args *a, page *pg, const char *dir, const spr_captured_pass *p, const spr_captured_pass *all, const spr_composite_op *op,
                       const int *inputs, int n_inputs, float eps_t, int list)
 {
     const int W = pg->W, H = pg->H;
@@ -216,7 +170,7 @@ static int pass_views(spr__args *a, page *pg, const char *dir, const cap_pass *p
     if (!rgb) { spr__error(a, "out of memory"); return -1; }
     int rc = 0;
     for (int q = 0; q < SPR_PLANE__COUNT && !rc; q++) {
-        const float *v = p->plane[q];
+        const float *v = plane_of(p, q);
         if (!v) continue;
         view_out vo = {{0}, {0}, {0}};
         const char *pname = spr_plane_name((spr_plane)q);
@@ -271,11 +225,11 @@ static int pass_views(spr__args *a, page *pg, const char *dir, const cap_pass *p
         const float *col[SPR_MAX_COMPOSITE_INPUTS], *dep[SPR_MAX_COMPOSITE_INPUTS];
         int ok = 1;
         for (int k = 0; k < n_inputs; k++) { /* the input targets as the latest pass before left them */
-            const cap_pass *src = NULL;
-            for (const cap_pass *q = all; q < p; q++)
+            const spr_captured_pass *src = NULL;
+            for (const spr_captured_pass *q = all; q < p; q++)
                 if (q->target == inputs[k]) src = q;
             if (!src || !src->plane[SPR_PLANE_COLOR] || !src->plane[SPR_PLANE_DEPTH]) { ok = 0; break; }
-            col[k] = src->plane[SPR_PLANE_COLOR], dep[k] = src->plane[SPR_PLANE_DEPTH];
+            col[k] = plane_of(src, SPR_PLANE_COLOR), dep[k] = plane_of(src, SPR_PLANE_DEPTH);
         }
         spr_probe *pr = ok ? malloc(sizeof *pr) : NULL;
         float *mask = ok ? malloc(np * sizeof *mask) : NULL;
@@ -312,11 +266,10 @@ static int pass_views(spr__args *a, page *pg, const char *dir, const cap_pass *p
         free(mask);
     }
     free(rgb);
-    (void)n_all;
     return rc;
 }
 
-static void pass_header(page *pg, const cap_pass *p, const spr_hist_event *ev)
+static void pass_header(page *pg, const spr_captured_pass *p, const spr_hist_event *ev)
 {
     FILE *f = pg->f;
     fprintf(f, "<section class=\"pass\" id=\"pass%d\"><h2>Pass %d: %s", p->index, p->index, p->name);
@@ -361,19 +314,19 @@ static void pass_header(page *pg, const cap_pass *p, const spr_hist_event *ev)
 
 /* Embedded data: every plane of every pass, base64 float32 (little-endian
  * host, as the PFM writer assumes). */
-static void data_script(page *pg, const cap_ctx *cc)
+static void data_script(page *pg, const spr_capture *cc)
 {
     FILE *f = pg->f;
     const size_t np = (size_t)pg->W * pg->H;
     fprintf(f, "<script>\nconst SPR = {w: %d, h: %d, passes: [\n", pg->W, pg->H);
     for (int i = 0; i < cc->n; i++) {
-        const cap_pass *p = &cc->p[i];
+        const spr_captured_pass *p = &cc->passes[i];
         fprintf(f, " {index: %d, name: \"%s\", group: %d, planes: {", p->index, p->name, p->group);
         int first = 1;
         for (int q = 0; q < SPR_PLANE__COUNT; q++) {
-            if (!p->plane[q]) continue;
+            if (!plane_of(p, q)) continue;
             fprintf(f, "%s\"%s\": [%d, \"", first ? "" : ", ", spr_plane_name((spr_plane)q), spr_plane_channels((spr_plane)q));
-            base64(f, (const unsigned char *)p->plane[q], np * (size_t)spr_plane_channels((spr_plane)q) * 4);
+            base64(f, (const unsigned char *)plane_of(p, q), np * (size_t)spr_plane_channels((spr_plane)q) * 4);
             fprintf(f, "\"]");
             first = 0;
         }
@@ -501,7 +454,7 @@ int cmd_step(int argc, char **argv)
         if (!strcmp(a.opts[k].name, "size") && !a.value[k]) a.value[k] = "128x128";
     spr_scene s;
     spr_render_desc rd;
-    cap_ctx cc = {0};
+    spr_capture cc = {1, NULL, 0, 0, 0, {0}}; /* planes as floats */
     spr_backend *b = NULL;
     spr_render_result res = {0};
     spr_error err = {0};
@@ -516,7 +469,7 @@ int cmd_step(int argc, char **argv)
     open_dir = 1;
     snprintf(path, sizeof path, "%s/scene.json", tmp);
     if (spr__scene_save(&a, &s, &rd, path, 0)) goto done;
-    rd.hook = cap_hook;
+    rd.hook = spr_capture_hook;
     rd.hook_user = &cc;
     if (!(b = spr_swrast_create(s.threads, &err)) || spr_render(b, &s.view, &s.cloud, &rd, &res, &err)) {
         fprintf(stderr, "splatref step: %s\n", err.msg);
@@ -558,12 +511,12 @@ int cmd_step(int argc, char **argv)
     const spr_hist_event *events = nh ? hist[0].h.ev : NULL;
     const int n_events = nh ? hist[0].h.n : 0;
     for (int i = 0; i < cc.n; i++) {
-        const cap_pass *p = &cc.p[i];
+        const spr_captured_pass *p = &cc.passes[i];
         const spr_hist_event *ev = NULL;
         for (int e = 0; e < n_events; e++)
             if (events[e].pass == p->index) ev = &events[e];
         pass_header(&pg, p, ev);
-        if (pass_views(&a, &pg, tmp, p, cc.p, cc.n, ev && ev->kind == SPR_HIST_COMPOSITE ? &ev->op : NULL, ev ? ev->inputs : NULL,
+        if (pass_views(&a, &pg, tmp, p, cc.passes, ev && ev->kind == SPR_HIST_COMPOSITE ? &ev->op : NULL, ev ? ev->inputs : NULL,
                        ev ? ev->n_inputs : 0, ev ? ev->eps_t : 0.0f, ev && ev->list))
             goto done;
         fprintf(f, "</div></section>\n");
@@ -579,7 +532,7 @@ int cmd_step(int argc, char **argv)
         free(rgb);
         if (wr) goto done;
         fprintf(f, "<section id=\"final\"><h2>The final image</h2><div class=\"views\">");
-        figure(&pg, &vo, cc.n ? cc.p[cc.n - 1].index : 0, "color", 0, 0, 0);
+        figure(&pg, &vo, cc.n ? cc.passes[cc.n - 1].index : 0, "color", 0, 0, 0);
         fprintf(f, "</div></section>\n");
     }
     fprintf(f, "<p id=\"selftest\" class=\"note\"></p>\n");
@@ -617,9 +570,7 @@ done:
     if (open_dir && cli_outdir_end(&a, "out", tmp, dir, rc == 0)) rc = 2;
     if (rc == 0) printf("step: %s, %d passes, %d pixel histories -> %s/index.html\n", spr_algo_name(rd.algo), cc.n, nh, dir);
     for (int i = 0; i < nh; i++) spr_history_free(&hist[i].h);
-    for (int i = 0; i < cc.n; i++)
-        for (int q = 0; q < SPR_PLANE__COUNT; q++) free(cc.p[i].plane[q]);
-    free(cc.p);
+    spr_capture_free(&cc);
     spr_render_result_free(&res);
     spr_backend_destroy(b);
     spr_scene_free(&s);

@@ -19,47 +19,8 @@ uint64_t spr_ulp_distance(float a, float b)
     return (uint64_t)(la > lb ? la - lb : lb - la);
 }
 
-typedef struct captured_pass {
-    char name[32];
-    int group;
-    spr_draw_stats stats;
-    unsigned planes;                /* the planes the pass's target has */
-    void *plane[SPR_PLANE__COUNT];
-} captured_pass;
-
-typedef struct capture {
-    captured_pass *passes;
-    int n, cap;
-    int failed;
-} capture;
-
-static void capture_hook(void *user, spr_backend *b, const spr_pass_info *info)
-{
-    capture *cp = user;
-    if (cp->failed) return;
-    if (cp->n == cp->cap) {
-        int cap = cp->cap ? 2 * cp->cap : 8;
-        captured_pass *np = realloc(cp->passes, (size_t)cap * sizeof *np);
-        if (!np) { cp->failed = 1; return; }
-        cp->passes = np;
-        cp->cap = cap;
-    }
-    captured_pass *p = &cp->passes[cp->n++];
-    memset(p, 0, sizeof *p);
-    snprintf(p->name, sizeof p->name, "%s", info->name);
-    p->group = info->group;
-    p->stats = info->stats;
-    size_t np = (size_t)b->view.width * b->view.height;
-    p->planes = spr_backend_target_planes(b, info->target);
-    for (int k = 0; k < SPR_PLANE__COUNT; k++) {
-        if (!(p->planes & SPR_PLANE_BIT(k))) continue;
-        p->plane[k] = malloc(np * (size_t)spr_plane_channels((spr_plane)k) * 4);
-        if (!p->plane[k] || spr_backend_read_plane(b, info->target, (spr_plane)k, p->plane[k])) cp->failed = 1;
-    }
-}
-
 typedef struct compare_ctx {
-    const capture *ref;
+    const spr_capture *ref;
     spr_parity_report *rep;
     const char *dir, *label;
     int failed, index;
@@ -172,7 +133,7 @@ static void compare_hook(void *user, spr_backend *b, const spr_pass_info *info)
     compare_ctx *cc = user;
     int i = cc->index++;
     if (cc->failed || i >= cc->ref->n) return;
-    const captured_pass *rp = &cc->ref->passes[i];
+    const spr_captured_pass *rp = &cc->ref->passes[i];
     if (strcmp(rp->name, info->name) || rp->group != info->group) return; /* reported via pass counts */
     if ((rp->stats.generated != info->stats.generated || rp->stats.passed != info->stats.passed) &&
         !cc->rep->stats_mismatches++)
@@ -196,28 +157,20 @@ static void compare_hook(void *user, spr_backend *b, const spr_pass_info *info)
     free(buf);
 }
 
-static void free_capture(capture *cp)
-{
-    for (int i = 0; i < cp->n; i++)
-        for (int k = 0; k < SPR_PLANE__COUNT; k++) free(cp->passes[i].plane[k]);
-    free(cp->passes);
-    memset(cp, 0, sizeof *cp);
-}
-
 spr_result spr_parity_run(spr_backend *ref, spr_backend *test, const spr_view *v, const spr_cloud *c,
                           const spr_render_desc *desc_ref, const spr_render_desc *desc_test, const char *heatmap_dir,
                           const char *label, spr_parity_report *rep, spr_error *err)
 {
     memset(rep, 0, sizeof *rep);
-    capture cp = {0};
+    spr_capture cp = {0};
     spr_render_desc dr = *desc_ref, dt = *desc_test;
-    dr.hook = capture_hook;
+    dr.hook = spr_capture_hook;
     dr.hook_user = &cp;
     spr_render_result rr, rt;
     spr_result r = spr_render(ref, v, c, &dr, &rr, err);
-    if (r) { free_capture(&cp); return r; }
+    if (r) { spr_capture_free(&cp); return r; }
     if (cp.failed) {
-        free_capture(&cp);
+        spr_capture_free(&cp);
         spr_render_result_free(&rr);
         return spr__fail(err, SPR_E_NOMEM, "parity: could not capture the reference's planes");
     }
@@ -233,7 +186,7 @@ spr_result spr_parity_run(spr_backend *ref, spr_backend *test, const spr_view *v
         if (cc.failed) r = spr__fail(err, SPR_E_IO, "parity: %s", cc.err.msg[0] ? cc.err.msg : "out of memory");
     }
     spr_render_result_free(&rr);
-    free_capture(&cp);
+    spr_capture_free(&cp);
     return r;
 }
 

@@ -101,6 +101,30 @@ typedef struct spr_pass_info {
 } spr_pass_info;
 typedef void (*spr_pass_hook)(void *user, spr_backend *b, const spr_pass_info *info);
 
+/* Every plane of every pass kept in memory: render with hook =
+ * spr_capture_hook and hook_user = a zeroed spr_capture (as_float set:
+ * planes as floats, ids none = −1, spr_backend_read_plane_f; otherwise the
+ * raw values); failed and err say when a read failed. */
+typedef struct spr_captured_pass {
+    char name[32];
+    int index, group, target;
+    int composite;               /* a composite pass (no state) */
+    spr_pass_state state;
+    spr_draw_stats stats;
+    double ms;
+    unsigned planes;             /* the planes the pass's target has */
+    void *plane[SPR_PLANE__COUNT];
+} spr_captured_pass;
+typedef struct spr_capture {
+    int as_float;
+    spr_captured_pass *passes;
+    int n, cap;
+    int failed;
+    spr_error err;
+} spr_capture;
+void spr_capture_hook(void *user, spr_backend *b, const spr_pass_info *info);
+void spr_capture_free(spr_capture *c);
+
 /* Deferred shading and environment effects (SPEC §4.3, §6.3). */
 typedef enum spr_shade_model { SPR_SHADE_NONE = 0, SPR_SHADE_PHONG } spr_shade_model;
 typedef struct spr_shading {
