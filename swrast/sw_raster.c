@@ -53,8 +53,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     const int W = c->base.view.width;
     const int tx0 = (tile % job->tiles_x) * SW_TILE, ty0 = (tile / job->tiles_x) * SW_TILE;
     const unsigned mask = s->write_mask;
-    float *test = SW_F(tg, TEST);
-    float *opacity = SW_F(tg, OPACITY), *normal = SW_F(tg, NORMAL);
+    const spr_fixed_planes pl = sw_fixed_planes(tg);
     const float *z_near = d->depth_mask ? SW_F(&c->targets[d->mask_target], DEPTH) : NULL;
     uint64_t gen = 0, passed = 0;
     spr_probe *probe = c->base.probe;
@@ -82,20 +81,15 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                     f.opacity = spr_fragment_opacity((int)s->output, f.src, be->alpha);
                     spr_probe_add_frag(probe, &f);
                 }
-                if (!sw_depth_stage(s, test, pix, z)) continue;
+                if (!spr_fixed_depth(s, &pl, pix, z)) continue;
                 passed++;
-                float src[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+                float src[4] = {0.0f, 0.0f, 0.0f, 0.0f}, op = 0.0f, nw[4];
                 if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY | SPR_WRITE_NORMAL)) {
                     spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, be->alpha, src);
-                    if (mask & SPR_WRITE_OPACITY) /* replace or add (core refuses over) */
-                        opacity[pix] = spr_blend1(s->blend_alpha, spr_fragment_opacity((int)s->output, src, be->alpha), opacity[pix], 1.0f);
-                    if (mask & SPR_WRITE_NORMAL) { /* (w·n, w) under the rgb blend: replace or add (core refuses over) */
-                        float nw[4];
-                        spr_fragment_normal(src, n, nw);
-                        for (int ch = 0; ch < 4; ch++) normal[4 * pix + ch] = spr_blend1(s->blend, nw[ch], normal[4 * pix + ch], 1.0f);
-                    }
+                    op = spr_fragment_opacity((int)s->output, src, be->alpha);
+                    if (mask & SPR_WRITE_NORMAL) spr_fragment_normal(src, n, nw);
                 }
-                sw_plane_writes(s, tg, pix, t, src, sid);
+                spr_fixed_writes(s, &pl, pix, t, src, sid, &op, mask & SPR_WRITE_NORMAL ? nw : NULL);
             }
         }
     }

@@ -44,7 +44,7 @@ static void rect_tile(sw_context *c, sw_target *tg, const sw_rect_job *job, int 
     const spr_rects *rs = d->rects;
     const int W = c->base.view.width;
     const int tx0 = (tile % job->tiles_x) * SW_TILE, ty0 = (tile / job->tiles_x) * SW_TILE;
-    float *test = SW_F(tg, TEST);
+    const spr_fixed_planes pl = sw_fixed_planes(tg);
     spr_frag_lists *L = &tg->lists;
     const spr_pixel_in px = {.texels = rs->texels};
     const int linear = d->sampling != SPR_SAMPLE_NEAREST;
@@ -82,9 +82,9 @@ static void rect_tile(sw_context *c, sw_target *tg, const sw_rect_job *job, int 
                     memcpy(L->src + 4 * node, src, sizeof src);
                     continue;
                 }
-                if (!sw_depth_stage(s, test, pix, z)) continue;
+                if (!spr_fixed_depth(s, &pl, pix, z)) continue;
                 passed++;
-                sw_plane_writes(s, tg, pix, t, src, k);
+                spr_fixed_writes(s, &pl, pix, t, src, k, NULL, NULL);
             }
         }
     }

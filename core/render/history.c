@@ -96,51 +96,63 @@ static spr_result take_probe(spr_backend *b, spr_hist_event *e)
     return SPR_OK;
 }
 
-/* Replay the depth stage and the plane writes of a draw on its fragments
- * (what sw_fixed.h does per pixel), from `before`; then compare with
- * `after`.  normals: the splats' normals (splat draws that write normals). */
+/* One pixel's planes as values (the history keeps their bits). */
+typedef struct pixel_values {
+    float color[4], depth, test, opacity, normal[4];
+    uint32_t id, count;
+} pixel_values;
+
+static void bits_to_values(const uint32_t bits[SPR_PLANE__COUNT][4], pixel_values *pv)
+{
+    memcpy(pv->color, bits[SPR_PLANE_COLOR], sizeof pv->color);
+    memcpy(&pv->depth, bits[SPR_PLANE_DEPTH], 4);
+    memcpy(&pv->test, bits[SPR_PLANE_TEST], 4);
+    memcpy(&pv->opacity, bits[SPR_PLANE_OPACITY], 4);
+    memcpy(pv->normal, bits[SPR_PLANE_NORMAL], sizeof pv->normal);
+    pv->id = bits[SPR_PLANE_ID][0];
+    pv->count = bits[SPR_PLANE_COUNT][0];
+}
+
+static void values_to_bits(const pixel_values *pv, uint32_t bits[SPR_PLANE__COUNT][4])
+{
+    memcpy(bits[SPR_PLANE_COLOR], pv->color, sizeof pv->color);
+    memcpy(bits[SPR_PLANE_DEPTH], &pv->depth, 4);
+    memcpy(bits[SPR_PLANE_TEST], &pv->test, 4);
+    memcpy(bits[SPR_PLANE_OPACITY], &pv->opacity, 4);
+    memcpy(bits[SPR_PLANE_NORMAL], pv->normal, sizeof pv->normal);
+    bits[SPR_PLANE_ID][0] = pv->id;
+    bits[SPR_PLANE_COUNT][0] = pv->count;
+}
+
+/* Replay a draw's depth stage and plane writes on its fragments from
+ * `before` with the reference's own stages (spr_fixed.h, what swrast runs
+ * per pixel), then compare with `after`.  normals: the splats' normals
+ * (splat draws that write the normal plane). */
 static void replay(spr_hist_event *e, const float *normals)
 {
     uint32_t cur[SPR_PLANE__COUNT][4];
     memcpy(cur, e->before, sizeof cur);
+    pixel_values pv;
+    bits_to_values(cur, &pv);
+    const unsigned has = e->planes;
+#define PL(p, field) (has & SPR_PLANE_BIT(SPR_PLANE_##p) ? (field) : NULL)
+    const spr_fixed_planes pl = {PL(COLOR, pv.color), PL(DEPTH, &pv.depth), PL(TEST, &pv.test), PL(OPACITY, &pv.opacity),
+                                 PL(NORMAL, pv.normal), PL(ID, &pv.id), PL(COUNT, &pv.count)};
+#undef PL
     const spr_pass_state *s = &e->state;
-    const unsigned m = s->write_mask & e->planes;
-    const int has_test = (e->planes & SPR_PLANE_BIT(SPR_PLANE_TEST)) != 0;
     for (int i = 0; i < e->n_frags; i++) {
         spr_hist_frag *hf = &e->frags[i];
         const spr_probe_frag *f = &hf->f;
-        memcpy(&hf->z_before, &cur[SPR_PLANE_TEST][0], 4);
+        hf->z_before = pv.test;
         if (e->list) {
             hf->passed = -1;
-            memcpy(hf->after, cur, sizeof cur);
-            continue;
+        } else if ((hf->passed = spr_fixed_depth(s, &pl, 0, f->z))) {
+            float nw[4];
+            const int splat = e->kind == SPR_HIST_SPLATS;
+            if (splat && normals) spr_fragment_normal(f->src, normals + 3 * (size_t)f->prim, nw);
+            spr_fixed_writes(s, &pl, 0, f->t, f->src, f->prim, splat ? &f->opacity : NULL, splat && normals ? nw : NULL);
         }
-        hf->passed = !has_test || spr_depth_passes(s->depth_func, f->z, hf->z_before);
-        if (hf->passed) {
-            if (s->depth_write && has_test) memcpy(&cur[SPR_PLANE_TEST][0], &f->z, 4);
-            if (m & SPR_WRITE_DEPTH) memcpy(&cur[SPR_PLANE_DEPTH][0], &f->t, 4);
-            if (m & SPR_WRITE_COLOR) {
-                float c[4];
-                memcpy(c, cur[SPR_PLANE_COLOR], sizeof c);
-                spr_blend4(s, f->src, c);
-                memcpy(cur[SPR_PLANE_COLOR], c, sizeof c);
-            }
-            if (m & SPR_WRITE_ID) cur[SPR_PLANE_ID][0] = f->prim;
-            if (m & SPR_WRITE_COUNT) cur[SPR_PLANE_COUNT][0]++;
-            if (e->kind == SPR_HIST_SPLATS && (m & SPR_WRITE_OPACITY)) {
-                float o;
-                memcpy(&o, &cur[SPR_PLANE_OPACITY][0], 4);
-                o = spr_blend1(s->blend_alpha, f->opacity, o, 1.0f);
-                memcpy(&cur[SPR_PLANE_OPACITY][0], &o, 4);
-            }
-            if (e->kind == SPR_HIST_SPLATS && (m & SPR_WRITE_NORMAL) && normals) {
-                float nw[4], nv[4];
-                spr_fragment_normal(f->src, normals + 3 * (size_t)f->prim, nw);
-                memcpy(nv, cur[SPR_PLANE_NORMAL], sizeof nv);
-                for (int ch = 0; ch < 4; ch++) nv[ch] = spr_blend1(s->blend, nw[ch], nv[ch], 1.0f);
-                memcpy(cur[SPR_PLANE_NORMAL], nv, sizeof nv);
-            }
-        }
+        values_to_bits(&pv, cur);
         memcpy(hf->after, cur, sizeof cur);
     }
     for (int p = 0; p < SPR_PLANE__COUNT && e->replay_matches && !e->list; p++) {

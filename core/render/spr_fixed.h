@@ -46,4 +46,37 @@ static inline void spr_blend4(const spr_pass_state *s, const float src[4], float
     dst[3] = spr_blend1(s->blend_alpha, src[3], dst[3], a);
 }
 
+/* A target's planes as the stages below address them: base arrays, NULL
+ * where the target lacks the plane; pixel pix is at [pix · channels]. */
+typedef struct spr_fixed_planes {
+    float *color, *depth, *test, *opacity, *normal;
+    uint32_t *id, *count;
+} spr_fixed_planes;
+
+/* The depth test of a fragment with test value z at pixel pix and the test
+ * plane's write; 1 when it passes (always, as in GL, without a test plane). */
+static inline int spr_fixed_depth(const spr_pass_state *s, const spr_fixed_planes *pl, size_t pix, float z)
+{
+    if (!pl->test) return 1;
+    if (!spr_depth_passes(s->depth_func, z, pl->test[pix])) return 0;
+    if (s->depth_write) pl->test[pix] = z;
+    return 1;
+}
+
+/* The writes after a passed depth test, as s->write_mask says: stored
+ * depth t, colour src under the blends, id, count; for splats also the
+ * opacity (replace or add) and (w·n, w) under the rgb blend (NULL: none). */
+static inline void spr_fixed_writes(const spr_pass_state *s, const spr_fixed_planes *pl, size_t pix, float t, const float src[4], uint32_t id,
+                                    const float *opacity, const float *nw)
+{
+    const unsigned mask = s->write_mask;
+    if (mask & SPR_WRITE_DEPTH) pl->depth[pix] = t;
+    if (mask & SPR_WRITE_COLOR) spr_blend4(s, src, pl->color + 4 * pix);
+    if (mask & SPR_WRITE_ID) pl->id[pix] = id;
+    if (mask & SPR_WRITE_COUNT) pl->count[pix]++;
+    if ((mask & SPR_WRITE_OPACITY) && opacity) pl->opacity[pix] = spr_blend1(s->blend_alpha, *opacity, pl->opacity[pix], 1.0f);
+    if ((mask & SPR_WRITE_NORMAL) && nw)
+        for (int ch = 0; ch < 4; ch++) pl->normal[4 * pix + ch] = spr_blend1(s->blend, nw[ch], pl->normal[4 * pix + ch], 1.0f);
+}
+
 #endif
