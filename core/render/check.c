@@ -62,7 +62,7 @@ void spr_check_images(const float *ref, const float *test, int w, int h, int ch,
     r->first_x = r->first_y = r->first_channel = -1;
     r->pixels = (size_t)w * h;
     const int lsb_bits = d->bits == 32 ? 8 : d->bits;
-    double sum_abs = 0.0, zp = 0.0, max_sum = 0.0;
+    double sum_abs = 0.0, max_sum = 0.0;
     int first_is_failing = 0;
     double *pix_sum = heat ? calloc(r->pixels, sizeof *pix_sum) : NULL;
     unsigned char *state = heat ? calloc(r->pixels, 1) : NULL; /* 0 equal, 1 within, 2 rescued, 3 failing */
@@ -78,7 +78,6 @@ void spr_check_images(const float *ref, const float *test, int w, int h, int ch,
                 /* integer images: the difference of the stored values */
                 const double ad = d->bits == 32 ? fabs((double)a - (double)b) : lsb / (d->bits == 8 ? 255.0 : 65535.0);
                 sum_abs += isfinite(ad) ? ad : 0.0;
-                if (c < 3) zp += labs(quantised(a, 8) - quantised(b, 8));
                 s += isfinite(ad) ? ad : 1.0;
                 if (d->bits == 32 ? spr_ulp_distance(a, b) != 0 : la != lb) {
                     differs = 1;
@@ -109,7 +108,9 @@ void spr_check_images(const float *ref, const float *test, int w, int h, int ch,
             }
         }
     r->mean_abs = r->pixels ? sum_abs / ((double)r->pixels * ch) : 0.0;
-    r->zp_eps = r->pixels ? zp / (double)r->pixels : 0.0;
+    spr_image_diff_stats zs; /* [ZP] §6.3's ε, as `compare --metric zp-eps` computes it (a grey plane counts as three channels) */
+    spr_image_diff(ref, ch, test, ch, w, h, NULL, &zs, NULL);
+    r->zp_eps = zs.zp_eps;
     r->pass = d->tier == SPR_TIER_C ? 1 : r->failing == 0;
     if (heat) {
         static const float hue[4][3] = {{0, 0, 0}, {0.2f, 0.4f, 1.0f}, {1.0f, 0.85f, 0.1f}, {1.0f, 0.15f, 0.1f}};

@@ -37,7 +37,7 @@ typedef struct spr_check_result {
     int max_lsb;               /* on the compared integer values (float images: their 8-bit values) */
     double max_abs;
     double mean_abs;           /* per channel, in [0,1] units */
-    double zp_eps;             /* [ZP] §6.3: Σ (|ΔR|+|ΔG|+|ΔB|) in 8 bits / pixels */
+    double zp_eps;             /* [ZP] §6.3's ε (spr_image_diff): Σ (|ΔR|+|ΔG|+|ΔB|) in 8 bits / pixels */
     int first_x, first_y, first_channel; /* first failing pixel (row 0 = bottom), else first differing; −1: none */
     double first_ref, first_test;
     int pass;                  /* Tier A/B verdict; Tier C: 1 (never fails) */
