@@ -149,23 +149,15 @@ static char *value_text(spr__args *a, const char *file, const char *sec, const c
             }
             if (!ok) break;
         }
-        if (ok && matrix && n == 16) {
-            char *s = malloc(16 * 26);
-            if (!s) return NULL;
-            size_t at = 0;
-            for (int i = 0; i < 16; i++) at += (size_t)snprintf(s + at, 16 * 26 - at, "%s%.17g", i ? "," : "", x[i]);
-            return s;
-        }
         if (ok && size && n == 2 && x[0] == floor(x[0]) && x[1] == floor(x[1]) && fabs(x[0]) < 1e9 && fabs(x[1]) < 1e9) {
             char *s = malloc(48);
             if (s) snprintf(s, 48, "%.0fx%.0f", x[0], x[1]);
             return s;
         }
-        if (ok && !matrix && !size && n >= 1 && n <= 4) {
-            char *s = malloc(4 * 26);
-            if (!s) return NULL;
+        if (ok && (matrix ? n == 16 : !size && n >= 1 && n <= 4)) { /* the numbers, comma-separated, exact */
+            char *s = malloc(16 * 26);
             size_t at = 0;
-            for (int i = 0; i < n; i++) at += (size_t)snprintf(s + at, 4 * 26 - at, "%s%.17g", i ? "," : "", x[i]);
+            for (int i = 0; s && i < n; i++) at += (size_t)snprintf(s + at, 16 * 26 - at, "%s%.17g", i ? "," : "", x[i]);
             return s;
         }
         spr__error(a, "%s: %s.%s: expected %s", file, sec, key,
