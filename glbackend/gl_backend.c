@@ -229,7 +229,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
     const spr_view *v = &b->view;
     const size_t n = d->indices ? d->count : d->cloud->n;
     st->splats = n;
-    if (b->probe && !c->probe_programs) return gl__probe_begin(c); /* refuses */
+    if (b->probe && !c->probe_programs) return gl__probe_refused(c);
     if (n == 0) return SPR_OK;
     gl_instance *inst = malloc(n * sizeof *inst);
     if (!inst) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu instances", n);
@@ -337,12 +337,15 @@ void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st)
     gl__probe_end(c, keep);
 }
 
-spr_result gl__probe_begin(gl_context *c)
+spr_result gl__probe_refused(gl_context *c)
+{
+    return spr__fail(&c->base.err, SPR_E_ARG, "gl: pixel history needs the programs' probe variant (spr_gl_desc.probe)");
+}
+
+void gl__probe_begin(gl_context *c)
 {
     const spr_probe *p = c->base.probe;
-    if (!p) return SPR_OK;
-    if (!c->probe_programs)
-        return spr__fail(&c->base.err, SPR_E_ARG, "gl: pixel history needs the programs' probe variant (spr_gl_desc.probe)");
+    if (!p) return;
     if (!c->probe_buf) {
         glCreateBuffers(1, &c->probe_buf);
         glNamedBufferData(c->probe_buf, 16 + (GLsizeiptr)2 * SPR_PROBE_MAX * 64, NULL, GL_DYNAMIC_READ);
@@ -353,7 +356,6 @@ spr_result gl__probe_begin(gl_context *c)
     GLint prog = 0;
     glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
     glUniform2i(glGetUniformLocation((GLuint)prog, "u_probe"), p->x, p->y);
-    return SPR_OK;
 }
 
 spr_result gl__probe_end(gl_context *c, int keep)
@@ -393,7 +395,7 @@ static spr_result gl_composite(spr_backend *b, const spr_composite_desc *cd)
     glBindFramebuffer(GL_FRAMEBUFFER, out->fbo);
     spr_result pr = gl__comp_program(c, cd->op, &b->err);
     if (pr) return pr;
-    if (b->probe && !c->probe_programs) return gl__probe_begin(c); /* refuses */
+    if (b->probe && !c->probe_programs) return gl__probe_refused(c);
     glUseProgram(c->prog_comp[cd->op]);
     const GLint *u = c->cu[cd->op];
     glBindTextureUnit(0, c->pool[SPR_PLANE_COLOR]);

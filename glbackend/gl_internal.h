@@ -108,8 +108,10 @@ void gl__upload_instances(gl_context *c, const gl_instance *inst, size_t m);
 void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st);
 /* Pixel history: arm the bound program's probe before a draw or composite
  * (b->probe set), then move its records into b->probe (frags from index
- * `keep` on are replaced: a redrawn list draw records once). */
-spr_result gl__probe_begin(gl_context *c);
+ * `keep` on are replaced: a redrawn list draw records once).  Draws check
+ * first that the programs were built with the probe (refused: the error). */
+spr_result gl__probe_refused(gl_context *c);
+void gl__probe_begin(gl_context *c);
 spr_result gl__probe_end(gl_context *c, int keep);
 /* gl_rect.c */
 spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);

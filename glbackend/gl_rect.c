@@ -114,7 +114,7 @@ spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *
     const spr_rects *r = d->rects;
     const size_t n = d->indices ? d->count : r->n;
     st->splats = n;
-    if (b->probe && !c->probe_programs) return gl__probe_begin(c); /* refuses */
+    if (b->probe && !c->probe_programs) return gl__probe_refused(c);
     upload(c, r);
     spr_result res;
     if (d->sampling == SPR_SAMPLE_HARDWARE && (res = make_atlas(c, r))) return res;

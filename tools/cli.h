@@ -14,8 +14,8 @@
 #include "spr_domain.h"
 #include <cjson/cJSON.h>
 #include "spr__options.h"
-
 #include "spr_history.h"
+
 /* One backend's history of a frame at one pixel (cli_explain.c). */
 typedef struct cli_history_run {
     const char *name;
