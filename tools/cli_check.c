@@ -245,16 +245,14 @@ static void grab_hook(void *user, spr_backend *b, const spr_pass_info *info)
     else snprintf(g->pass_name, sizeof g->pass_name, "%s", info->name);
 }
 
-/* The command explaining a pixel of this scene: the scene options given. */
+/* The command explaining a pixel of this scene: the scene options given
+ * on the command line (--scene among them). */
 static void explain_command(spr__args *a, char *s, size_t cap)
 {
     size_t at = (size_t)snprintf(s, cap, "splatref explain");
     for (int k = 0; a->opts[k].name && at < cap; k++) {
         const char *n = a->opts[k].name;
-        if (!a->value[k] || a->from_scene[k] || !strcmp(n, "image") || !strcmp(n, "plane") || !strcmp(n, "pass") || !strcmp(n, "tier") ||
-            !strcmp(n, "ulp") || !strcmp(n, "lsb") || !strcmp(n, "position-tolerance") || !strcmp(n, "out") || !strcmp(n, "save-scene") ||
-            !strcmp(n, "scene-camera") || !strcmp(n, "quiet"))
-            continue;
+        if (!a->value[k] || a->from_scene[k] || !spr__is_scene_option(n)) continue;
         if (!a->opts[k].arg) at += (size_t)snprintf(s + at, cap - at, " --%s", n);
         else at += (size_t)snprintf(s + at, cap - at, strpbrk(a->value[k], " \t'\"$") ? " --%s '%s'" : " --%s %s", n, a->value[k]);
     }

@@ -48,6 +48,8 @@ static const char *section_of(const char *name)
     return NULL;
 }
 
+int spr__is_scene_option(const char *name) { return !strcmp(name, "scene") || section_of(name) != NULL; }
+
 static int opt_index(const spr__args *a, const char *name)
 {
     for (int k = 0; a->opts[k].name; k++)

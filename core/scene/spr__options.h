@@ -86,6 +86,8 @@ spr_backend *spr__backend(spr__args *a, const char *name, int threads, int gl_de
  * --scene F itself: its values fill the options the command line did not
  * give.  0, or −1 after one line naming the file and the key. */
 int spr__scene_read(spr__args *a, const char *file);
+/* 1 for the options that determine an image (a scene file's keys) and --scene. */
+int spr__is_scene_option(const char *name);
 /* −1 after one line when the model file differs from the scene's hash. */
 int spr__scene_check_model(spr__args *a, const char *model);
 /* Write what determines s's image to path; matrices: the camera as raw
