@@ -19,9 +19,9 @@ mkdir -p "$D"
 [ -f data/cgal/data/meshes/armadillo.off ] || sh tools/install-deps.sh
 
 num() { # num FILE KEY: the number after "KEY": in a stats JSON
-  sed -n "s/^ *\"$2\": \([-0-9.e+]*\).*/\1/p" "$1" | head -1
+  sed -n "s/^[[:space:]]*\"$2\":[[:space:]]*\([-0-9.e+]*\).*/\1/p" "$1" | head -1
 }
-ms() { printf '%.0f' "$(sed -n "s/.*\"$2\": \([0-9.]*\).*/\1/p" "$1" | head -1)"; }
+ms() { printf '%.0f' "$(sed -n "s/.*\"$2\":[[:space:]]*\([0-9.]*\).*/\1/p" "$1" | head -1)"; }
 
 for n in 137000 303000 1100000; do
   f="$D/armadillo_$n.ply"
