@@ -250,8 +250,8 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
         g->pr[3] = r;
         g->na[3] = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
         g->c[3] = 0.0f;
-        g->id = sid;
-        g->seq = (uint32_t)i;
+        g->id = d->id_base + sid;
+        g->seq = d->seq_base + (uint32_t)i;
         m++;
     }
     gl__upload_instances(c, inst, m);

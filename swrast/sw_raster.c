@@ -165,8 +165,8 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
             const uint32_t sid = splat_at(d, i);
             sw_bin_entry be;
             be.x0 = (int16_t)rc[0], be.y0 = (int16_t)rc[1], be.x1 = (int16_t)rc[2], be.y1 = (int16_t)rc[3];
-            be.seq = (uint32_t)i;
-            be.sid = sid;
+            be.seq = d->seq_base + (uint32_t)i;
+            be.sid = d->id_base + sid;
             memcpy(be.p, cl->pos + 3 * (size_t)sid, sizeof be.p);
             memcpy(be.n, cl->nrm + 3 * (size_t)sid, sizeof be.n);
             memcpy(be.c, cl->color + 3 * (size_t)sid, sizeof be.c);

@@ -8,6 +8,7 @@
 #include <dirent.h>
 #include <unistd.h>
 #include "spr_image.h"
+#include "spr_io.h"
 #include <cjson/cJSON.h>
 #include "test_util.h"
 
@@ -477,6 +478,160 @@ START_TEST(no_gl_context)
 }
 END_TEST
 
+/* Bytes of a file (NULL when unreadable); *n its length. */
+static unsigned char *slurp(const char *path, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long len = ftell(f);
+    rewind(f);
+    unsigned char *b = malloc((size_t)len + 1);
+    *n = fread(b, 1, (size_t)len, f);
+    fclose(f);
+    return b;
+}
+
+/* Every file of dump directory a equals the same name in b; returns how many. */
+static int same_dumps(const char *a, const char *b, const char *what)
+{
+    DIR *d = opendir(a);
+    ck_assert_ptr_nonnull(d);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.') continue;
+        char pa[512], pb[512];
+        snprintf(pa, sizeof pa, "%s/%s", a, e->d_name);
+        snprintf(pb, sizeof pb, "%s/%s", b, e->d_name);
+        size_t na, nb;
+        unsigned char *x = slurp(pa, &na), *y = slurp(pb, &nb);
+        ck_assert_msg(y != NULL, "%s: --stream wrote no %s", what, e->d_name);
+        ck_assert_msg(na == nb && !memcmp(x, y, na), "%s: %s differs between the whole cloud and --stream", what, e->d_name);
+        free(x);
+        free(y);
+        n++;
+    }
+    closedir(d);
+    return n;
+}
+
+/* A cloud drawn chunk by chunk (--stream, chunks of 97 splats, so group
+ * members and chunks interleave) gives every plane of every pass with the
+ * same bits as the whole cloud loaded at once: ids (id_base), colours,
+ * depths, counts; and what cannot stream is refused with one line. */
+START_TEST(stream_equals_whole_cloud)
+{
+    setup_dir();
+    spr_cloud c = tu_builtin("builtin:torus", 3000);
+    spr_error e = {0};
+    ck_assert_int_eq(spr_write_ply(path_in("t.ply"), &c, &e), SPR_OK);
+    static const char *const variants[][8] = {
+        {"pbr2p1", NULL},
+        {"pbr2p1", "--shade", "phong", NULL},
+        {"deferred", "--groups", "hash", NULL},
+        {"deferred", "--groups", "hash", "--voronoi", "--mode", "2", NULL},
+        {"deferred", "--groups", "none", NULL},
+        {"zbuffer", NULL},
+        {"depthpeel", "--layers", "3", NULL},
+    };
+    char err[4096];
+    int planes = 0;
+    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+        for (int st = 0; st < 2; st++) {
+            char dump[128], pfm[128];
+            snprintf(dump, sizeof dump, "%s/d%zu_%d", dir, v, st);
+            snprintf(pfm, sizeof pfm, "%s/f%zu_%d.pfm", dir, v, st);
+            const char *args[20] = {"render", "--model", path_in("t.ply"), "--size", "64x48", "--dump", dump, "--float", pfm, "--algo"};
+            int n = 10;
+            for (int k = 0; variants[v][k]; k++) args[n++] = variants[v][k];
+            if (st) args[n++] = "--stream", args[n++] = "--chunk", args[n++] = "97";
+            char *argv[24] = {"splatref"};
+            for (int k = 0; k < n; k++) argv[k + 1] = (char *)args[k];
+            argv[n + 1] = "--quiet";
+            argv[n + 2] = NULL;
+            ck_assert_msg(run(argv, err, sizeof err) == 0, "%s%s: %s", variants[v][0], st ? " --stream" : "", err);
+        }
+        char a[128], b[128];
+        snprintf(a, sizeof a, "%s/d%zu_0", dir, v);
+        snprintf(b, sizeof b, "%s/d%zu_1", dir, v);
+        int k = same_dumps(a, b, variants[v][0]);
+        snprintf(a, sizeof a, "%s/f%zu_0.pfm", dir, v);
+        snprintf(b, sizeof b, "%s/f%zu_1.pfm", dir, v);
+        size_t na, nb;
+        unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
+        ck_assert_msg(x && y && na == nb && !memcmp(x, y, na), "%s: final images differ", variants[v][0]);
+        free(x);
+        free(y);
+        ck_assert_int_gt(k, 3);
+        planes += k;
+    }
+    printf("cli: --stream (chunks of 97 of 3000 splats), 7 variants: %d dumped planes identical to the whole cloud's\n", planes);
+
+    /* what cannot stream, and bad files, refused with one line and no output */
+    static const char *const bad[][6] = {
+        {"transparent1", "--groups", "hash", NULL, "needs the whole cloud"},
+        {"deferred", NULL, "overlap graph"},
+        {"deferred", "--groups", "hash", "--extend", "radius", "enlarged group radii"},
+        {"domain-twopass", NULL, "needs the whole cloud"},
+    };
+    for (size_t v = 0; v < sizeof bad / sizeof bad[0]; v++) {
+        const char *args[16] = {"render", "--model", path_in("t.ply"), "--stream", "--algo"};
+        int n = 5, k = 0;
+        for (; k < 5 && bad[v][k]; k++) args[n++] = bad[v][k];
+        const char *must = k == 5 ? bad[v][5] : bad[v][k + 1];
+        args[n] = NULL;
+        int before = count_files();
+        int rc = run_args(args, path_in("bad.png"), err, sizeof err);
+        printf("cli: --stream %s: exit %d: %s", bad[v][0], rc, err);
+        ck_assert_msg(rc == 2 && strstr(err, must) && strchr(err, '\n') == err + strlen(err) - 1, "%s: %s", bad[v][0], err);
+        ck_assert_int_eq(count_files(), before);
+    }
+    /* a NaN at splat 2500 (in the 26th chunk): found while reading, before any output, by position */
+    {
+        size_t len;
+        unsigned char *b = slurp(path_in("t.ply"), &len);
+        const char *eh = strstr((const char *)b, "end_header\n");
+        size_t body = (size_t)(eh - (const char *)b) + 11, at = body + 2500 * 32 + 4;
+        const float nan = NAN;
+        memcpy(b + at, &nan, 4);
+        write_text("nan.ply", (const char *)b, len);
+        free(b);
+        char pos[64];
+        snprintf(pos, sizeof pos, "byte %zu: vertex 2500: coordinate y", at);
+        const char *args[] = {"render", "--model", path_in("nan.ply"), "--stream", "--chunk", "97", "--algo", "pbr2p1", NULL};
+        int rc = run_args(args, path_in("bad.png"), err, sizeof err);
+        printf("cli: --stream NaN: exit %d: %s", rc, err);
+        ck_assert_msg(rc == 2 && strstr(err, pos), "%s", err);
+        ck_assert_int_ne(access(path_in("bad.png"), F_OK), 0);
+    }
+    const char *ascii = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n";
+    write_text("a.ply", ascii, strlen(ascii));
+    static const char *const files[][3] = {{"a.ply", "--stream", "binary PLY"},
+                                           {"nor.ply", "--stream", "needs normals and radii"},
+                                           {"t.ply", "--chunk=5", "--chunk goes with --stream"}};
+    c.flags = 0;
+    ck_assert_int_eq(spr_write_ply(path_in("t2.ply"), &c, &e), SPR_OK);
+    {
+        /* the same cloud without its radius column: PLY from the header only */
+        size_t len;
+        unsigned char *b = slurp(path_in("t2.ply"), &len);
+        char *p = strstr((char *)b, "property float radius\n");
+        memcpy(p, "property float weight\n", 22);
+        write_text("nor.ply", (const char *)b, len);
+        free(b);
+    }
+    for (int v = 0; v < 3; v++) {
+        const char *args[] = {"render", "--model", path_in(files[v][0]), "--algo", "pbr2p1", files[v][1], NULL};
+        int rc = run_args(args, path_in("bad.png"), err, sizeof err);
+        printf("cli: %s %s: exit %d: %s", files[v][0], files[v][1], rc, err);
+        ck_assert_msg(rc == 2 && strstr(err, files[v][2]) && strchr(err, '\n') == err + strlen(err) - 1, "%s", err);
+        ck_assert_int_ne(access(path_in("bad.png"), F_OK), 0);
+    }
+    spr_cloud_free(&c);
+}
+END_TEST
+
 Suite *make_cli_suite(void)
 {
     Suite *s = suite_create("cli");
@@ -493,6 +648,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, domains_command);
     tcase_add_test(tc, trace_lists_the_passes_in_order);
     tcase_add_test(tc, no_partial_dump_directory);
+    tcase_add_test(tc, stream_equals_whole_cloud);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -14,6 +14,7 @@
 
 static const spr__opt parity_opts[] = {
     SPR__SCENE_OPTS,
+    SPR__STREAM_OPTS,
     {"gl-device", "N", "GL backend on the N-th EGL device instead of the surfaceless platform"},
     {"report", "DIR", "write report.json and a diff heatmap PNG per differing plane"},
     {"gl-eps", "E", "use this eps for the GL side only (a deliberate perturbation, to see a report)"},

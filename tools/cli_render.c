@@ -15,6 +15,7 @@
 
 static const spr__opt render_opts[] = {
     SPR__SCENE_OPTS,
+    SPR__STREAM_OPTS,
     {"groups-out", "F", "write the groups used, one per line"},
     {"out", "FILE.png", "8-bit image (default splatref.png)"},
     {"float", "FILE.pfm", "final RGB as little-endian PFM"},

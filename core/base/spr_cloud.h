@@ -37,6 +37,8 @@ spr_result spr_cloud_alloc(spr_cloud *c, size_t n);
 void spr_cloud_free(spr_cloud *c);
 /* Check every invariant above; names `what` (a file) and the first bad splat. */
 spr_result spr_cloud_validate(const spr_cloud *c, const char *what, spr_error *err);
+/* The same for a piece of a larger cloud whose splat 0 is splat `first` (messages give that index). */
+spr_result spr__cloud_validate_from(const spr_cloud *c, const char *what, size_t first, spr_error *err);
 /* Renormalise normal i in double; SPR_E_VALUE for a zero or non-finite normal. */
 spr_result spr__normalize3(float *n);
 
@@ -55,6 +57,40 @@ void spr_cloud_bounds(const spr_cloud *c, spr_bounds *b);
 /* The default world tolerance ε of rendering and grouping: 2 × mean radius
  * [decision], the single definition every caller uses. */
 double spr_cloud_default_eps(const spr_cloud *c);
+double spr_bounds_default_eps(const spr_bounds *b);
+/* Bytes an in-memory cloud of n splats takes (the estimate --stream's errors quote). */
+static inline size_t spr_cloud_bytes(size_t n) { return n * 11 * sizeof(float); }
+
+/* The bounds over clouds given piece by piece (a streamed cloud's chunks,
+ * in order): the same numbers as spr_cloud_bounds over the whole. */
+typedef struct spr_bounds_acc {
+    spr_bounds b;
+    double sum;
+    size_t n;
+} spr_bounds_acc;
+void spr_bounds_begin(spr_bounds_acc *a);
+void spr_bounds_add(spr_bounds_acc *a, const spr_cloud *c);
+void spr_bounds_end(const spr_bounds_acc *a, spr_bounds *b);
+
+/* A cloud read in chunks, for clouds larger than memory (`render --stream`):
+ * read() fills `out` — allocated by spr_cloud_alloc for `chunk` splats —
+ * with splats [first, first + count) exactly as spr_load would hold them
+ * (out->n = count), or fails naming the file and the splat.  bounds are the
+ * whole cloud's (spr_cloud_source_scan). */
+typedef struct spr_cloud_source {
+    size_t n;             /* splats in all */
+    size_t chunk;         /* splats per read */
+    unsigned flags;       /* spr_source_flags */
+    spr_bounds bounds;
+    spr_result (*read)(void *user, size_t first, size_t count, spr_cloud *out, spr_error *err);
+    void *user;
+} spr_cloud_source;
+/* One pass over the source: every splat read and checked (a bad value fails
+ * here, before anything is drawn), the bounds set; when keep is not NULL it
+ * receives the centres, normals and radii of every splat (colour and
+ * opacity arrays NULL: what grouping reads). */
+struct spr_progress;
+spr_result spr_cloud_source_scan(spr_cloud_source *src, spr_cloud *keep, const struct spr_progress *progress, spr_error *err);
 
 /* Colour every splat by its normal, c = 0.5·n + 0.5 (used when a file has no
  * colours: flat colours would show only a silhouette without shading). */

@@ -88,7 +88,11 @@ typedef struct cursor {
     int fmt;
     size_t line;
     spr_error *err;
+    size_t off0;  /* file offset of base (a streamed chunk's bytes start inside the file) */
 } cursor;
+
+/* Byte offset in the file of the value just read (n bytes long). */
+static size_t cursor_at(const cursor *cu, int n) { return cu->off0 + (size_t)(cu->p - cu->base) - (size_t)n; }
 
 static spr_result read_value(cursor *cu, ply_type t, double *out, const char *what, unsigned long long index)
 {
@@ -116,7 +120,7 @@ static spr_result read_value(cursor *cu, ply_type t, double *out, const char *wh
     int n = type_size(t);
     if ((size_t)(cu->end - cu->p) < (size_t)n)
         return spr__fail(cu->err, SPR_E_TRUNCATED, "%s: byte %zu: file ends inside %s %llu", cu->path,
-                         (size_t)(cu->p - cu->base), what, index);
+                         cursor_at(cu, 0), what, index);
     *out = bin_value(cu->p, t, cu->fmt == F_BE);
     cu->p += n;
     return SPR_OK;
@@ -196,6 +200,88 @@ static spr_result parse_header(const char *path, const char *buf, size_t len, in
     return spr__fail(err, SPR_E_TRUNCATED, "%s: header has no end_header line", path);
 }
 
+/* The vertex element's properties as the cloud reads them. */
+typedef struct vertex_layout {
+    const ply_elem *V;
+    int role[64];
+    ply_type ctype[64];
+    int have;  /* bit R_* set when the role is present */
+} vertex_layout;
+
+/* Fill the roles of V's properties; an error for colours of 32-bit integer type. */
+static spr_result vertex_layout_make(const char *path, const ply_elem *V, vertex_layout *L, spr_error *err)
+{
+    L->V = V;
+    L->have = 0;
+    for (int k = 0; k < V->nprops; k++) {
+        L->role[k] = V->props[k].count_type == T_NONE ? role_of(V->props[k].name) : R_NONE;
+        L->ctype[k] = V->props[k].type;
+        if (L->role[k]) L->have |= 1 << L->role[k];
+        if ((L->role[k] >= R_R && L->role[k] <= R_A) && (L->ctype[k] == T_I32 || L->ctype[k] == T_U32))
+            return spr__fail(err, SPR_E_FORMAT, "%s: colour property \"%s\" has a 32-bit integer type", path, V->props[k].name);
+    }
+    if ((L->have & ((1 << R_X) | (1 << R_Y) | (1 << R_Z))) != ((1 << R_X) | (1 << R_Y) | (1 << R_Z)))
+        return spr__fail(err, SPR_E_FORMAT, "%s: vertex element lacks x, y or z", path);
+    return SPR_OK;
+}
+
+/* Read vertex i (file order) at the cursor into splat s of c: every value
+ * checked as the float it becomes, radii positive, the normal renormalised.
+ * The one decoding of a vertex, for whole files and streamed chunks. */
+static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c, size_t s, unsigned long long i)
+{
+    const ply_elem *V = L->V;
+    const char *path = cu->path;
+    spr_error *err = cu->err;
+    spr_result r;
+    for (int k = 0; k < V->nprops; k++) {
+        const ply_prop *P = &V->props[k];
+        const int role = L->role[k];
+        double v;
+        if (P->count_type != T_NONE) { /* a list in the vertex element: read past it */
+            double cnt;
+            if ((r = read_value(cu, P->count_type, &cnt, V->name, i))) return r;
+            if (!(cnt >= 0 && cnt <= 1024) || cnt != floor(cnt))
+                return spr__fail(err, SPR_E_FORMAT, "%s: %s %llu: list length %g is not a whole number in 0..1024", path, V->name, i, cnt);
+            for (int j = 0; j < (int)cnt; j++)
+                if ((r = read_value(cu, P->type, &v, V->name, i))) return r;
+            continue;
+        }
+        if ((r = read_value(cu, P->type, &v, V->name, i))) return r;
+        if (role && !spr__finite_float(v)) /* checked as the float it becomes: 1e300 is a finite double */
+            return cu->fmt == F_ASCII
+                       ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %llu: %s %s (%g) is not a finite 32-bit float", path, cu->line, i,
+                                   role <= R_Z ? "coordinate" : "property", P->name, v)
+                       : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %llu: %s %s (%g) is not a finite 32-bit float", path,
+                                   cursor_at(cu, type_size(P->type)), i, role <= R_Z ? "coordinate" : "property", P->name, v);
+        switch (role) {
+        case R_X: case R_Y: case R_Z: c->pos[3 * s + role - R_X] = (float)v; break;
+        case R_NX: case R_NY: case R_NZ: c->nrm[3 * s + role - R_NX] = (float)v; break;
+        case R_R: case R_G: case R_B: c->color[3 * s + role - R_R] = (float)(v * color_scale(L->ctype[k])); break;
+        case R_A: c->alpha[s] = (float)(v * color_scale(L->ctype[k])); break;
+        case R_RADIUS:
+            if (!(v > 0.0) || !isfinite(v))
+                return cu->fmt == F_ASCII
+                           ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %llu: radius %g is not positive and finite", path, cu->line, i, v)
+                           : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %llu: radius %g is not positive and finite", path,
+                                       cursor_at(cu, type_size(P->type)), i, v);
+            c->radius[s] = (float)v;
+            break;
+        default: break;
+        }
+    }
+    if ((L->have & (1 << R_NX)) && spr__normalize3(c->nrm + 3 * s))
+        return spr__fail(err, SPR_E_VALUE, "%s: vertex %llu: zero or non-finite normal", path, i);
+    return SPR_OK;
+}
+
+/* Where the vertex data came from, as spr_cloud flags. */
+static unsigned vertex_flags(int have)
+{
+    return ((have & (1 << R_NX)) ? SPR_SRC_NORMALS : 0) | ((have & (1 << R_R)) ? SPR_SRC_COLORS : 0) |
+           ((have & (1 << R_RADIUS)) ? SPR_SRC_RADII : 0) | ((have & (1 << R_A)) ? SPR_SRC_ALPHA : 0);
+}
+
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err)
 {
     spr_result r;
@@ -216,21 +302,9 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
         r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %llu vertices (limit %u)", path, V->count, SPR_MAX_SPLATS);
         goto fail;
     }
-    int role[64], have = 0;
-    ply_type ctype[64];
-    for (int k = 0; k < V->nprops; k++) {
-        role[k] = V->props[k].count_type == T_NONE ? role_of(V->props[k].name) : R_NONE;
-        ctype[k] = V->props[k].type;
-        if (role[k]) have |= 1 << role[k];
-        if ((role[k] >= R_R && role[k] <= R_A) && (ctype[k] == T_I32 || ctype[k] == T_U32)) {
-            r = spr__fail(err, SPR_E_FORMAT, "%s: colour property \"%s\" has a 32-bit integer type", path, V->props[k].name);
-            goto fail;
-        }
-    }
-    if ((have & ((1 << R_X) | (1 << R_Y) | (1 << R_Z))) != ((1 << R_X) | (1 << R_Y) | (1 << R_Z))) {
-        r = spr__fail(err, SPR_E_FORMAT, "%s: vertex element lacks x, y or z", path);
-        goto fail;
-    }
+    vertex_layout lay;
+    if ((r = vertex_layout_make(path, V, &lay, err))) goto fail;
+    const int have = lay.have;
     /* Size check before allocating or reading: every item of every element
      * takes at least its fixed-size values plus the count of each list
      * (binary), or two bytes per value ("0 ", ascii); an element with no
@@ -254,7 +328,7 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
     r = spr_cloud_alloc(c, (size_t)V->count);
     if (r) { spr__fail(err, r, "%s: cannot allocate %llu splats", path, V->count); goto fail; }
     cursor cu = {path, (const unsigned char *)buf + body, (const unsigned char *)buf + len, (const unsigned char *)buf,
-                 fmt, 0, err};
+                 fmt, 0, err, 0};
     /* header line count for ascii error positions */
     for (size_t i = 0; i < body; i++) cu.line += buf[i] == '\n';
     cu.line++;
@@ -265,6 +339,10 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
             if (E->count > SPR_MAX_SPLATS * 4ull) { r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %llu faces", path, E->count); goto fail; }
         }
         for (unsigned long long i = 0; i < E->count; i++) {
+            if (e == vi) {
+                if ((r = decode_vertex(&cu, &lay, c, (size_t)i, i))) goto fail;
+                continue;
+            }
             for (int k = 0; k < E->nprops; k++) {
                 const ply_prop *P = &E->props[k];
                 double v;
@@ -297,48 +375,11 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
                     continue;
                 }
                 if ((r = read_value(&cu, P->type, &v, E->name, i))) goto fail;
-                if (e != vi) continue;
-                size_t s = (size_t)i;
-                if (role[k] && !spr__finite_float(v)) { /* checked as the float it becomes: 1e300 is a finite double */
-                    r = cu.fmt == F_ASCII
-                            ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %zu: %s %s (%g) is not a finite 32-bit float", path, cu.line, s,
-                                        role[k] <= R_Z ? "coordinate" : "property", P->name, v)
-                            : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %zu: %s %s (%g) is not a finite 32-bit float", path,
-                                        (size_t)(cu.p - cu.base) - type_size(P->type), s, role[k] <= R_Z ? "coordinate" : "property",
-                                        P->name, v);
-                    goto fail;
-                }
-                switch (role[k]) {
-                case R_X: case R_Y: case R_Z:
-                    c->pos[3 * s + role[k] - R_X] = (float)v;
-                    break;
-                case R_NX: case R_NY: case R_NZ: c->nrm[3 * s + role[k] - R_NX] = (float)v; break;
-                case R_R: case R_G: case R_B: c->color[3 * s + role[k] - R_R] = (float)(v * color_scale(ctype[k])); break;
-                case R_A: c->alpha[s] = (float)(v * color_scale(ctype[k])); break;
-                case R_RADIUS:
-                    if (!(v > 0.0) || !isfinite(v)) {
-                        r = cu.fmt == F_ASCII
-                                ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %zu: radius %g is not positive and finite", path, cu.line, s, v)
-                                : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %zu: radius %g is not positive and finite", path,
-                                            (size_t)(cu.p - cu.base) - type_size(P->type), s, v);
-                        goto fail;
-                    }
-                    c->radius[s] = (float)v;
-                    break;
-                default: break;
-                }
-            }
-            if (e == vi && (have & (1 << R_NX))) {
-                if (spr__normalize3(c->nrm + 3 * (size_t)i)) {
-                    r = spr__fail(err, SPR_E_VALUE, "%s: vertex %llu: zero or non-finite normal", path, i);
-                    goto fail;
-                }
             }
         }
     }
     mesh->nv = c->n;
-    c->flags = ((have & (1 << R_NX)) ? SPR_SRC_NORMALS : 0) | ((have & (1 << R_R)) ? SPR_SRC_COLORS : 0) |
-               ((have & (1 << R_RADIUS)) ? SPR_SRC_RADII : 0) | ((have & (1 << R_A)) ? SPR_SRC_ALPHA : 0);
+    c->flags = vertex_flags(have);
     if (!(have & (1 << R_NX)))
         for (size_t i = 0; i < 3 * c->n; i++) c->nrm[i] = 0.0f;
     return SPR_OK;
@@ -371,4 +412,142 @@ static int write_ply_body(FILE *f, const void *user)
 spr_result spr_write_ply(const char *path, const spr_cloud *c, spr_error *err)
 {
     return spr__write_atomic(path, write_ply_body, c, err);
+}
+
+/* ---- a binary PLY read in chunks (render --stream) ---- */
+
+typedef struct ply_source {
+    char path[1024];
+    FILE *f;
+    ply_elem V;            /* the vertex element (lay.V points here) */
+    vertex_layout lay;
+    int fmt;
+    uint64_t body;         /* file offset of vertex 0 */
+    size_t rec;            /* bytes per vertex record */
+    double opacity;        /* > 0: every splat's α (--opacity) */
+    unsigned char *buf;
+    size_t cap;
+} ply_source;
+
+/* Vertices [first, first + count) into out (room for the source's chunk). */
+static spr_result ply_source_read(void *user, size_t first, size_t count, spr_cloud *out, spr_error *err)
+{
+    ply_source *ps = user;
+    const size_t bytes = count * ps->rec;
+    if (bytes > ps->cap) {
+        unsigned char *nb = realloc(ps->buf, bytes);
+        if (!nb) return spr__fail(err, SPR_E_NOMEM, "%s: out of memory for a chunk of %zu splats", ps->path, count);
+        ps->buf = nb;
+        ps->cap = bytes;
+    }
+    const uint64_t at = ps->body + (uint64_t)first * ps->rec;
+    if (fseeko(ps->f, (off_t)at, SEEK_SET) || fread(ps->buf, 1, bytes, ps->f) != bytes)
+        return spr__fail(err, SPR_E_IO, "%s: byte %llu: cannot read %zu vertices (the file changed or ends early)", ps->path,
+                         (unsigned long long)at, count);
+    out->n = count;
+    /* Vertices decode independently: in parallel, and on failure the first
+     * bad vertex is decoded again alone for its message (the same one for
+     * any thread count). */
+    long bad = -1;
+#pragma omp parallel for schedule(static)
+    for (long j = 0; j < (long)count; j++) {
+        spr_error e = {0};
+        cursor cu = {ps->path, ps->buf + (size_t)j * ps->rec, ps->buf + bytes, ps->buf, ps->fmt, 0, &e, (size_t)at};
+        if (decode_vertex(&cu, &ps->lay, out, (size_t)j, (unsigned long long)(first + (size_t)j))) {
+#pragma omp critical(spr_ply_bad)
+            if (bad < 0 || j < bad) bad = j;
+        }
+    }
+    if (bad >= 0) {
+        cursor cu = {ps->path, ps->buf + (size_t)bad * ps->rec, ps->buf + bytes, ps->buf, ps->fmt, 0, err, (size_t)at};
+        return decode_vertex(&cu, &ps->lay, out, (size_t)bad, (unsigned long long)(first + (size_t)bad));
+    }
+    if (!(ps->lay.have & (1 << R_R))) spr_cloud_color_by_normal(out);
+    if (ps->opacity > 0.0)
+        for (size_t j = 0; j < count; j++) out->alpha[j] = (float)ps->opacity;
+    return spr__cloud_validate_from(out, ps->path, first, err);
+}
+
+spr_result spr_ply_source_open(const char *path, const spr_load_desc *d, size_t chunk, spr_cloud_source *src, spr_error *err)
+{
+    memset(src, 0, sizeof *src);
+    ply_source *ps = calloc(1, sizeof *ps);
+    if (!ps) return spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path);
+    snprintf(ps->path, sizeof ps->path, "%s", path);
+    spr_result r = SPR_OK;
+    char *head = NULL;
+    if (!(ps->f = fopen(path, "rb"))) { r = spr__fail(err, SPR_E_IO, "%s: cannot open: %s", path, strerror(errno)); goto fail; }
+    if (fseeko(ps->f, 0, SEEK_END)) { r = spr__fail(err, SPR_E_IO, "%s: cannot seek", path); goto fail; }
+    const uint64_t size = (uint64_t)ftello(ps->f);
+    rewind(ps->f);
+    /* the header: at most 1 MiB */
+    size_t hl = size < (1u << 20) ? (size_t)size : (size_t)1 << 20;
+    if (!(head = malloc(hl + 1)) || fread(head, 1, hl, ps->f) != hl) { r = spr__fail(err, SPR_E_IO, "%s: cannot read the header", path); goto fail; }
+    ply_elem el[16];
+    int nel = 0;
+    size_t body = 0;
+    if ((r = parse_header(path, head, hl, &ps->fmt, el, &nel, &body, err))) goto fail;
+    if (ps->fmt == F_ASCII) {
+        r = spr__fail(err, SPR_E_FORMAT, "%s: --stream reads binary PLY files (fixed-size records); this one is ascii", path);
+        goto fail;
+    }
+    uint64_t off = body;
+    int vi = -1;
+    for (int e = 0; e < nel && vi < 0; e++) {
+        size_t item = 0;
+        for (int k = 0; k < el[e].nprops; k++) {
+            if (el[e].props[k].count_type != T_NONE) {
+                r = spr__fail(err, SPR_E_FORMAT, "%s: --stream needs fixed-size records before and in the vertex element; %s has the list \"%s\"",
+                              path, el[e].name, el[e].props[k].name);
+                goto fail;
+            }
+            item += (size_t)type_size(el[e].props[k].type);
+        }
+        if (!strcmp(el[e].name, "vertex")) { vi = e; ps->rec = item; break; }
+        off += el[e].count * (uint64_t)item;
+    }
+    if (vi < 0) { r = spr__fail(err, SPR_E_FORMAT, "%s: no \"vertex\" element", path); goto fail; }
+    ps->V = el[vi];
+    if ((r = vertex_layout_make(path, &ps->V, &ps->lay, err))) goto fail;
+    if (ps->V.count == 0) { r = spr__fail(err, SPR_E_FORMAT, "%s: no points", path); goto fail; }
+    if (ps->V.count > SPR_MAX_SPLATS) {
+        r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %llu vertices (limit %u)", path, ps->V.count, SPR_MAX_SPLATS);
+        goto fail;
+    }
+    if (off + ps->V.count * (uint64_t)ps->rec > size) {
+        r = spr__fail(err, SPR_E_TRUNCATED, "%s: byte %llu: header declares %llu vertices of %zu bytes but only %llu bytes follow", path,
+                      (unsigned long long)off, ps->V.count, ps->rec, (unsigned long long)(size - off));
+        goto fail;
+    }
+    if (!(ps->lay.have & (1 << R_NX)) || !(ps->lay.have & (1 << R_RADIUS))) {
+        r = spr__fail(err, SPR_E_ARG, "%s: --stream needs normals and radii in the file (this one lacks %s): computing them takes the "
+                      "neighbours of every point, the whole cloud; load it without --stream", path,
+                      !(ps->lay.have & (1 << R_NX)) ? (!(ps->lay.have & (1 << R_RADIUS)) ? "both" : "normals") : "radii");
+        goto fail;
+    }
+    ps->body = off;
+    ps->opacity = d ? d->opacity : 0.0;
+    free(head);
+    src->n = (size_t)ps->V.count;
+    src->chunk = chunk ? chunk : 1u << 20;
+    src->flags = vertex_flags(ps->lay.have);
+    src->read = ply_source_read;
+    src->user = ps;
+    return SPR_OK;
+fail:
+    free(head);
+    if (ps->f) fclose(ps->f);
+    free(ps);
+    return r;
+}
+
+void spr_ply_source_close(spr_cloud_source *src)
+{
+    ply_source *ps = src->user;
+    if (ps) {
+        if (ps->f) fclose(ps->f);
+        free(ps->buf);
+        free(ps);
+    }
+    memset(src, 0, sizeof *src);
 }

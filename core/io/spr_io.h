@@ -37,6 +37,16 @@ spr_result spr_load(const char *path, const spr_load_desc *d, spr_cloud *c, spr_
  * alpha uchar, radius float) through a temporary file renamed into place. */
 spr_result spr_write_ply(const char *path, const spr_cloud *c, spr_error *err);
 
+/* A binary PLY opened for reading in chunks of `chunk` splats (0: 2^20)
+ * instead of whole (`render --stream`, clouds larger than memory): only the
+ * header is read here.  The file must be binary, with fixed-size records up
+ * to its vertex element, and carry normals and radii (computing them needs
+ * every point's neighbours); each chunk reads as spr_load reads it (same
+ * decoding, colours by normal when absent, d->opacity).  Close with
+ * spr_ply_source_close; src->bounds are set by spr_cloud_source_scan. */
+spr_result spr_ply_source_open(const char *path, const spr_load_desc *d, size_t chunk, spr_cloud_source *src, spr_error *err);
+void spr_ply_source_close(spr_cloud_source *src);
+
 /* Resample a mesh (OFF or PLY with faces) to n points: triangles chosen by
  * area, uniform barycentrics, face normals, colours by normal, radii by the
  * radius rule; fixed seed, so the same call gives the same cloud. */

@@ -43,10 +43,57 @@ static spr_result backend_failed(spr__run *run, spr_result r)
     return spr__fail(run->err, r, "%s backend: %s", run->b->name, run->b->err.msg);
 }
 
+/* A draw of a streamed cloud: the same draw chunk by chunk, each chunk's
+ * splats in their order (the draw's indices must follow the file), so every
+ * pixel sees the same fragments in the same order as one whole draw. */
+static spr_result stream_draw(spr__run *run, int target, const spr_draw_desc *d, spr_draw_stats *st)
+{
+    const spr_cloud_source *src = run->desc->source;
+    memset(st, 0, sizeof *st);
+    size_t at = 0; /* next position in d->indices */
+    for (size_t first = 0; first < src->n; first += src->chunk) {
+        const size_t m = src->n - first < src->chunk ? src->n - first : src->chunk;
+        spr_draw_desc c = *d;
+        c.cloud = &run->chunk;
+        c.id_base = (uint32_t)first;
+        if (d->indices) {
+            size_t end = at;
+            for (; end < d->count && d->indices[end] < first + m; end++) {
+                if (d->indices[end] < first || (end > at && d->indices[end] <= d->indices[end - 1]))
+                    return spr__fail(run->err, SPR_E_ARG, "%s: --stream draws splats in file order; this draw is not", spr_algo_name(run->desc->algo));
+                run->local[end - at] = d->indices[end] - (uint32_t)first;
+            }
+            if (end == at) continue; /* nothing of this draw in the chunk: not read */
+            c.indices = run->local;
+            c.count = end - at;
+            c.seq_base = (uint32_t)at;
+            at = end;
+        } else {
+            c.seq_base = (uint32_t)first;
+        }
+        spr_result r = src->read(src->user, first, m, &run->chunk, run->err);
+        if (r) return r;
+        spr_draw_stats cs;
+        if ((r = spr_backend_draw(run->b, target, &c, &cs))) return backend_failed(run, r);
+        st->splats += cs.splats;
+        st->generated += cs.generated;
+        st->passed += cs.passed;
+        spr_progress_report(&run->desc->progress, "frame: drawing", first + m, src->n);
+    }
+    if (d->indices && at != d->count)
+        return spr__fail(run->err, SPR_E_ARG, "%s: --stream: a draw names splats beyond the cloud", spr_algo_name(run->desc->algo));
+    return SPR_OK;
+}
+
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d)
 {
     spr_draw_stats st;
     double t0 = spr_now_ms();
+    if (run->desc->source) {
+        spr_result r = stream_draw(run, target, d, &st);
+        if (r) return r;
+        return record(run, name, group, &d->state, target, &st, spr_now_ms() - t0);
+    }
     spr_result r = spr_backend_draw(run->b, target, d, &st);
     if (r) return backend_failed(run, r);
     return record(run, name, group, &d->state, target, &st, spr_now_ms() - t0);
@@ -171,6 +218,22 @@ spr_result spr__run_target(spr__run *run, unsigned planes, int *target)
     return SPR_OK;
 }
 
+spr_result spr_stream_check(spr_algo algo, int enlarged_radii, size_t n, spr_error *err)
+{
+    const spr_algo_info *ai = spr_algo_info_of(algo);
+    if (ai->uses & (SPR_USES_ORDER | SPR_USES_RECTS)) {
+        char size[96] = "";
+        const double mb = (double)spr_cloud_bytes(n) / 1e6;
+        if (n) snprintf(size, sizeof size, " (the cloud alone takes %.0f MB for %zu splats)", mb > 1.0 ? mb : 1.0, n);
+        return spr__fail(err, SPR_E_ARG, "render: %s needs the whole cloud in memory (%s), --stream cannot draw it: leave out --stream%s",
+                         ai->name, (ai->uses & SPR_USES_ORDER) ? "a back-to-front order of every splat" : "domain primitives built over every point",
+                         size);
+    }
+    if (enlarged_radii)
+        return spr__fail(err, SPR_E_ARG, "render: enlarged group radii (--extend radius) need the whole cloud: leave out --stream");
+    return SPR_OK;
+}
+
 spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
                       spr_render_result *out, spr_error *err)
 {
@@ -181,13 +244,23 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
         return spr__fail(err, SPR_E_ARG, "render: %s draws domain primitives: none given", ai->name);
     if (desc->groups && desc->groups->n_splats != cloud->n)
         return spr__fail(err, SPR_E_ARG, "render: groups are for %zu splats, the model has %zu", desc->groups->n_splats, cloud->n);
-    spr_result r = spr_backend_set_view(b, view);
+    const spr_cloud_source *src = desc->source;
+    if (src && src->n != cloud->n) return spr__fail(err, SPR_E_ARG, "render: the stream has %zu splats, the cloud %zu", src->n, cloud->n);
+    spr_result r;
+    if (src && (r = spr_stream_check(desc->algo, (ai->uses & SPR_USES_GROUPS) && desc->groups && desc->groups->radius_scale, cloud->n, err)))
+        return r;
+    r = spr_backend_set_view(b, view);
     if (r) return backend_failed(&(spr__run){.b = b, .err = err}, r);
     spr_bounds bd;
-    spr_cloud_bounds(cloud, &bd);
-    double eps = desc->eps > 0.0 ? desc->eps : spr_cloud_default_eps(cloud);
-    spr__run run = {b, cloud, desc, out, err, spr_view_eps_t(view, eps), {0, 0, 0, 0}, 0, {0}, 0};
-    if ((r = make_params(&run, view))) return r;
+    if (src) bd = src->bounds;
+    else spr_cloud_bounds(cloud, &bd);
+    double eps = desc->eps > 0.0 ? desc->eps : spr_bounds_default_eps(&bd);
+    spr__run run = {b, cloud, desc, out, err, spr_view_eps_t(view, eps), {0, 0, 0, 0}, 0, {0}, 0, {0}, NULL};
+    if (src && (spr_cloud_alloc(&run.chunk, src->chunk) || !(run.local = malloc(src->chunk * sizeof *run.local)))) {
+        spr_cloud_free(&run.chunk);
+        return spr__fail(err, SPR_E_NOMEM, "render: out of memory for a chunk of %zu splats", src->chunk);
+    }
+    if ((r = make_params(&run, view))) goto done;
     spr_lowres_make(view, &bd, run.eps_t, desc->lowres_n, &run.lowres);
     out->width = view->width;
     out->height = view->height;
@@ -196,6 +269,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     out->K = (ai->uses & SPR_USES_GROUPS) && desc->groups ? desc->groups->K : 1; /* the groups the algorithm draws */
     int final_target = -1;
     r = ai->run(&run, &final_target);
+done:
     if (!r) {
         out->rgba = malloc((size_t)view->width * view->height * 4 * sizeof(float));
         if (!out->rgba) r = spr__fail(err, SPR_E_NOMEM, "render: out of memory for the image");
@@ -203,6 +277,8 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     }
     for (int t = 0; t < b->n_targets; t++) spr_backend_target_destroy(b, t);
     spr_progress_report(&desc->progress, "frame", 1, 1); /* done: the terminal line is cleared */
+    spr_cloud_free(&run.chunk);
+    free(run.local);
     if (r) spr_render_result_free(out);
     return r;
 }

@@ -159,6 +159,9 @@ typedef struct spr_render_desc {
     spr_pass_hook hook;
     void *hook_user;
     spr_progress progress;       /* one report per finished pass ("frame: pass 3 geometry"), cleared at the end */
+    const spr_cloud_source *source; /* not NULL: the cloud is read chunk by chunk from here for every draw (`--stream`),
+                                       and spr_render's `cloud` only gives n; algorithms that need the whole cloud
+                                       (an order, domain primitives, enlarged group radii) are refused */
 } spr_render_desc;
 
 typedef struct spr_pass_record {
@@ -182,6 +185,10 @@ typedef struct spr_render_result {
 spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
                       spr_render_result *out, spr_error *err);
 void spr_render_result_free(spr_render_result *r);
+/* SPR_OK when `algo` can draw a streamed cloud of n splats (desc->source):
+ * its passes draw the splats in file order; otherwise one line saying why
+ * and what the whole cloud would take. */
+spr_result spr_stream_check(spr_algo algo, int enlarged_radii, size_t n, spr_error *err);
 
 /* ---- internal: shared by the algorithm files ---- */
 typedef struct spr__run {
@@ -195,6 +202,8 @@ typedef struct spr__run {
     int pass_cap;
     float prm[SPR_PRM_COUNT];  /* shading parameters (SPR_PARAM_LIST) */
     int use_prm;               /* composites get prm (shading or environment asked for) */
+    spr_cloud chunk;           /* --stream: the chunk being drawn */
+    uint32_t *local;           /* --stream: a draw's indices within the chunk */
 } spr__run;
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d);
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c);

@@ -136,7 +136,8 @@ void spr_pass_state_blend(spr_pass_state *s, spr_blend b);
 /* One draw: splats of `cloud` in the order of `indices` (all splats in input
  * order when NULL), optionally with per-splat radii replacing cloud->radius
  * (indexed by splat id: enlarged radii of [ZP] §4.4.2), and one opacity
- * replacing cloud->alpha (`--alpha`).  With a depth mask,
+ * replacing cloud->alpha (`--alpha`).  A streamed cloud is drawn chunk by
+ * chunk: `cloud` is the chunk and id_base/seq_base place it in the whole.  With a depth mask,
  * the draw reads the stored depth z_near of target mask_target (read-only,
  * not the target drawn into) and drops every fragment with
  * d_f ≤ z_near + ε_t (spr_depth_masked, SPEC §6.2 step 2). */
@@ -149,6 +150,8 @@ typedef struct spr_draw_desc {
     int depth_mask;         /* 0 = none */
     int mask_target;
     spr_pass_state state;
+    uint32_t id_base;       /* added to the splat index in the id plane (a streamed chunk's first splat) */
+    uint32_t seq_base;      /* added to the submission position (pixel history) */
 } spr_draw_desc;
 
 typedef struct spr_draw_stats {

@@ -17,6 +17,7 @@
 void spr_scene_free(spr_scene *s)
 {
     spr_cloud_free(&s->cloud);
+    if (s->src.read) spr_ply_source_close(&s->src);
     spr_grouping_free(&s->g);
     spr_envmap_free(&s->env);
     spr_rects_free(&s->rects);
@@ -160,10 +161,35 @@ int spr__model_opts(spr__args *a, spr_scene *s, spr_load_desc *ld)
     return 0;
 }
 
+/* --stream: open the model as a chunked source and read it once (bounds,
+ * every value checked); with `keep` the centres, normals and radii stay in
+ * s->cloud for grouping (spr__stream_drop frees them once grouped). */
+static int stream_model(spr__args *a, spr_scene *s, const spr_load_desc *ld, int keep)
+{
+    spr_error err = {0};
+    size_t chunk = s->stream_chunk ? s->stream_chunk : (size_t)1 << 20;
+    if (!strncmp(s->model, "builtin:", 8) || ld->balls > 0) {
+        spr__error(a, "--stream reads a binary PLY file%s", ld->balls > 0 ? " as it is: --balls adds to the whole cloud" : "");
+        return -1;
+    }
+    double t0 = spr_now_ms();
+    if (spr_ply_source_open(s->model, ld, chunk, &s->src, &err) ||
+        spr_cloud_source_scan(&s->src, keep ? &s->cloud : NULL, &ld->progress, &err)) {
+        spr__error(a, "%s", err.msg);
+        return -1;
+    }
+    s->cloud.n = s->src.n;
+    s->cloud.flags = s->src.flags;
+    s->load_ms = spr_now_ms() - t0;
+    spr_camera_frame(&s->cam, &s->src.bounds);
+    return 0;
+}
+
 int spr__load_model(spr__args *a, spr_scene *s, const spr_load_desc *ld)
 {
     spr_error err = {0};
     if (spr__scene_check_model(a, s->model)) return -1;
+    if (spr__get(a, "stream")) return stream_model(a, s, ld, s->stream_keep);
     double t0 = spr_now_ms();
     if (spr_load(s->model, ld, &s->cloud, &err)) { spr__error(a, "%s", err.msg); return -1; }
     s->load_ms = spr_now_ms() - t0;
@@ -275,12 +301,38 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     spr_grouping_desc gd;
     const char *hash_near = NULL;
     if ((uses & SPR_USES_GROUPS) && spr__parse_group_opts(a, "groups", &gd, &hash_near)) return -1;
+    const int stream = spr__flag(a, "stream");
+    if (!stream && spr__get(a, "chunk")) { spr__error(a, "--chunk goes with --stream"); return -1; }
+    if (stream && spr__get_size(a, "chunk", &s->stream_chunk, 1, (size_t)1 << 26) < 0) return -1;
+    for (int al = 0; stream && al < SPR_ALGO__COUNT; al++)
+        if ((s->all_algos || al == (int)rd->algo) &&
+            spr_stream_check((spr_algo)al, (uses & SPR_USES_GROUPS) && gd.method != SPR_GROUP_NONE && (gd.extend == SPR_EXTEND_RADIUS || gd.extend == SPR_EXTEND_HASH_RADIUS), 0, &err)) {
+            spr__error(a, "%s", err.msg);
+            return -1;
+        }
+    if (stream && (uses & SPR_USES_GROUPS)) {
+        if (gd.method == SPR_GROUP_MGC || gd.method == SPR_GROUP_WGC) {
+            spr__error(a, "--stream: %s grouping builds the overlap graph of the whole cloud in memory; use --groups hash "
+                          "(--mode 1 reads centres, normals and radii: 28 bytes a splat), none or --groups-file",
+                       spr_group_method_name(gd.method));
+            return -1;
+        }
+        s->stream_keep = gd.method == SPR_GROUP_HASH;
+    }
     if (spr__reject_unused(a) || spr__load_model(a, s, &ld)) return -1;
     if (spr_view_make(&s->cam, &s->view, &err)) { spr__error(a, "%s", err.msg); return -1; }
     if (uses & SPR_USES_GROUPS) {
         gd.progress = spr__progress(quiet);
         if (spr__make_groups(a, s, &gd, hash_near)) return -1;
         rd->groups = &s->g.groups;
+    }
+    if (stream) { /* grouped: only the chunks are held from here on */
+        size_t n = s->cloud.n;
+        unsigned fl = s->cloud.flags;
+        spr_cloud_free(&s->cloud);
+        s->cloud.n = n;
+        s->cloud.flags = fl;
+        rd->source = &s->src;
     }
     if (uses & SPR_USES_RECTS) {
         spr_progress pg = spr__progress(quiet);

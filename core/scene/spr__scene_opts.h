@@ -79,6 +79,11 @@
     {"merge", "FLAT,DOT", "merge overlapping domains flatter than FLAT whose normals' dot exceeds DOT ([R] 3.4), e.g. 0.05,0.9"}, \
     {"nbr-ratio", "R", "neighbours share more than R of either domain's points (default 0.05, [R] 4.4.4)"}
 
+/* Reading the model chunk by chunk (render, parity): a run mode, not part of the scene. */
+#define SPR__STREAM_OPTS \
+    {"stream", NULL, "read a binary PLY chunk by chunk for every pass instead of whole (clouds larger than memory; pbr2p1, deferred, zbuffer, depthpeel; groups none, hash or a file)"}, \
+    {"chunk", "N", "--stream: splats per chunk (default 1048576)"}
+
 /* Everything that determines a rendered scene (render, parity, reference). */
 #define SPR__SCENE_OPTS \
     {"scene", "F.json", "read the scene from F (docs/scene-format.md); options given here override it"}, \

@@ -47,6 +47,10 @@ typedef struct spr_scene {
     spr_prims_stats prims;
     spr_scene_domain dom;
     double load_ms;
+    size_t stream_chunk;    /* --stream: splats per chunk (0: 2^20) */
+    int stream_keep;        /* --stream: keep centres, normals and radii for grouping until grouped */
+    spr_cloud_source src;   /* --stream: the model read chunk by chunk (read NULL: loaded whole); cloud then holds
+                               only n (its arrays NULL) and the render desc's source points here */
 } spr_scene;
 
 /* Read scene file `path`, load and frame its model, build its groups and
