@@ -468,6 +468,37 @@ START_TEST(explain_cpu_gl_identical_every_algorithm)
 }
 END_TEST
 
+/* --stream on the GL backend: parity bit-exact for every algorithm that can
+ * stream (chunks of 97 splats), and the GL backend's streamed image equal
+ * to the CPU's whole-cloud image. */
+START_TEST(parity_stream_bit_exact)
+{
+    setup_dir();
+    spr_cloud c = tu_builtin("builtin:torus", 3000);
+    spr_error e = {0};
+    ck_assert_int_eq(spr_write_ply(in_dir("t.ply"), &c, &e), SPR_OK);
+    spr_cloud_free(&c);
+    static const char *const variants[][6] = {
+        {"pbr2p1", NULL}, {"deferred", "--groups", "hash", NULL}, {"deferred", "--groups", "hash", "--voronoi", NULL},
+        {"zbuffer", NULL}, {"depthpeel", "--layers", "3", NULL}};
+    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+        const char *a[6] = {NULL, NULL, NULL, NULL, NULL, NULL};
+        for (int k = 0; k < 5 && variants[v][k]; k++) a[k] = variants[v][k];
+        int rc = cli("parity", "--model", in_dir("t.ply"), "--size", "64x48", "--stream", "--chunk", "97", "--quiet", "--algo", a[0], a[1], a[2], a[3], a[4], NULL);
+        printf("parity --stream %s%s: exit %d, %s", a[0], a[3] ? " --voronoi" : "", rc, strstr(out, "verdict") ? strstr(out, "verdict") : out);
+        ck_assert_msg(rc == 0 && strstr(out, "verdict: BIT-EXACT (Tier A)"), "%s", out);
+    }
+    int rc = cli("render", "--model", in_dir("t.ply"), "--size", "64x48", "--algo", "deferred", "--groups", "hash", "--float", in_dir("cpu.pfm"),
+                 "--out", in_dir("cpu.png"), "--quiet", NULL);
+    ck_assert_msg(rc == 0, "%s", out);
+    rc = cli("render", "--model", in_dir("t.ply"), "--size", "64x48", "--algo", "deferred", "--groups", "hash", "--float", in_dir("gl.pfm"),
+             "--out", in_dir("gl.png"), "--backend", "gl", "--stream", "--chunk", "97", "--quiet", NULL);
+    ck_assert_msg(rc == 0, "%s", out);
+    ck_assert_msg(same_file(in_dir("cpu.pfm"), in_dir("gl.pfm")), "the GL backend's streamed image differs from the CPU's whole-cloud image");
+    printf("render --stream --backend gl: the same bits as the CPU reference on the whole cloud\n");
+}
+END_TEST
+
 Suite *make_tools_gl_suite(void)
 {
     Suite *s = suite_create("tools_gl");
@@ -475,6 +506,7 @@ Suite *make_tools_gl_suite(void)
     tcase_set_timeout(tc, 900);
     tcase_add_test(tc, check_gl_image_tiers);
     tcase_add_test(tc, explain_cpu_gl_identical_every_algorithm);
+    tcase_add_test(tc, parity_stream_bit_exact);
     suite_add_tcase(s, tc);
     return s;
 }
