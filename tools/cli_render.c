@@ -110,6 +110,14 @@ static cJSON *stats_json(const stats_ref *st)
     cJSON_AddNumberToObject(o, "ms_load", st->load_ms);
     cJSON_AddNumberToObject(o, "ms_grouping", st->group_ms);
     cJSON_AddNumberToObject(o, "ms_render", st->total_ms);
+    cJSON_AddBoolToObject(o, "streamed", s->src.read != NULL);
+    if (s->src.read) {
+        cJSON_AddNumberToObject(o, "chunk", (double)s->src.chunk);
+    } else { /* the floor of any per-splat phase (`splatref bench`), on the render's threads */
+        double sum;
+        cJSON_AddNumberToObject(o, "ms_stream_pass", spr_cloud_stream_ms(&s->cloud, s->threads, &sum));
+        cJSON_AddNumberToObject(o, "stream_checksum", sum);
+    }
     return o;
 }
 

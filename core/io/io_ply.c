@@ -282,7 +282,8 @@ static unsigned vertex_flags(int have)
            ((have & (1 << R_RADIUS)) ? SPR_SRC_RADII : 0) | ((have & (1 << R_A)) ? SPR_SRC_ALPHA : 0);
 }
 
-spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err)
+spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
+                          spr_error *err)
 {
     spr_result r;
     int fmt = F_ASCII, nel = 0;
@@ -340,6 +341,7 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
         }
         for (unsigned long long i = 0; i < E->count; i++) {
             if (e == vi) {
+                if (!(i & 0xfffff)) spr_progress_report(prog, "reading vertices", (size_t)i, (size_t)E->count);
                 if ((r = decode_vertex(&cu, &lay, c, (size_t)i, i))) goto fail;
                 continue;
             }

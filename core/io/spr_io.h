@@ -70,7 +70,9 @@ static inline int spr__finite_float(double v) { return isfinite(v) && isfinite((
 /* The readers, over the file's bytes in memory (`path` only names it in
  * messages): spr_load and spr_sample_mesh read the file once and call them,
  * the fuzz harnesses of tests/fuzz/ drive them directly. */
-spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
+/* (prog: NULL, or progress every 2^20 vertices) */
+spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
+                          spr_error *err);
 spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err);
 spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err);

@@ -43,57 +43,91 @@ static spr_result backend_failed(spr__run *run, spr_result r)
     return spr__fail(run->err, r, "%s backend: %s", run->b->name, run->b->err.msg);
 }
 
-/* A draw of a streamed cloud: the same draw chunk by chunk, each chunk's
- * splats in their order (the draw's indices must follow the file), so every
- * pixel sees the same fragments in the same order as one whole draw. */
-static spr_result stream_draw(spr__run *run, int target, const spr_draw_desc *d, spr_draw_stats *st)
+/* The part of draw d within chunk [first, first + m) of a streamed cloud as
+ * a draw of that chunk (c): its splats in their order, ids and submission
+ * positions placed in the whole; *at: the next position in d->indices
+ * (the draw's indices must follow the file).  0: nothing of d in the chunk. */
+static int chunk_slice(spr__run *run, const spr_draw_desc *d, size_t first, size_t m, size_t *at, uint32_t *local, spr_draw_desc *c,
+                       spr_result *r)
+{
+    *c = *d;
+    c->cloud = &run->chunk;
+    c->id_base = (uint32_t)first;
+    *r = SPR_OK;
+    if (!d->indices) {
+        c->seq_base = (uint32_t)first;
+        return 1;
+    }
+    size_t end = *at;
+    for (; end < d->count && d->indices[end] < first + m; end++) {
+        if (d->indices[end] < first || (end > *at && d->indices[end] <= d->indices[end - 1])) {
+            *r = spr__fail(run->err, SPR_E_ARG, "%s: --stream draws splats in file order; this draw is not", spr_algo_name(run->desc->algo));
+            return 0;
+        }
+        local[end - *at] = d->indices[end] - (uint32_t)first;
+    }
+    c->indices = local;
+    c->count = end - *at;
+    c->seq_base = (uint32_t)*at;
+    *at = end;
+    return c->count > 0;
+}
+
+/* n draws of a streamed cloud, each into its own target: the file is read
+ * once, chunk by chunk, and each chunk drawn by every draw that has splats
+ * in it, so every pixel of every target sees the same fragments in the same
+ * order as the whole draws (a target is written by its draw alone).  The
+ * passes are recorded after the last chunk, in draw order. */
+static spr_result stream_draws(spr__run *run, const char *name, const int *group, const int *target, const spr_draw_desc *d, int n)
 {
     const spr_cloud_source *src = run->desc->source;
-    memset(st, 0, sizeof *st);
-    size_t at = 0; /* next position in d->indices */
-    for (size_t first = 0; first < src->n; first += src->chunk) {
+    spr_draw_stats *st = calloc((size_t)n, sizeof *st);
+    size_t *at = calloc((size_t)n, sizeof *at);
+    double *ms = calloc((size_t)n, sizeof *ms);
+    spr_result r = st && at && ms ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
+    for (size_t first = 0; first < src->n && !r; first += src->chunk) {
         const size_t m = src->n - first < src->chunk ? src->n - first : src->chunk;
-        spr_draw_desc c = *d;
-        c.cloud = &run->chunk;
-        c.id_base = (uint32_t)first;
-        if (d->indices) {
-            size_t end = at;
-            for (; end < d->count && d->indices[end] < first + m; end++) {
-                if (d->indices[end] < first || (end > at && d->indices[end] <= d->indices[end - 1]))
-                    return spr__fail(run->err, SPR_E_ARG, "%s: --stream draws splats in file order; this draw is not", spr_algo_name(run->desc->algo));
-                run->local[end - at] = d->indices[end] - (uint32_t)first;
-            }
-            if (end == at) continue; /* nothing of this draw in the chunk: not read */
-            c.indices = run->local;
-            c.count = end - at;
-            c.seq_base = (uint32_t)at;
-            at = end;
-        } else {
-            c.seq_base = (uint32_t)first;
+        int read = 0;
+        for (int k = 0; k < n && !r; k++) {
+            spr_draw_desc c;
+            if (!chunk_slice(run, &d[k], first, m, &at[k], run->local, &c, &r)) continue;
+            double t0 = spr_now_ms();
+            if (!read && (r = src->read(src->user, first, m, &run->chunk, run->err))) break;
+            read = 1;
+            spr_draw_stats cs;
+            if ((r = spr_backend_draw(run->b, target[k], &c, &cs))) { r = backend_failed(run, r); break; }
+            st[k].splats += cs.splats;
+            st[k].generated += cs.generated;
+            st[k].passed += cs.passed;
+            ms[k] += spr_now_ms() - t0;
         }
-        spr_result r = src->read(src->user, first, m, &run->chunk, run->err);
-        if (r) return r;
-        spr_draw_stats cs;
-        if ((r = spr_backend_draw(run->b, target, &c, &cs))) return backend_failed(run, r);
-        st->splats += cs.splats;
-        st->generated += cs.generated;
-        st->passed += cs.passed;
         spr_progress_report(&run->desc->progress, "frame: drawing", first + m, src->n);
     }
-    if (d->indices && at != d->count)
-        return spr__fail(run->err, SPR_E_ARG, "%s: --stream: a draw names splats beyond the cloud", spr_algo_name(run->desc->algo));
-    return SPR_OK;
+    for (int k = 0; k < n && !r; k++) {
+        if (d[k].indices && at[k] != d[k].count)
+            r = spr__fail(run->err, SPR_E_ARG, "%s: --stream: a draw names splats beyond the cloud", spr_algo_name(run->desc->algo));
+        else
+            r = record(run, name, group[k], &d[k].state, target[k], &st[k], ms[k]);
+    }
+    free(st);
+    free(at);
+    free(ms);
+    return r;
+}
+
+spr_result spr__run_draws(spr__run *run, const char *name, const int *group, const int *target, const spr_draw_desc *d, int n)
+{
+    if (run->desc->source) return stream_draws(run, name, group, target, d, n);
+    spr_result r = SPR_OK;
+    for (int k = 0; k < n && !r; k++) r = spr__run_draw(run, name, group[k], target[k], &d[k]);
+    return r;
 }
 
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d)
 {
     spr_draw_stats st;
     double t0 = spr_now_ms();
-    if (run->desc->source) {
-        spr_result r = stream_draw(run, target, d, &st);
-        if (r) return r;
-        return record(run, name, group, &d->state, target, &st, spr_now_ms() - t0);
-    }
+    if (run->desc->source) return stream_draws(run, name, &group, &target, d, 1);
     spr_result r = spr_backend_draw(run->b, target, d, &st);
     if (r) return backend_failed(run, r);
     return record(run, name, group, &d->state, target, &st, spr_now_ms() - t0);

@@ -31,21 +31,33 @@ spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra)
     spr_pass_state_blend(&d.state, SPR_BLEND_REPLACE);
     d.state.write_mask = SPR_WRITE_ALL | extra | spr__run_normal_planes(run);
     d.alpha = run->desc->alpha;
-    float *radius = NULL;
-    if (g && g->radius_scale && !(radius = malloc(run->cloud->n * sizeof *radius)))
-        return spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
     spr_result r = SPR_OK;
-    for (int k = 0; k < K && !r; k++) {
-        /* S_k: the memberships of group k, in submission order */
-        d.indices = g ? g->members + g->start[k] : NULL;
-        d.count = g ? g->start[k + 1] - g->start[k] : run->cloud->n;
-        if (radius) {
+    if (g && g->radius_scale) { /* enlarged radii ([ZP] §4.4.2): one array, refilled for each group's draw */
+        float *radius = malloc(run->cloud->n * sizeof *radius);
+        if (!radius) return spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
+        d.radius_override = radius;
+        for (int k = 0; k < K && !r; k++) {
+            d.indices = g->members + g->start[k];
+            d.count = g->start[k + 1] - g->start[k];
             spr__group_radii(run, g, k, d.indices, d.count, radius);
-            d.radius_override = radius;
+            r = spr__run_draw(run, "geometry", k, I[k], &d);
         }
-        r = spr__run_draw(run, "geometry", k, I[k], &d);
+        free(radius);
+        return r;
     }
-    free(radius);
+    /* S_k: the memberships of group k, in submission order, into I_k */
+    spr_draw_desc *dk = malloc((size_t)K * sizeof *dk);
+    int *group = malloc((size_t)K * sizeof *group);
+    if (!dk || !group) r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
+    for (int k = 0; k < K && !r; k++) {
+        dk[k] = d;
+        dk[k].indices = g ? g->members + g->start[k] : NULL;
+        dk[k].count = g ? g->start[k + 1] - g->start[k] : run->cloud->n;
+        group[k] = k;
+    }
+    if (!r) r = spr__run_draws(run, "geometry", group, I, dk, K);
+    free(dk);
+    free(group);
     return r;
 }
 

@@ -206,6 +206,9 @@ typedef struct spr__run {
     uint32_t *local;           /* --stream: a draw's indices within the chunk */
 } spr__run;
 spr_result spr__run_draw(spr__run *run, const char *name, int group, int target, const spr_draw_desc *d);
+/* n draws into n distinct targets, recorded as n passes in order (the same
+ * as n spr__run_draw calls; a streamed cloud is then read once for all). */
+spr_result spr__run_draws(spr__run *run, const char *name, const int *group, const int *target, const spr_draw_desc *d, int n);
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c);
 /* A rectangle draw recorded as pass `name`; group: the rectangle a pass is about (overlap), −1 otherwise. */
 spr_result spr__run_rects(spr__run *run, const char *name, int group, int target, const spr_rect_draw_desc *d);
