@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "spr_overlap.h"
 #include "test_util.h"
 
 /* SPEC §5.1's relaxation 1 as written, from splat i's side:
@@ -232,6 +233,55 @@ START_TEST(groups_file_round_trip_and_errors)
 }
 END_TEST
 
+/* A_ij of SPEC 5.2 (Eq. 8) on hand-made pairs: disk i (index 0) against
+ * disk j (index 1).  Where every sample must count the area is the whole
+ * disk, π r_i², exactly; where none can, 0; partial cases against their
+ * closed forms within the sampling error of 256 samples. */
+static float area_of(const double pi[3], const double ni[3], double ri, const double pj[3], const double nj[3], double rj, double eps)
+{
+    double xyz[6] = {pi[0], pi[1], pi[2], pj[0], pj[1], pj[2]};
+    spr_cloud c;
+    tu_cloud(&c, 2, xyz, 1.0f);
+    for (int k = 0; k < 3; k++) {
+        c.nrm[k] = (float)ni[k];
+        c.nrm[3 + k] = (float)nj[k];
+    }
+    c.radius[0] = (float)ri;
+    c.radius[1] = (float)rj;
+    uint32_t j = 1;
+    float a;
+    spr_overlap_areas(&c, 0, &j, 1, eps, &a);
+    spr_cloud_free(&c);
+    return a;
+}
+
+START_TEST(overlap_area_hand_cases)
+{
+    const double z[3] = {0, 0, 1}, x[3] = {1, 0, 0}, o[3] = {0, 0, 0};
+    const float full = (float)(M_PI * 0.25);
+    /* coplanar, i inside j: far from the edge, and within 1e-9 of it (no shortcut there) */
+    ck_assert_float_eq(area_of((double[3]){0.3, 0, 0}, z, 0.5, o, z, 1.0, 0.1), full);
+    ck_assert_float_eq(area_of((double[3]){0.5 - 1e-9, 0, 0}, z, 0.5, o, z, 1.0, 0.1), full);
+    /* parallel, half ε above: inside; 2ε above: nothing */
+    ck_assert_float_eq(area_of((double[3]){0.2, 0, 0.05}, z, 0.5, o, z, 1.0, 0.1), full);
+    ck_assert_float_eq(area_of((double[3]){0.2, 0, 0.2}, z, 0.5, o, z, 1.0, 0.1), 0.0f);
+    /* coplanar and apart: 0, also just beyond touching */
+    ck_assert_float_eq(area_of((double[3]){2.0, 0, 0}, z, 0.5, o, z, 1.0, 0.1), 0.0f);
+    ck_assert_float_eq(area_of((double[3]){1.5 + 1e-9, 0, 0}, z, 0.5, o, z, 1.0, 0.1), 0.0f);
+    /* coplanar unit disks at distance 1: the lens 2 acos(1/2) − (1/2)√3 = 1.2284 */
+    const double lens = 2.0 * acos(0.5) - 0.5 * sqrt(3.0);
+    float a = area_of((double[3]){1.0, 0, 0}, z, 1.0, o, z, 1.0, 0.1);
+    printf("overlap area: lens of two unit disks at distance 1: %.4f sampled, %.4f exact\n", a, lens);
+    ck_assert_double_lt(fabs(a - lens) / lens, 0.03);
+    /* disk i on edge (normal along x) through j's centre, j much larger: the
+     * part of a unit disk within a slab |h| ≤ 0.25, 2(t√(1−t²) + asin t) for t = 0.25 */
+    const double slab = 2.0 * (0.25 * sqrt(1.0 - 0.0625) + asin(0.25));
+    a = area_of(o, x, 1.0, o, z, 10.0, 0.25);
+    printf("overlap area: unit disk edge-on within eps 0.25: %.4f sampled, %.4f exact\n", a, slab);
+    ck_assert_double_lt(fabs(a - slab) / slab, 0.03);
+}
+END_TEST
+
 Suite *make_group_suite(void)
 {
     Suite *s = suite_create("group");
@@ -242,6 +292,7 @@ Suite *make_group_suite(void)
     tcase_add_test(tc, mgc_k_falls_with_c);
     tcase_add_test(tc, hash_step_and_table);
     tcase_add_test(tc, groups_file_round_trip_and_errors);
+    tcase_add_test(tc, overlap_area_hand_cases);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -122,10 +122,16 @@ spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, dou
     return res;
 }
 
-static int cmp_u32(const void *a, const void *b)
+/* Ascending; the rows are short (tens of ids): insertion sort, in place,
+ * instead of qsort's merge sort with a callback and a temporary per row. */
+static void sort_u32(uint32_t *l, size_t n)
 {
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return (x > y) - (x < y);
+    for (size_t a = 1; a < n; a++) {
+        uint32_t v = l[a];
+        size_t b = a;
+        for (; b > 0 && l[b - 1] > v; b--) l[b] = l[b - 1];
+        l[b] = v;
+    }
 }
 
 spr_result spr_knn_radius_graph(spr_knn *kn, const float *rad, double f, double r_max, int threads, spr_graph *g,
@@ -187,7 +193,7 @@ spr_result spr_knn_radius_graph_rows(spr_knn *kn, const float *rad, double f, do
                 if (o < 0 || (size_t)o == i) continue;
                 if (dist3(kn->pos + 3 * i, kn->pos + 3 * (size_t)o) < radius) l[c++] = (uint32_t)o;
             }
-            qsort(l, (size_t)c, sizeof *l, cmp_u32);
+            sort_u32(l, (size_t)c);
             lists[i] = l;
             lens[i] = (uint32_t)c;
         }

@@ -22,29 +22,32 @@
 #include <omp.h>
 #include <time.h>
 
-/* Position of j in i's (ascending) adjacency list. */
-static uint64_t edge_of(const spr_graph *g, size_t i, uint32_t j)
-{
-    uint64_t lo = g->start[i], hi = g->start[i + 1];
-    while (lo < hi) {
-        uint64_t mid = lo + (hi - lo) / 2;
-        if (g->adj[mid] < j) lo = mid + 1; else hi = mid;
-    }
-    return lo;
-}
-
 float *spr_wgc_weights(const spr_cloud *c, const spr_overlap_graph *og)
 {
     const spr_graph *g = &og->g;
     float *w = malloc((g->start[c->n] ? g->start[c->n] : 1) * sizeof(float));
-    if (!w) return NULL;
+    uint64_t *cursor = malloc((c->n ? c->n : 1) * sizeof *cursor);
+    if (!w || !cursor) {
+        free(w);
+        free(cursor);
+        return NULL;
+    }
+    /* The reverse edge (j, i) of every edge: rows are ascending and i is
+     * visited in ascending order, so each row's entries are met in order and
+     * a cursor per row finds them without a search. */
+    memcpy(cursor, g->start, c->n * sizeof *cursor);
     for (size_t i = 0; i < c->n; i++)
         for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++) {
             uint32_t j = g->adj[e];
+            uint64_t back = cursor[j];
+            while (back < g->start[j + 1] && g->adj[back] < (uint32_t)i) back++; /* none in a symmetric graph */
+            const double a_back = back < g->start[j + 1] && g->adj[back] == (uint32_t)i ? og->A[back] : 0.0;
+            cursor[j] = back + 1;
             const float *ni = c->nrm + 3 * i, *nj = c->nrm + 3 * (size_t)j;
             double nn = (double)ni[0] * nj[0] + (double)ni[1] * nj[1] + (double)ni[2] * nj[2];
-            w[e] = (float)(((double)og->A[e] + og->A[edge_of(g, j, (uint32_t)i)]) * (1.0 - nn));
+            w[e] = (float)(((double)og->A[e] + a_back) * (1.0 - nn));
         }
+    free(cursor);
     return w;
 }
 
@@ -82,12 +85,38 @@ static double same_sum(const spr_overlap_graph *og, const float *w, size_t v, co
 }
 
 typedef struct edge_rec { float w; uint32_t i, j; } edge_rec;
-static int by_weight(const void *a, const void *b)
+
+/* A key whose unsigned order is w descending (−0 and +0 equal, as the
+ * float comparison has them). */
+static uint32_t desc_key(float w)
 {
-    const edge_rec *x = a, *y = b;
-    if (x->w != y->w) return x->w < y->w ? 1 : -1;
-    if (x->i != y->i) return x->i < y->i ? -1 : 1;
-    return (x->j > y->j) - (x->j < y->j);
+    if (w == 0.0f) w = 0.0f;
+    uint32_t u;
+    memcpy(&u, &w, 4);
+    u = (u & 0x80000000u) ? ~u : u | 0x80000000u; /* ascending in w */
+    return ~u;
+}
+
+/* Edges by w descending, ties by (i, j): they are made in (i, j) order, so a
+ * stable sort by w alone gives it.  LSD radix sort, four 8-bit digits
+ * (glibc's qsort with a comparison callback took most of this phase; no
+ * Debian C library offers a radix sort). */
+static int sort_edges(edge_rec *e, size_t n)
+{
+    edge_rec *tmp = malloc((n ? n : 1) * sizeof *tmp);
+    if (!tmp) return -1;
+    for (int pass = 0; pass < 4; pass++) {
+        const int shift = 8 * pass;
+        size_t count[257] = {0};
+        for (size_t k = 0; k < n; k++) count[((desc_key(e[k].w) >> shift) & 0xFFu) + 1]++;
+        for (int b = 0; b < 256; b++) count[b + 1] += count[b];
+        for (size_t k = 0; k < n; k++) tmp[count[(desc_key(e[k].w) >> shift) & 0xFFu]++] = e[k];
+        edge_rec *t = e;
+        e = tmp;
+        tmp = t;
+    }
+    free(tmp); /* after an even number of passes the sorted records are back in the caller's array */
+    return 0;
 }
 
 void spr_wgc_defaults(spr_wgc_desc *d)
@@ -124,7 +153,7 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
         for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++)
             if (g->adj[e] > i) edges[k++] = (edge_rec){w[e], (uint32_t)i, g->adj[e]};
     spr_progress_report(&d.progress, "sorting edges", 0, 1);
-    qsort(edges, ne, sizeof *edges, by_weight); /* total order: no ties left */
+    if (sort_edges(edges, ne)) { r = spr__fail(err, SPR_E_NOMEM, "wgc: out of memory"); goto done; } /* total order: no ties left */
     for (size_t i = 0; i < c->n; i++) label[i] = -1;
     for (size_t e = 0; e < ne; e++) {
         if ((e & 0xFFFFF) == 0) spr_progress_report(&d.progress, "colouring", e, ne);
