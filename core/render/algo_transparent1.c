@@ -31,6 +31,11 @@ static spr_result back_to_front(spr__run *run, const spr_view *v, uint32_t *out)
 {
     const spr_cloud *c = run->cloud;
     if (run->desc->order == SPR_ORDER_BSP) {
+        if (run->desc->bsp) { /* the kept tree: only the traversal is per frame */
+            if (run->desc->bsp->n != c->n) return spr__fail(run->err, SPR_E_ARG, "render: the BSP tree is for %zu splats, the model has %zu", run->desc->bsp->n, c->n);
+            spr_bsp_back_to_front(run->desc->bsp, c, v, out);
+            return SPR_OK;
+        }
         spr_bsp t;
         spr_result r = spr_bsp_build(c, &t, run->err);
         if (r) return r;
@@ -63,11 +68,13 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
     const spr_groups *g = run->desc->groups;
     const int K = g ? g->K : 1;
     const size_t n = cl->n;
-    uint32_t *order = malloc((n ? n : 1) * sizeof *order), *members = malloc((n ? n : 1) * sizeof *members);
-    unsigned char *in_k = malloc(n ? n : 1);
+    const size_t total = g ? g->start[K] : n; /* memberships (splats in several groups with duplication) */
+    uint32_t *order = malloc((n ? n : 1) * sizeof *order), *members = malloc((total ? total : 1) * sizeof *members);
+    uint32_t *first = g ? calloc(n + 1, sizeof *first) : NULL, *of = g ? malloc((total ? total : 1) * sizeof *of) : NULL;
+    uint32_t *fill = g ? malloc((size_t)K * sizeof *fill) : NULL, *pos = g ? malloc((n ? n : 1) * sizeof *pos) : NULL;
     float *radius = g && g->radius_scale ? malloc((n ? n : 1) * sizeof *radius) : NULL;
     spr_result r = SPR_OK;
-    if (!order || !in_k || !members || (g && g->radius_scale && !radius)) {
+    if (!order || !members || (g && (!first || !of || !fill || !pos)) || (g && g->radius_scale && !radius)) {
         r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
         goto done;
     }
@@ -89,29 +96,40 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
     spr_pass_state_blend(&d.state, SPR_BLEND_OVER);
     if (mask >= 0) d.state.blend_alpha = SPR_BLEND_ADD;
     d.state.write_mask = SPR_WRITE_ALL;
-    for (int k = 0; k < K; k++) {
-        /* S_k in back-to-front order: walk the global order, keep the members */
-        size_t m = 0;
-        if (g) {
-            memset(in_k, 0, n);
-            for (uint32_t e = g->start[k]; e < g->start[k + 1]; e++) in_k[g->members[e]] = 1;
-            for (size_t i = 0; i < n; i++)
-                if (in_k[order[i]]) members[m++] = order[i];
-        } else {
-            memcpy(members, order, n * sizeof *members);
-            m = n;
+    /* Every S_k in back-to-front order from one walk of the global order:
+     * each splat's groups (a table from the memberships), and each splat met
+     * appended to its groups' lists, which then follow the order. */
+    if (g) {
+        /* of[first[s] … first[s+1]): the groups of splat s, ascending */
+        for (uint32_t e = 0; e < g->start[K]; e++) first[g->members[e] + 1]++;
+        for (size_t i = 0; i < n; i++) first[i + 1] += first[i];
+        memcpy(pos, first, n * sizeof *pos);
+        for (int k = 0; k < K; k++)
+            for (uint32_t e = g->start[k]; e < g->start[k + 1]; e++) of[pos[g->members[e]]++] = (uint32_t)k;
+        for (int k = 0; k < K; k++) fill[k] = g->start[k];
+        for (size_t i = 0; i < n; i++) {
+            const uint32_t sid = order[i];
+            for (uint32_t q = first[sid]; q < first[sid + 1]; q++) members[fill[of[q]]++] = sid;
         }
-        d.indices = members;
+    } else {
+        memcpy(members, order, n * sizeof *members);
+    }
+    for (int k = 0; k < K; k++) {
+        const size_t m = g ? g->start[k + 1] - g->start[k] : n;
+        d.indices = members + (g ? g->start[k] : 0);
         d.count = m;
         if (radius) {
-            spr__group_radii(run, g, k, members, m, radius);
+            spr__group_radii(run, g, k, d.indices, m, radius);
             d.radius_override = radius;
         }
         if ((r = spr__run_draw(run, mask >= 0 ? "other layers" : "geometry", k, O[k], &d))) goto done;
     }
 done:
     free(order);
-    free(in_k);
+    free(first);
+    free(of);
+    free(fill);
+    free(pos);
     free(members);
     free(radius);
     return r;

@@ -150,6 +150,8 @@ typedef struct spr_render_desc {
     float background[3];
     const spr_groups *groups;    /* deferred, transparent1; NULL = one group */
     spr_order order;             /* transparent1: back-to-front order */
+    const struct spr_bsp *bsp;   /* order BSP: the cloud's tree, built once and kept across frames ([ZP] §5.2.1:
+                                    preprocessing); NULL: built for the frame */
     float alpha;                 /* transparent1: > 0 replaces every splat's opacity */
     spr_shading shade;           /* SPEC 4.3, 6.3 (zero: none) */
     int layers;                  /* depthpeel: L ≥ 1 (0 = 8) */

@@ -19,6 +19,7 @@ void spr_scene_free(spr_scene *s)
     spr_cloud_free(&s->cloud);
     if (s->src.read) spr_ply_source_close(&s->src);
     spr_grouping_free(&s->g);
+    if (s->bsp.nodes) spr_bsp_free(&s->bsp);
     spr_envmap_free(&s->env);
     spr_rects_free(&s->rects);
 }
@@ -325,6 +326,10 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
         gd.progress = spr__progress(quiet);
         if (spr__make_groups(a, s, &gd, hash_near)) return -1;
         rd->groups = &s->g.groups;
+    }
+    if ((uses & SPR_USES_ORDER) && rd->order == SPR_ORDER_BSP && !stream) { /* the tree of [ZP] §5.2.1, once for every frame */
+        if (spr_bsp_build(&s->cloud, &s->bsp, &err)) { spr__error(a, "%s", err.msg); return -1; }
+        rd->bsp = &s->bsp;
     }
     if (stream) { /* grouped: only the chunks are held from here on */
         size_t n = s->cloud.n;

@@ -19,6 +19,7 @@
 #include "spr_io.h"
 #include "spr_domain.h"
 #include "spr_group.h"
+#include "spr_bsp.h"
 
 /* The domain pipeline's options (cli_domopts.c). */
 typedef struct spr_scene_domain {
@@ -38,6 +39,7 @@ typedef struct spr_scene {
     spr_camera_desc cam;
     spr_view view;
     spr_grouping g;
+    spr_bsp bsp;            /* back-to-front orders by BSP: the tree, built once (nodes NULL: none) */
     const char *group_method;
     char model[1024];
     int threads;
