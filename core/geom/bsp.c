@@ -287,26 +287,57 @@ static void eye_of(const spr_view *v, double eye[3], double dir[3])
     }
 }
 
+/* Items farthest first (far_first's order), by insertion: a leaf holds at
+ * most 2·SPR_BSP_LEAF splats, where qsort's merge sort and callback cost
+ * more than the comparisons. */
+static void sort_far_first(depth_item *it, uint32_t n)
+{
+    for (uint32_t a = 1; a < n; a++) {
+        depth_item v = it[a];
+        uint32_t b = a;
+        for (; b > 0 && far_first(&it[b - 1], &v) > 0; b--) it[b] = it[b - 1];
+        it[b] = v;
+    }
+}
+
 void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out)
 {
     double eye[3], dir[3];
     eye_of(v, eye, dir);
+    /* 1. the leaves in back-to-front order (a walk of the inner nodes), each
+     *    with its place in out */
     int32_t stack[128];
     int sp = 0;
-    size_t o = 0;
+    size_t nl = 0;
+    int32_t *leaf = malloc((t->n_nodes ? t->n_nodes : 1) * sizeof *leaf);
+    size_t *at = malloc((t->n_nodes + 1) * sizeof *at);
+    if (!leaf || !at) { /* no room for the leaf table: the same order, one leaf at a time */
+        free(leaf);
+        free(at);
+        leaf = NULL;
+        at = NULL;
+    }
     if (t->n_nodes) stack[sp++] = 0;
-    depth_item *tmp = malloc(SPR_BSP_LEAF * 2 * sizeof *tmp + sizeof *tmp);
+    size_t o = 0;
+    depth_item *tmp = leaf ? NULL : malloc(SPR_BSP_LEAF * 2 * sizeof *tmp + sizeof *tmp);
     while (sp) {
-        const spr_bsp_node *nd = &t->nodes[stack[--sp]];
+        const int32_t id = stack[--sp];
+        const spr_bsp_node *nd = &t->nodes[id];
         if (nd->axis < 0) {
-            depth_item *items = nd->count <= 2 * SPR_BSP_LEAF ? tmp : malloc(nd->count * sizeof *items);
+            if (leaf) {
+                leaf[nl] = id;
+                at[nl++] = o;
+                o += nd->count;
+                continue;
+            }
+            depth_item *items = nd->count <= 2 * SPR_BSP_LEAF && tmp ? tmp : malloc(nd->count * sizeof *items);
             for (uint32_t k = 0; k < nd->count; k++) {
                 uint32_t i = t->order[nd->first + k];
                 double d = 0.0;
                 for (int a = 0; a < 3; a++) d += ((double)c->pos[3 * (size_t)i + a] - eye[a]) * dir[a];
                 items[k] = (depth_item){d, i};
             }
-            qsort(items, nd->count, sizeof *items, far_first);
+            sort_far_first(items, nd->count);
             for (uint32_t k = 0; k < nd->count; k++) out[o++] = items[k].i;
             if (items != tmp) free(items);
             continue;
@@ -318,4 +349,30 @@ void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view 
         stack[sp++] = eye_right ? nd->left : nd->right;
     }
     free(tmp);
+    if (!leaf) return;
+    /* 2. each leaf sorted by depth into its place, leaves in parallel (each
+     *    writes its own range: the same order on any number of threads) */
+    const long nleaves = (long)nl;
+#pragma omp parallel
+    {
+        depth_item *items = malloc(SPR_BSP_LEAF * 2 * sizeof *items + sizeof *items);
+#pragma omp for schedule(dynamic, 64)
+        for (long l = 0; l < nleaves; l++) {
+            const spr_bsp_node *nd = &t->nodes[leaf[l]];
+            depth_item *it = nd->count <= 2 * SPR_BSP_LEAF && items ? items : malloc(nd->count * sizeof *it);
+            if (!it) abort(); /* a leaf's few hundred bytes */
+            for (uint32_t k = 0; k < nd->count; k++) {
+                uint32_t i = t->order[nd->first + k];
+                double d = 0.0;
+                for (int a = 0; a < 3; a++) d += ((double)c->pos[3 * (size_t)i + a] - eye[a]) * dir[a];
+                it[k] = (depth_item){d, i};
+            }
+            sort_far_first(it, nd->count);
+            for (uint32_t k = 0; k < nd->count; k++) out[at[l] + k] = it[k].i;
+            if (it != items) free(it);
+        }
+        free(items);
+    }
+    free(leaf);
+    free(at);
 }
