@@ -282,6 +282,41 @@ static unsigned vertex_flags(int have)
            ((have & (1 << R_RADIUS)) ? SPR_SRC_RADII : 0) | ((have & (1 << R_A)) ? SPR_SRC_ALPHA : 0);
 }
 
+/* Bytes of one vertex record when every vertex property is a scalar of a
+ * binary file (0: variable-size records, or ascii). */
+static size_t fixed_record(int fmt, const ply_elem *V)
+{
+    if (fmt == F_ASCII) return 0;
+    size_t rec = 0;
+    for (int k = 0; k < V->nprops; k++) {
+        if (V->props[k].count_type != T_NONE) return 0;
+        rec += (size_t)type_size(V->props[k].type);
+    }
+    return rec;
+}
+
+/* Vertices first … first+count−1 from fixed-size binary records at `base`
+ * (file offset off0, `bytes` long, all present) into splats 0 … count−1 of
+ * c: decoded in parallel, and on failure the first bad vertex decoded again
+ * alone for its message (the same for any thread count). */
+static spr_result decode_block(const char *path, int fmt, const vertex_layout *L, const unsigned char *base, size_t bytes, size_t off0,
+                               size_t rec, size_t first, size_t count, spr_cloud *c, spr_error *err)
+{
+    long bad = -1;
+#pragma omp parallel for schedule(static)
+    for (long j = 0; j < (long)count; j++) {
+        spr_error e = {0};
+        cursor cu = {path, base + (size_t)j * rec, base + bytes, base, fmt, 0, &e, off0};
+        if (decode_vertex(&cu, L, c, (size_t)j, (unsigned long long)(first + (size_t)j))) {
+#pragma omp critical(spr_ply_bad)
+            if (bad < 0 || j < bad) bad = j;
+        }
+    }
+    if (bad < 0) return SPR_OK;
+    cursor cu = {path, base + (size_t)bad * rec, base + bytes, base, fmt, 0, err, off0};
+    return decode_vertex(&cu, L, c, (size_t)bad, (unsigned long long)(first + (size_t)bad));
+}
+
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
                           spr_error *err)
 {
@@ -338,6 +373,18 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
         int is_face = !strcmp(E->name, "face");
         if (is_face) {
             if (E->count > SPR_MAX_SPLATS * 4ull) { r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %llu faces", path, E->count); goto fail; }
+        }
+        const size_t rec = e == vi ? fixed_record(fmt, V) : 0;
+        if (rec && (size_t)(cu.end - cu.p) / rec >= E->count) { /* fixed-size records, all present: in blocks, each in parallel */
+            for (size_t first = 0; first < (size_t)E->count; first += (size_t)1 << 20) {
+                const size_t m = (size_t)E->count - first < ((size_t)1 << 20) ? (size_t)E->count - first : (size_t)1 << 20;
+                spr_progress_report(prog, "reading vertices", first, (size_t)E->count);
+                spr_cloud part = *c; /* splats first … first+m−1 */
+                part.pos += 3 * first, part.nrm += 3 * first, part.color += 3 * first, part.radius += first, part.alpha += first;
+                if ((r = decode_block(path, fmt, &lay, cu.p, m * rec, (size_t)(cu.p - cu.base), rec, first, m, &part, err))) goto fail;
+                cu.p += m * rec;
+            }
+            continue;
         }
         for (unsigned long long i = 0; i < E->count; i++) {
             if (e == vi) {
@@ -447,23 +494,8 @@ static spr_result ply_source_read(void *user, size_t first, size_t count, spr_cl
         return spr__fail(err, SPR_E_IO, "%s: byte %llu: cannot read %zu vertices (the file changed or ends early)", ps->path,
                          (unsigned long long)at, count);
     out->n = count;
-    /* Vertices decode independently: in parallel, and on failure the first
-     * bad vertex is decoded again alone for its message (the same one for
-     * any thread count). */
-    long bad = -1;
-#pragma omp parallel for schedule(static)
-    for (long j = 0; j < (long)count; j++) {
-        spr_error e = {0};
-        cursor cu = {ps->path, ps->buf + (size_t)j * ps->rec, ps->buf + bytes, ps->buf, ps->fmt, 0, &e, (size_t)at};
-        if (decode_vertex(&cu, &ps->lay, out, (size_t)j, (unsigned long long)(first + (size_t)j))) {
-#pragma omp critical(spr_ply_bad)
-            if (bad < 0 || j < bad) bad = j;
-        }
-    }
-    if (bad >= 0) {
-        cursor cu = {ps->path, ps->buf + (size_t)bad * ps->rec, ps->buf + bytes, ps->buf, ps->fmt, 0, err, (size_t)at};
-        return decode_vertex(&cu, &ps->lay, out, (size_t)bad, (unsigned long long)(first + (size_t)bad));
-    }
+    spr_result r = decode_block(ps->path, ps->fmt, &ps->lay, ps->buf, bytes, (size_t)at, ps->rec, first, count, out, err);
+    if (r) return r;
     if (!(ps->lay.have & (1 << R_R))) spr_cloud_color_by_normal(out);
     if (ps->opacity > 0.0)
         for (size_t j = 0; j < count; j++) out->alpha[j] = (float)ps->opacity;
