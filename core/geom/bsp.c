@@ -300,6 +300,24 @@ static void sort_far_first(depth_item *it, uint32_t n)
     }
 }
 
+/* One leaf's splats farthest first into out (tmp: room for 2·SPR_BSP_LEAF
+ * items or NULL; a larger leaf gets its own). */
+static void leaf_far_first(const spr_bsp *t, const spr_cloud *c, const double eye[3], const double dir[3], const spr_bsp_node *nd,
+                           depth_item *tmp, uint32_t *out)
+{
+    depth_item *it = nd->count <= 2 * SPR_BSP_LEAF && tmp ? tmp : malloc(nd->count * sizeof *it);
+    if (!it) abort(); /* a leaf's few hundred bytes */
+    for (uint32_t k = 0; k < nd->count; k++) {
+        uint32_t i = t->order[nd->first + k];
+        double d = 0.0;
+        for (int a = 0; a < 3; a++) d += ((double)c->pos[3 * (size_t)i + a] - eye[a]) * dir[a];
+        it[k] = (depth_item){d, i};
+    }
+    sort_far_first(it, nd->count);
+    for (uint32_t k = 0; k < nd->count; k++) out[k] = it[k].i;
+    if (it != tmp) free(it);
+}
+
 void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out)
 {
     double eye[3], dir[3];
@@ -330,16 +348,8 @@ void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view 
                 o += nd->count;
                 continue;
             }
-            depth_item *items = nd->count <= 2 * SPR_BSP_LEAF && tmp ? tmp : malloc(nd->count * sizeof *items);
-            for (uint32_t k = 0; k < nd->count; k++) {
-                uint32_t i = t->order[nd->first + k];
-                double d = 0.0;
-                for (int a = 0; a < 3; a++) d += ((double)c->pos[3 * (size_t)i + a] - eye[a]) * dir[a];
-                items[k] = (depth_item){d, i};
-            }
-            sort_far_first(items, nd->count);
-            for (uint32_t k = 0; k < nd->count; k++) out[o++] = items[k].i;
-            if (items != tmp) free(items);
+            leaf_far_first(t, c, eye, dir, nd, tmp, out + o);
+            o += nd->count;
             continue;
         }
         /* the eye's side is near: push it first so the far side is visited first */
@@ -358,18 +368,7 @@ void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view 
         depth_item *items = malloc(SPR_BSP_LEAF * 2 * sizeof *items + sizeof *items);
 #pragma omp for schedule(dynamic, 64)
         for (long l = 0; l < nleaves; l++) {
-            const spr_bsp_node *nd = &t->nodes[leaf[l]];
-            depth_item *it = nd->count <= 2 * SPR_BSP_LEAF && items ? items : malloc(nd->count * sizeof *it);
-            if (!it) abort(); /* a leaf's few hundred bytes */
-            for (uint32_t k = 0; k < nd->count; k++) {
-                uint32_t i = t->order[nd->first + k];
-                double d = 0.0;
-                for (int a = 0; a < 3; a++) d += ((double)c->pos[3 * (size_t)i + a] - eye[a]) * dir[a];
-                it[k] = (depth_item){d, i};
-            }
-            sort_far_first(it, nd->count);
-            for (uint32_t k = 0; k < nd->count; k++) out[at[l] + k] = it[k].i;
-            if (it != items) free(it);
+            leaf_far_first(t, c, eye, dir, &t->nodes[leaf[l]], items, out + at[l]);
         }
         free(items);
     }
