@@ -39,14 +39,15 @@ START_TEST(bunny_bits_independent_of_threads)
 {
     tu_bunny bn;
     tu_bunny_scene(&bn, 400, 300, 0.4);
-    for (int variant = 0; variant < 3; variant++) {
+    for (int variant = 0; variant < 4; variant++) {
         uint64_t first = 0;
         static const int thread_counts[3] = {1, 2, 7};
         for (int ti = 0; ti < 3; ti++) {
             int threads = thread_counts[ti];
+            omp_set_num_threads(threads); /* the library's own parallel loops (the BSP traversal of transparent1) too */
             hasher hs = {0xcbf29ce484222325ull, 0};
-            spr_render_desc d = {.algo = variant == 0 ? SPR_ALGO_PBR2P1 : SPR_ALGO_DEFERRED, .voronoi = variant == 2,
-                                 .groups = &bn.groups, .hook = hash_hook, .hook_user = &hs};
+            spr_render_desc d = {.algo = variant == 0 ? SPR_ALGO_PBR2P1 : variant == 3 ? SPR_ALGO_TRANSPARENT1 : SPR_ALGO_DEFERRED,
+                                 .voronoi = variant == 2, .groups = &bn.groups, .hook = hash_hook, .hook_user = &hs, .alpha = variant == 3 ? 0.5f : 0.0f};
             spr_render_result r;
             tu_render(&bn.view, &bn.cloud, &d, threads, &r);
             fnv(&hs.h, r.rgba, (size_t)r.width * r.height * 4 * sizeof(float));
@@ -57,6 +58,7 @@ START_TEST(bunny_bits_independent_of_threads)
             spr_render_result_free(&r);
         }
     }
+    omp_set_num_threads(omp_get_num_procs());
     tu_bunny_free(&bn);
 }
 END_TEST
