@@ -216,6 +216,82 @@ END_TEST
 /* The findings of issue 9 (libFuzzer on the readers): each was a hang, a
  * memory blow-up or a wrong acceptance; each must now be one line naming
  * the file and the position, returned at once. */
+/* Exporters' deviations (issue 15): a header line outside the grammar
+ * (Blender 2.47 writes "Created by Blender3D 247 …" without `comment`) is
+ * skipped with one warning naming file and line; normals that are all
+ * 0 0 0 are read as none (PCA computes them, one warning); one zero normal
+ * among real ones is an error naming the vertex — ascii and binary. */
+typedef struct warn_log { int n; char last[512]; } warn_log;
+static void log_warn(void *user, const char *msg)
+{
+    warn_log *w = user;
+    w->n++;
+    snprintf(w->last, sizeof w->last, "%s", msg);
+}
+
+START_TEST(exporter_deviations)
+{
+    spr_load_desc d;
+    spr_load_defaults(&d);
+    warn_log wl = {0, ""};
+    d.warn = (spr_warn){log_warn, &wl};
+    spr_cloud c;
+    spr_error err;
+    /* Blender's line, alone */
+    const char *blender = "ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: \nelement vertex 3\n"
+                          "property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+                          "end_header\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n";
+    write_bytes(tmp("blender.ply"), blender, strlen(blender));
+    ck_assert_msg(spr_load(tmp("blender.ply"), &d, &c, &err) == SPR_OK, "%s", err.msg);
+    printf("io: deviation: %s\n", wl.last);
+    ck_assert_int_eq(wl.n, 1);
+    ck_assert_ptr_nonnull(strstr(wl.last, "blender.ply:3:"));
+    ck_assert_uint_eq(c.n, 3);
+    ck_assert(c.flags & SPR_SRC_NORMALS);
+    spr_cloud_free(&c);
+    /* all zero normals, ascii: read as none; a flat patch in z = 0 gets ±z from PCA */
+    char buf[4096];
+    size_t o = (size_t)sprintf(buf, "ply\nformat ascii 1.0\nelement vertex 25\nproperty float x\nproperty float y\nproperty float z\n"
+                                    "property float nx\nproperty float ny\nproperty float nz\nend_header\n");
+    for (int i = 0; i < 25; i++) o += (size_t)sprintf(buf + o, "%d %d 0 0 0 0\n", i % 5, i / 5);
+    write_bytes(tmp("zeros.ply"), buf, o);
+    wl.n = 0;
+    ck_assert_msg(spr_load(tmp("zeros.ply"), &d, &c, &err) == SPR_OK, "%s", err.msg);
+    printf("io: deviation: %s\n", wl.last);
+    ck_assert_int_eq(wl.n, 1);
+    ck_assert_ptr_nonnull(strstr(wl.last, "all 25 normals are 0 0 0"));
+    ck_assert(!(c.flags & SPR_SRC_NORMALS));
+    for (size_t i = 0; i < c.n; i++) ck_assert_double_eq_tol(fabs(c.nrm[3 * i + 2]), 1.0, 1e-6);
+    spr_cloud_free(&c);
+    /* one zero among real normals: an error naming it (ascii, then binary through the parallel decoder) */
+    o = (size_t)sprintf(buf, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                             "property float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n");
+    write_bytes(tmp("onezero.ply"), buf, o);
+    ck_assert_int_eq(spr_load(tmp("onezero.ply"), &d, &c, &err), SPR_E_VALUE);
+    ck_assert_ptr_nonnull(strstr(err.msg, "vertex 1: zero normal"));
+    for (int all = 0; all < 2; all++) {
+        o = (size_t)sprintf(buf, "ply\nformat binary_little_endian 1.0\nelement vertex 40\nproperty float x\nproperty float y\n"
+                                 "property float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n");
+        for (int i = 0; i < 40; i++) {
+            float v[6] = {(float)(i % 8), (float)(i / 8), 0.0f, 0.0f, 0.0f, all || i == 37 ? 0.0f : 1.0f};
+            memcpy(buf + o, v, sizeof v);
+            o += sizeof v;
+        }
+        write_bytes(tmp("bin.ply"), buf, o);
+        wl.n = 0;
+        spr_result r = spr_load(tmp("bin.ply"), &d, &c, &err);
+        if (all) {
+            ck_assert_msg(r == SPR_OK && !(c.flags & SPR_SRC_NORMALS) && wl.n == 1, "%s", err.msg);
+            spr_cloud_free(&c);
+        } else {
+            ck_assert_int_eq(r, SPR_E_VALUE);
+            printf("io: deviation refused: %s\n", err.msg);
+            ck_assert_ptr_nonnull(strstr(err.msg, "vertex 37: zero normal"));
+        }
+    }
+}
+END_TEST
+
 START_TEST(fuzz_findings_are_clear_errors)
 {
     /* an XYZ file of one NUL byte (the tokenizer never advanced) */
@@ -340,6 +416,7 @@ Suite *make_io_suite(void)
     tcase_add_test(tc, fuzz_findings_are_clear_errors);
     tcase_add_test(tc, sample_is_reproducible);
     tcase_add_test(tc, builtins_load);
+    tcase_add_test(tc, exporter_deviations);
     suite_add_tcase(s, tc);
     return s;
 }

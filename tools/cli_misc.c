@@ -79,6 +79,7 @@ int cmd_sample(int argc, char **argv)
     if (spr__get_int(&a, "radius-k", &ld.radius_k, 1, 256) < 0 || spr__get_double(&a, "radius-scale", &ld.radius_rho, 1e-6, 1e6) < 0)
         return 2;
     ld.progress = spr__progress(spr__flag(&a, "quiet"));
+    ld.warn = spr__warn(&a);
     spr_cloud c;
     spr_error err = {0};
     if (spr_sample_mesh(model, n, seed, &ld, &c, &err) || spr_write_ply(out, &c, &err)) {

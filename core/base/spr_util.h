@@ -20,6 +20,13 @@ static inline void spr_progress_report(const spr_progress *p, const char *phase,
     if (p && p->fn) p->fn(p->user, phase, done, total);
 }
 
+/* Warnings of readers that accept a file with a deviation (a header line
+ * outside the grammar, normals that are all zero): one line each, naming
+ * the file and the position; fn NULL: dropped. */
+typedef void (*spr_warn_fn)(void *user, const char *msg);
+typedef struct spr_warn { spr_warn_fn fn; void *user; } spr_warn;
+void spr_warn_report(const spr_warn *w, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
 /* Write through a temporary name: open PATH.tmpPID, let `fn` write, rename
  * into place; on any failure nothing is left at either name. */
 typedef int (*spr__writer_fn)(FILE *f, const void *user);

@@ -2,6 +2,7 @@
 #include "spr_util.h"
 
 #include <errno.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -88,4 +89,15 @@ void spr__heap_free(spr__heap *h)
     free(h->a);
     h->a = NULL;
     h->n = h->cap = 0;
+}
+
+void spr_warn_report(const spr_warn *w, const char *fmt, ...)
+{
+    if (!w || !w->fn) return;
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    w->fn(w->user, msg);
 }

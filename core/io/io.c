@@ -177,7 +177,8 @@ static spr_result complete(spr_cloud *c, const spr__mesh *mesh, const spr_load_d
 
 /* Read a file once and run the reader of its extension over it (mesh gets
  * the faces of OFF and PLY files). */
-static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog, spr_error *err)
+static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog, const spr_warn *warn,
+                            spr_error *err)
 {
     int ply = ieq(ext, "ply"), off = ieq(ext, "off"), xyz = ieq(ext, "xyz") || ieq(ext, "pwn");
     if (!ply && !off && !xyz)
@@ -186,7 +187,7 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
     size_t len;
     spr_result r = spr__read_file(path, &buf, &len, err);
     if (r) return r;
-    r = ply ? spr__parse_ply(path, buf, len, c, mesh, prog, err) : off ? spr__parse_off(path, buf, len, c, mesh, err)
+    r = ply ? spr__parse_ply(path, buf, len, c, mesh, prog, warn, err) : off ? spr__parse_off(path, buf, len, c, mesh, err)
                                                                : spr__parse_xyz(path, buf, len, c, err);
     free(buf);
     return r;
@@ -207,7 +208,7 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
     if (strncmp(path, "builtin:", 8) == 0) {
         r = spr__builtin(path + 8, d.points, c, err);
     } else {
-        r = load_file(path, ext_of(path), c, &mesh, &d.progress, err);
+        r = load_file(path, ext_of(path), c, &mesh, &d.progress, &d.warn, err);
     }
     spr_progress_report(&d.progress, "reading", 1, 1);
     if (r) return r;
@@ -238,7 +239,7 @@ spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_
     spr_cloud m;
     spr__mesh mesh;
     const char *e = ext_of(path);
-    spr_result r = ieq(e, "off") || ieq(e, "ply") ? load_file(path, e, &m, &mesh, NULL, err)
+    spr_result r = ieq(e, "off") || ieq(e, "ply") ? load_file(path, e, &m, &mesh, NULL, din ? &din->warn : NULL, err)
                                                   : spr__fail(err, SPR_E_FORMAT, "%s: sampling needs a mesh (.off or .ply with faces)", path);
     if (r) return r;
     if (!mesh.nt) { spr_cloud_free(&m); return spr__fail(err, SPR_E_FORMAT, "%s: mesh has no faces to sample", path); }

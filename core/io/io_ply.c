@@ -129,7 +129,7 @@ static spr_result read_value(cursor *cu, ply_type t, double *out, const char *wh
 static double color_scale(ply_type t) { return t == T_U8 || t == T_I8 ? 1.0 / 255.0 : (t == T_U16 || t == T_I16 ? 1.0 / 65535.0 : 1.0); }
 
 static spr_result parse_header(const char *path, const char *buf, size_t len, int *fmt, ply_elem *el, int *nel,
-                               size_t *body, spr_error *err)
+                               size_t *body, const spr_warn *warn, spr_error *err)
 {
     size_t pos = 0, line = 0;
     *nel = 0;
@@ -194,7 +194,12 @@ static spr_result parse_header(const char *path, const char *buf, size_t len, in
                     return spr__fail(err, SPR_E_FORMAT, "%s:%zu: unknown property type \"%s\"", path, line, w1);
             }
         } else {
-            return spr__fail(err, SPR_E_FORMAT, "%s:%zu: unexpected header line \"%s\"", path, line, w0);
+            /* Outside the grammar but unable to change the layout (only
+             * format, element, property and end_header can): exporters write
+             * such lines (Blender 2.47: "Created by Blender3D 247 …" without
+             * `comment`), other readers skip them, and so do we, saying so. */
+            spr_warn_report(warn, "%s:%zu: header line \"%.60s\" is not PLY grammar (not comment, format, element, property): skipped", path,
+                            line, l);
         }
     }
     return spr__fail(err, SPR_E_TRUNCATED, "%s: header has no end_header line", path);
@@ -270,9 +275,10 @@ static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c
         default: break;
         }
     }
-    if ((L->have & (1 << R_NX)) && spr__normalize3(c->nrm + 3 * s))
+    float *n = c->nrm + 3 * s;
+    if ((L->have & (1 << R_NX)) && !(n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) && spr__normalize3(n))
         return spr__fail(err, SPR_E_VALUE, "%s: vertex %llu: zero or non-finite normal", path, i);
-    return SPR_OK;
+    return SPR_OK; /* an all-zero normal stays zero: zero_normals() judges the file */
 }
 
 /* Where the vertex data came from, as spr_cloud flags. */
@@ -317,8 +323,34 @@ static spr_result decode_block(const char *path, int fmt, const vertex_layout *L
     return decode_vertex(&cu, L, c, (size_t)bad, (unsigned long long)(first + (size_t)bad));
 }
 
+/* Normals read as all zero: when every splat's is, the file has none
+ * (exporters write 0 0 0 for "no normal"; they are computed as for a file
+ * without them, with a warning); one among real normals is an error naming
+ * it (first: the index of splat 0 of c in the file). *none is set. */
+static spr_result zero_normals(const char *path, const spr_cloud *c, size_t first, int all_of_file, const spr_warn *warn, int *none,
+                               spr_error *err)
+{
+    size_t zeros = 0, first_zero = SIZE_MAX;
+    for (size_t i = 0; i < c->n; i++) {
+        const float *n = c->nrm + 3 * i;
+        if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) {
+            if (!zeros) first_zero = i;
+            zeros++;
+        }
+    }
+    *none = all_of_file && zeros == c->n && c->n > 0;
+    if (*none) {
+        spr_warn_report(warn, "%s: all %zu normals are 0 0 0: read as none (computed from the neighbours)", path, c->n);
+        return SPR_OK;
+    }
+    if (zeros)
+        return spr__fail(err, SPR_E_VALUE, "%s: vertex %zu: zero normal (%s)", path, first + first_zero,
+                         all_of_file ? "other vertices have normals" : "--stream needs a normal for every splat");
+    return SPR_OK;
+}
+
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
-                          spr_error *err)
+                          const spr_warn *warn, spr_error *err)
 {
     spr_result r;
     int fmt = F_ASCII, nel = 0;
@@ -326,7 +358,7 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
     size_t body = 0;
     memset(mesh, 0, sizeof *mesh);
     memset(c, 0, sizeof *c);
-    r = parse_header(path, buf, len, &fmt, el, &nel, &body, err);
+    r = parse_header(path, buf, len, &fmt, el, &nel, &body, warn, err);
     if (!r) r = spr__check_text(path, buf, 0, fmt == F_ASCII ? len : body, err);
     if (r) goto fail;
     int vi = -1;
@@ -428,8 +460,10 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
         }
     }
     mesh->nv = c->n;
-    c->flags = vertex_flags(have);
-    if (!(have & (1 << R_NX)))
+    int no_normals = 0;
+    if ((have & (1 << R_NX)) && (r = zero_normals(path, c, 0, 1, warn, &no_normals, err))) goto fail;
+    c->flags = vertex_flags(no_normals ? have & ~((1 << R_NX) | (1 << R_NY) | (1 << R_NZ)) : have);
+    if (!(c->flags & SPR_SRC_NORMALS))
         for (size_t i = 0; i < 3 * c->n; i++) c->nrm[i] = 0.0f;
     return SPR_OK;
 fail:
@@ -495,7 +529,8 @@ static spr_result ply_source_read(void *user, size_t first, size_t count, spr_cl
                          (unsigned long long)at, count);
     out->n = count;
     spr_result r = decode_block(ps->path, ps->fmt, &ps->lay, ps->buf, bytes, (size_t)at, ps->rec, first, count, out, err);
-    if (r) return r;
+    int none;
+    if (r || (r = zero_normals(ps->path, out, first, 0, NULL, &none, err))) return r;
     if (!(ps->lay.have & (1 << R_R))) spr_cloud_color_by_normal(out);
     if (ps->opacity > 0.0)
         for (size_t j = 0; j < count; j++) out->alpha[j] = (float)ps->opacity;
@@ -520,7 +555,7 @@ spr_result spr_ply_source_open(const char *path, const spr_load_desc *d, size_t 
     ply_elem el[16];
     int nel = 0;
     size_t body = 0;
-    if ((r = parse_header(path, head, hl, &ps->fmt, el, &nel, &body, err))) goto fail;
+    if ((r = parse_header(path, head, hl, &ps->fmt, el, &nel, &body, d ? &d->warn : NULL, err))) goto fail;
     if (ps->fmt == F_ASCII) {
         r = spr__fail(err, SPR_E_FORMAT, "%s: --stream reads binary PLY files (fixed-size records); this one is ascii", path);
         goto fail;

@@ -27,6 +27,7 @@ typedef struct spr_load_desc {
     double opacity;      /* > 0: every loaded splat's α (before balls are added) */
     int balls;           /* > 0: add this many small opaque balls inside the model (SPEC 6) */
     spr_progress progress;
+    spr_warn warn;       /* deviations accepted (a header line outside the grammar, all-zero normals) */
 } spr_load_desc;
 void spr_load_defaults(spr_load_desc *d);
 
@@ -70,9 +71,11 @@ static inline int spr__finite_float(double v) { return isfinite(v) && isfinite((
 /* The readers, over the file's bytes in memory (`path` only names it in
  * messages): spr_load and spr_sample_mesh read the file once and call them,
  * the fuzz harnesses of tests/fuzz/ drive them directly. */
-/* (prog: NULL, or progress every 2^20 vertices) */
+/* (prog: NULL, or progress every 2^20 vertices; warn: NULL, or the
+ * deviations accepted: header lines outside the grammar skipped, normals
+ * that are all zero read as none) */
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
-                          spr_error *err);
+                          const spr_warn *warn, spr_error *err);
 spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err);
 spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err);

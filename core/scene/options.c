@@ -217,6 +217,22 @@ spr_progress spr__progress(int quiet)
     return p;
 }
 
+static void warn_stderr(void *user, const char *msg)
+{
+    const spr__args *a = user;
+    if (isatty(2)) fputs("\r\033[K", stderr); /* off a progress line */
+    fprintf(stderr, "splatref %s: warning: %s\n", a->cmd, msg);
+}
+
+spr_warn spr__warn(spr__args *a)
+{
+    spr_warn w = {NULL, NULL};
+    if (!a->sink) { /* the command line: on stderr, whatever --quiet says; a library call: dropped */
+        w.fn = warn_stderr;
+        w.user = a;
+    }
+    return w;
+}
 
 static int put_text(FILE *f, const void *user)
 {

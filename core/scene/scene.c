@@ -159,6 +159,7 @@ int spr__model_opts(spr__args *a, spr_scene *s, spr_load_desc *ld)
         return -1;
     ld->threads = s->threads;
     ld->progress = spr__progress(spr__flag(a, "quiet"));
+    ld->warn = spr__warn(a);
     return 0;
 }
 

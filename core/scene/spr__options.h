@@ -57,6 +57,8 @@ void spr__error(spr__args *a, const char *fmt, ...)
 
 /* Progress on stderr, only when it is a terminal and --quiet is absent. */
 spr_progress spr__progress(int quiet);
+/* Readers' warnings: "splatref CMD: warning: …" on stderr (a library call: none). */
+spr_warn spr__warn(spr__args *a);
 
 int spr__domain_opts(spr__args *a, spr_scene_domain *o);
 /* Replace level l's basis by its merged one when --merge was given. */
