@@ -237,7 +237,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
     const spr_cloud *cl = d->cloud;
     for (size_t i = 0; i < n; i++) { /* submission order; off-screen splats have no fragment to draw */
         uint32_t sid = d->indices ? d->indices[i] : (uint32_t)i;
-        float r = d->radius_override ? d->radius_override[sid] : cl->radius[sid];
+        float r = spr_draw_radius(d, sid);
         gl_instance *g = &inst[m];
         int x0, y0, x1, y1;
         if (!spr_splat_pixel_rect(v, cl->pos + 3 * (size_t)sid, cl->nrm + 3 * (size_t)sid, r, &x0, &y0, &x1, &y1)) continue;

@@ -126,7 +126,7 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
         size_t lo = (size_t)ch * chunk, hi = lo + chunk < n ? lo + chunk : n;
         for (size_t i = lo; i < hi; i++) {
             uint32_t sid = splat_at(d, i);
-            float r = d->radius_override ? d->radius_override[sid] : d->cloud->radius[sid];
+            float r = spr_draw_radius(d, sid);
             int32_t *rc = rect + 4 * i;
             int x0, y0, x1, y1;
             if (!spr_splat_pixel_rect(v, d->cloud->pos + 3 * (size_t)sid, d->cloud->nrm + 3 * (size_t)sid, r,
@@ -170,7 +170,7 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
             memcpy(be.p, cl->pos + 3 * (size_t)sid, sizeof be.p);
             memcpy(be.n, cl->nrm + 3 * (size_t)sid, sizeof be.n);
             memcpy(be.c, cl->color + 3 * (size_t)sid, sizeof be.c);
-            be.r = d->radius_override ? d->radius_override[sid] : cl->radius[sid];
+            be.r = spr_draw_radius(d, sid);
             be.alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
             for (int ty = rc[1] / SW_TILE; ty <= rc[3] / SW_TILE; ty++)
                 for (int tx = rc[0] / SW_TILE; tx <= rc[2] / SW_TILE; tx++) bin[off[ty * tiles_x + tx]++] = be;

@@ -151,10 +151,7 @@ spr_result spr__run_rects(spr__run *run, const char *name, int group, int target
     return record(run, name, group, &d->state, target, &st, spr_now_ms() - t0);
 }
 
-void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius)
-{
-    for (size_t a = 0; a < m; a++) radius[members[a]] = g->radius_scale[k] * run->cloud->radius[members[a]];
-}
+float spr__group_radius_scale(const spr_groups *g, int k) { return g && g->radius_scale ? g->radius_scale[k] : 0.0f; }
 
 spr_composite_desc spr__run_comp(const spr__run *run, spr_composite_op op, const int *inputs, int n, int output)
 {
@@ -252,7 +249,7 @@ spr_result spr__run_target(spr__run *run, unsigned planes, int *target)
     return SPR_OK;
 }
 
-spr_result spr_stream_check(spr_algo algo, int enlarged_radii, size_t n, spr_error *err)
+spr_result spr_stream_check(spr_algo algo, size_t n, spr_error *err)
 {
     const spr_algo_info *ai = spr_algo_info_of(algo);
     if (ai->uses & (SPR_USES_ORDER | SPR_USES_RECTS)) {
@@ -263,8 +260,6 @@ spr_result spr_stream_check(spr_algo algo, int enlarged_radii, size_t n, spr_err
                          ai->name, (ai->uses & SPR_USES_ORDER) ? "a back-to-front order of every splat" : "domain primitives built over every point",
                          size);
     }
-    if (enlarged_radii)
-        return spr__fail(err, SPR_E_ARG, "render: enlarged group radii (--extend radius) need the whole cloud: leave out --stream");
     return SPR_OK;
 }
 
@@ -281,8 +276,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     const spr_cloud_source *src = desc->source;
     if (src && src->n != cloud->n) return spr__fail(err, SPR_E_ARG, "render: the stream has %zu splats, the cloud %zu", src->n, cloud->n);
     spr_result r;
-    if (src && (r = spr_stream_check(desc->algo, (ai->uses & SPR_USES_GROUPS) && desc->groups && desc->groups->radius_scale, cloud->n, err)))
-        return r;
+    if (src && (r = spr_stream_check(desc->algo, cloud->n, err))) return r;
     r = spr_backend_set_view(b, view);
     if (r) return backend_failed(&(spr__run){.b = b, .err = err}, r);
     spr_bounds bd;

@@ -32,19 +32,6 @@ spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra)
     d.state.write_mask = SPR_WRITE_ALL | extra | spr__run_normal_planes(run);
     d.alpha = run->desc->alpha;
     spr_result r = SPR_OK;
-    if (g && g->radius_scale) { /* enlarged radii ([ZP] §4.4.2): one array, refilled for each group's draw */
-        float *radius = malloc(run->cloud->n * sizeof *radius);
-        if (!radius) return spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
-        d.radius_override = radius;
-        for (int k = 0; k < K && !r; k++) {
-            d.indices = g->members + g->start[k];
-            d.count = g->start[k + 1] - g->start[k];
-            spr__group_radii(run, g, k, d.indices, d.count, radius);
-            r = spr__run_draw(run, "geometry", k, I[k], &d);
-        }
-        free(radius);
-        return r;
-    }
     /* S_k: the memberships of group k, in submission order, into I_k */
     spr_draw_desc *dk = malloc((size_t)K * sizeof *dk);
     int *group = malloc((size_t)K * sizeof *group);
@@ -53,6 +40,7 @@ spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra)
         dk[k] = d;
         dk[k].indices = g ? g->members + g->start[k] : NULL;
         dk[k].count = g ? g->start[k + 1] - g->start[k] : run->cloud->n;
+        dk[k].radius_scale = spr__group_radius_scale(g, k); /* enlarged radii (extension, [ZP] §4.4.2) */
         group[k] = k;
     }
     if (!r) r = spr__run_draws(run, "geometry", group, I, dk, K);

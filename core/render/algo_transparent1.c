@@ -72,9 +72,8 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
     uint32_t *order = malloc((n ? n : 1) * sizeof *order), *members = malloc((total ? total : 1) * sizeof *members);
     uint32_t *first = g ? calloc(n + 1, sizeof *first) : NULL, *of = g ? malloc((total ? total : 1) * sizeof *of) : NULL;
     uint32_t *fill = g ? malloc((size_t)K * sizeof *fill) : NULL, *pos = g ? malloc((n ? n : 1) * sizeof *pos) : NULL;
-    float *radius = g && g->radius_scale ? malloc((n ? n : 1) * sizeof *radius) : NULL;
     spr_result r = SPR_OK;
-    if (!order || !members || (g && (!first || !of || !fill || !pos)) || (g && g->radius_scale && !radius)) {
+    if (!order || !members || (g && (!first || !of || !fill || !pos))) {
         r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
         goto done;
     }
@@ -118,10 +117,7 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask)
         const size_t m = g ? g->start[k + 1] - g->start[k] : n;
         d.indices = members + (g ? g->start[k] : 0);
         d.count = m;
-        if (radius) {
-            spr__group_radii(run, g, k, d.indices, m, radius);
-            d.radius_override = radius;
-        }
+        d.radius_scale = spr__group_radius_scale(g, k);
         if ((r = spr__run_draw(run, mask >= 0 ? "other layers" : "geometry", k, O[k], &d))) goto done;
     }
 done:
@@ -131,7 +127,6 @@ done:
     free(fill);
     free(pos);
     free(members);
-    free(radius);
     return r;
 }
 

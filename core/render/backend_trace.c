@@ -77,8 +77,9 @@ static spr_result t_draw(spr_backend *b, int target, const spr_draw_desc *d, spr
     const spr_pass_state *s = &d->state;
     spr_result r = pass_on(b, spr_backend_draw(tr(b)->w.inner, target, d, st));
     FILE *f = tr(b)->out;
-    fprintf(f, "draw t%d: %zu splats%s, kernel %s, output %s, ", target, d->indices ? d->count : d->cloud->n,
-            d->radius_override ? " (radii overridden)" : "", spr_kernel_name(s->kernel), outk[s->output]);
+    fprintf(f, "draw t%d: %zu splats", target, d->indices ? d->count : d->cloud->n);
+    if (d->radius_scale > 0.0f) fprintf(f, " (radii x%.9g)", d->radius_scale);
+    fprintf(f, ", kernel %s, output %s, ", spr_kernel_name(s->kernel), outk[s->output]);
     print_state(f, s);
     fprintf(f, ", lowres d_min %.9g d_max %.9g n %.9g%s", s->lowres.d_min, s->lowres.d_max, s->lowres.n,
             s->cull_backfaces ? ", back faces culled" : "");

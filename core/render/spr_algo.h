@@ -163,7 +163,7 @@ typedef struct spr_render_desc {
     spr_progress progress;       /* one report per finished pass ("frame: pass 3 geometry"), cleared at the end */
     const spr_cloud_source *source; /* not NULL: the cloud is read chunk by chunk from here for every draw (`--stream`),
                                        and spr_render's `cloud` only gives n; algorithms that need the whole cloud
-                                       (an order, domain primitives, enlarged group radii) are refused */
+                                       (an order, domain primitives) are refused */
 } spr_render_desc;
 
 typedef struct spr_pass_record {
@@ -190,7 +190,7 @@ void spr_render_result_free(spr_render_result *r);
 /* SPR_OK when `algo` can draw a streamed cloud of n splats (desc->source):
  * its passes draw the splats in file order; otherwise one line saying why
  * and what the whole cloud would take. */
-spr_result spr_stream_check(spr_algo algo, int enlarged_radii, size_t n, spr_error *err);
+spr_result spr_stream_check(spr_algo algo, size_t n, spr_error *err);
 
 /* ---- internal: shared by the algorithm files ---- */
 typedef struct spr__run {
@@ -214,9 +214,8 @@ spr_result spr__run_draws(spr__run *run, const char *name, const int *group, con
 spr_result spr__run_composite(spr__run *run, const char *name, const spr_composite_desc *c);
 /* A rectangle draw recorded as pass `name`; group: the rectangle a pass is about (overlap), −1 otherwise. */
 spr_result spr__run_rects(spr__run *run, const char *name, int group, int target, const spr_rect_draw_desc *d);
-/* Enlarged radii of group k ([ZP] §4.4.2): radius[i] = scale_k·r_i for the
- * m members, rounded once on the host so both backends get the same bits. */
-void spr__group_radii(const spr__run *run, const spr_groups *g, int k, const uint32_t *members, size_t m, float *radius);
+/* The radius scale of group k's draw ([ZP] §4.4.2 enlarged radii; 0: none). */
+float spr__group_radius_scale(const spr_groups *g, int k);
 /* The last pass of a K-group algorithm: composite op over I[0 … K−1] into
  * I[K] with the background, recorded as "composite"; sets the final target. */
 spr_result spr__run_finish(spr__run *run, spr_composite_op op, const int *I, int K, int *final_target);

@@ -134,9 +134,9 @@ void spr_pass_state_defaults(spr_pass_state *s);
 void spr_pass_state_blend(spr_pass_state *s, spr_blend b);
 
 /* One draw: splats of `cloud` in the order of `indices` (all splats in input
- * order when NULL), optionally with per-splat radii replacing cloud->radius
- * (indexed by splat id: enlarged radii of [ZP] §4.4.2), and one opacity
- * replacing cloud->alpha (`--alpha`).  A streamed cloud is drawn chunk by
+ * order when NULL), optionally with every radius scaled (the enlarged radii
+ * of a group, [ZP] §4.4.2: spr_draw_radius), and one opacity replacing
+ * cloud->alpha (`--alpha`).  A streamed cloud is drawn chunk by
  * chunk: `cloud` is the chunk and id_base/seq_base place it in the whole.  With a depth mask,
  * the draw reads the stored depth z_near of target mask_target (read-only,
  * not the target drawn into) and drops every fragment with
@@ -145,7 +145,7 @@ typedef struct spr_draw_desc {
     const spr_cloud *cloud;
     const uint32_t *indices;
     size_t count;
-    const float *radius_override;
+    float radius_scale;     /* > 0: radii times this (rounded to float once, on the host); 0 = cloud->radius */
     float alpha;            /* > 0: one opacity for every splat of the draw (`--alpha`); 0 = cloud->alpha */
     int depth_mask;         /* 0 = none */
     int mask_target;
@@ -153,6 +153,12 @@ typedef struct spr_draw_desc {
     uint32_t id_base;       /* added to the splat index in the id plane (a streamed chunk's first splat) */
     uint32_t seq_base;      /* added to the submission position (pixel history) */
 } spr_draw_desc;
+/* The radius splat sid of a draw is drawn with (both backends, on the host). */
+static inline float spr_draw_radius(const spr_draw_desc *d, uint32_t sid)
+{
+    const float r = d->cloud->radius[sid];
+    return d->radius_scale > 0.0f ? d->radius_scale * r : r;
+}
 
 typedef struct spr_draw_stats {
     uint64_t splats;      /* splats submitted */

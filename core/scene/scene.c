@@ -308,7 +308,7 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     if (stream && spr__get_size(a, "chunk", &s->stream_chunk, 1, (size_t)1 << 26) < 0) return -1;
     for (int al = 0; stream && al < SPR_ALGO__COUNT; al++)
         if ((s->all_algos || al == (int)rd->algo) &&
-            spr_stream_check((spr_algo)al, (uses & SPR_USES_GROUPS) && gd.method != SPR_GROUP_NONE && (gd.extend == SPR_EXTEND_RADIUS || gd.extend == SPR_EXTEND_HASH_RADIUS), 0, &err)) {
+            spr_stream_check((spr_algo)al, 0, &err)) {
             spr__error(a, "%s", err.msg);
             return -1;
         }
