@@ -121,9 +121,14 @@ spr_result spr_hash_axes(const spr_cloud *c, spr_hash_axis how, int32_t *axis, s
     spr_bsp t;
     spr_result r = spr_bsp_build(c, &t, err);
     if (r) return r;
-    for (size_t i = 0; i < c->n; i++) axis[i] = spr_hash_axis_of(t.nodes[t.leaf_of[i]].normal);
+    spr_hash_axes_of_bsp(&t, axis);
     spr_bsp_free(&t);
     return SPR_OK;
+}
+
+void spr_hash_axes_of_bsp(const spr_bsp *t, int32_t *axis)
+{
+    for (size_t i = 0; i < t->n; i++) axis[i] = spr_hash_axis_of(t->nodes[t->leaf_of[i]].normal);
 }
 
 static int handles_collision(const spr_hash_desc *d, const spr_cloud *c, size_t i)

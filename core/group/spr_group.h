@@ -83,6 +83,9 @@ typedef struct spr_hash_desc {
 } spr_hash_desc;
 /* Axis of every splat from the BSP leaves' average normals (or own normals). */
 spr_result spr_hash_axes(const spr_cloud *c, spr_hash_axis how, int32_t *axis, spr_error *err);
+/* The BSP axes from a tree already built (its leaves' normals). */
+struct spr_bsp;
+void spr_hash_axes_of_bsp(const struct spr_bsp *t, int32_t *axis);
 void spr_hash_defaults(spr_hash_desc *d);
 /* label = (x + s·y) mod K, then (modes 2/3) collisions: the first splat of a
  * cell keeps the table group, later ones take the group of minimal total

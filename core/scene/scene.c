@@ -323,14 +323,22 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     }
     if (spr__reject_unused(a) || spr__load_model(a, s, &ld)) return -1;
     if (spr_view_make(&s->cam, &s->view, &err)) { spr__error(a, "%s", err.msg); return -1; }
-    if (uses & SPR_USES_GROUPS) {
-        gd.progress = spr__progress(quiet);
-        if (spr__make_groups(a, s, &gd, hash_near)) return -1;
-        rd->groups = &s->g.groups;
-    }
+    int32_t *axes = NULL;
     if ((uses & SPR_USES_ORDER) && rd->order == SPR_ORDER_BSP && !stream) { /* the tree of [ZP] §5.2.1, once for every frame */
         if (spr_bsp_build(&s->cloud, &s->bsp, &err)) { spr__error(a, "%s", err.msg); return -1; }
         rd->bsp = &s->bsp;
+        if ((uses & SPR_USES_GROUPS) && gd.method == SPR_GROUP_HASH && gd.hash.axis == SPR_HASH_AXIS_BSP) { /* hash's axes: the same tree */
+            if (!(axes = malloc(s->cloud.n * sizeof *axes))) { spr__error(a, "out of memory for %zu hash axes", s->cloud.n); return -1; }
+            spr_hash_axes_of_bsp(&s->bsp, axes);
+            gd.hash.axes = axes;
+        }
+    }
+    if (uses & SPR_USES_GROUPS) {
+        gd.progress = spr__progress(quiet);
+        int rc = spr__make_groups(a, s, &gd, hash_near);
+        free(axes);
+        if (rc) return -1;
+        rd->groups = &s->g.groups;
     }
     if (stream) { /* grouped: only the chunks are held from here on */
         size_t n = s->cloud.n;
