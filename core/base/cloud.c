@@ -202,3 +202,13 @@ double spr_cloud_stream_ms(const spr_cloud *c, int threads, double *sum)
     *sum = acc;
     return spr_now_ms() - t0;
 }
+
+spr_result spr__cloud_finish(spr_cloud *c, const char *path, size_t first, double opacity, spr_error *err)
+{
+    if (!(c->flags & SPR_SRC_COLORS)) spr_cloud_color_by_normal(c);
+    if (opacity > 0.0) {
+        if (!(opacity <= 1.0)) return spr__fail(err, SPR_E_ARG, "%s: opacity %g outside (0, 1]", path, opacity);
+        for (size_t i = 0; i < c->n; i++) c->alpha[i] = (float)opacity;
+    }
+    return spr__cloud_validate_from(c, path, first, err);
+}

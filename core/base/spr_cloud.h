@@ -39,6 +39,10 @@ void spr_cloud_free(spr_cloud *c);
 spr_result spr_cloud_validate(const spr_cloud *c, const char *what, spr_error *err);
 /* The same for a piece of a larger cloud whose splat 0 is splat `first` (messages give that index). */
 spr_result spr__cloud_validate_from(const spr_cloud *c, const char *what, size_t first, spr_error *err);
+/* What every loaded splat gets once its file's values are in (a whole load
+ * or a streamed chunk): colours by normal when c->flags has no colours,
+ * opacity (> 0: every splat's, in (0, 1]), then the invariants checked. */
+spr_result spr__cloud_finish(spr_cloud *c, const char *path, size_t first, double opacity, spr_error *err);
 /* Renormalise normal i in double; SPR_E_VALUE for a zero or non-finite normal. */
 spr_result spr__normalize3(float *n);
 

@@ -171,9 +171,9 @@ static spr_result complete(spr_cloud *c, const spr__mesh *mesh, const spr_load_d
         knn_table_free(&t);
         if (r) return r;
     }
-    if (!(c->flags & SPR_SRC_COLORS)) spr_cloud_color_by_normal(c);
-    return spr_cloud_validate(c, path, err);
+    return spr__cloud_finish(c, path, 0, d->opacity, err);
 }
+
 
 /* Read a file once and run the reader of its extension over it (mesh gets
  * the faces of OFF and PLY files). */
@@ -215,10 +215,6 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
     if (c->n == 0) { spr_cloud_free(c); spr__mesh_free(&mesh); return spr__fail(err, SPR_E_FORMAT, "%s: no points", path); }
     r = complete(c, &mesh, &d, path, err);
     spr__mesh_free(&mesh);
-    if (!r && d.opacity > 0.0) {
-        if (!(d.opacity <= 1.0)) r = spr__fail(err, SPR_E_ARG, "%s: opacity %g outside (0, 1]", path, d.opacity);
-        for (size_t i = 0; !r && i < c->n; i++) c->alpha[i] = (float)d.opacity;
-    }
     if (!r && d.balls > 0 && (r = spr__add_balls(c, d.balls, err))) {
         spr_error inner = *err;
         spr__fail(err, r, "%s: %s", path, inner.msg);

@@ -531,10 +531,8 @@ static spr_result ply_source_read(void *user, size_t first, size_t count, spr_cl
     spr_result r = decode_block(ps->path, ps->fmt, &ps->lay, ps->buf, bytes, (size_t)at, ps->rec, first, count, out, err);
     int none;
     if (r || (r = zero_normals(ps->path, out, first, 0, NULL, &none, err))) return r;
-    if (!(ps->lay.have & (1 << R_R))) spr_cloud_color_by_normal(out);
-    if (ps->opacity > 0.0)
-        for (size_t j = 0; j < count; j++) out->alpha[j] = (float)ps->opacity;
-    return spr__cloud_validate_from(out, ps->path, first, err);
+    out->flags = vertex_flags(ps->lay.have);
+    return spr__cloud_finish(out, ps->path, first, ps->opacity, err);
 }
 
 spr_result spr_ply_source_open(const char *path, const spr_load_desc *d, size_t chunk, spr_cloud_source *src, spr_error *err)
