@@ -275,7 +275,7 @@ START_TEST(bsp_back_to_front)
         cam.far_plane = 60.0;
         spr_view v;
         ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
-        spr_bsp_back_to_front(&t, &c, &v, order);
+        ck_assert_int_eq(spr_bsp_back_to_front(&t, &c, &v, order), 0);
         double prev = INFINITY;
         for (size_t k = 0; k < c.n; k++) { /* view depth of the centres, non-increasing */
             const float *p = c.pos + 3 * order[k];

@@ -318,37 +318,29 @@ static void leaf_far_first(const spr_bsp *t, const spr_cloud *c, const double ey
     if (it != tmp) free(it);
 }
 
-void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out)
+int spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out)
 {
     double eye[3], dir[3];
     eye_of(v, eye, dir);
     /* 1. the leaves in back-to-front order (a walk of the inner nodes), each
      *    with its place in out */
-    int32_t stack[128];
-    int sp = 0;
-    size_t nl = 0;
     int32_t *leaf = malloc((t->n_nodes ? t->n_nodes : 1) * sizeof *leaf);
-    size_t *at = malloc((t->n_nodes + 1) * sizeof *at);
-    if (!leaf || !at) { /* no room for the leaf table: the same order, one leaf at a time */
+    size_t *at = malloc((t->n_nodes ? t->n_nodes : 1) * sizeof *at);
+    if (!leaf || !at) {
         free(leaf);
         free(at);
-        leaf = NULL;
-        at = NULL;
+        return -1;
     }
+    int32_t stack[128];
+    int sp = 0;
+    size_t nl = 0, o = 0;
     if (t->n_nodes) stack[sp++] = 0;
-    size_t o = 0;
-    depth_item *tmp = leaf ? NULL : malloc(SPR_BSP_LEAF * 2 * sizeof *tmp + sizeof *tmp);
     while (sp) {
         const int32_t id = stack[--sp];
         const spr_bsp_node *nd = &t->nodes[id];
         if (nd->axis < 0) {
-            if (leaf) {
-                leaf[nl] = id;
-                at[nl++] = o;
-                o += nd->count;
-                continue;
-            }
-            leaf_far_first(t, c, eye, dir, nd, tmp, out + o);
+            leaf[nl] = id;
+            at[nl++] = o;
             o += nd->count;
             continue;
         }
@@ -358,8 +350,6 @@ void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view 
         stack[sp++] = eye_right ? nd->right : nd->left;
         stack[sp++] = eye_right ? nd->left : nd->right;
     }
-    free(tmp);
-    if (!leaf) return;
     /* 2. each leaf sorted by depth into its place, leaves in parallel (each
      *    writes its own range: the same order on any number of threads) */
     const long nleaves = (long)nl;
@@ -367,11 +357,10 @@ void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view 
     {
         depth_item *items = malloc(SPR_BSP_LEAF * 2 * sizeof *items + sizeof *items);
 #pragma omp for schedule(dynamic, 64)
-        for (long l = 0; l < nleaves; l++) {
-            leaf_far_first(t, c, eye, dir, &t->nodes[leaf[l]], items, out + at[l]);
-        }
+        for (long l = 0; l < nleaves; l++) leaf_far_first(t, c, eye, dir, &t->nodes[leaf[l]], items, out + at[l]);
         free(items);
     }
     free(leaf);
     free(at);
+    return 0;
 }

@@ -34,6 +34,6 @@ typedef struct spr_bsp {
 spr_result spr_bsp_build(const spr_cloud *c, spr_bsp *t, spr_error *err);
 void spr_bsp_free(spr_bsp *t);
 /* Back-to-front splat order for the view (out: n ids). */
-void spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out);
+int spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out); /* −1: out of memory */
 
 #endif

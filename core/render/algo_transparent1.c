@@ -31,17 +31,15 @@ static spr_result back_to_front(spr__run *run, const spr_view *v, uint32_t *out)
 {
     const spr_cloud *c = run->cloud;
     if (run->desc->order == SPR_ORDER_BSP) {
-        if (run->desc->bsp) { /* the kept tree: only the traversal is per frame */
-            if (run->desc->bsp->n != c->n) return spr__fail(run->err, SPR_E_ARG, "render: the BSP tree is for %zu splats, the model has %zu", run->desc->bsp->n, c->n);
-            spr_bsp_back_to_front(run->desc->bsp, c, v, out);
-            return SPR_OK;
-        }
+        const spr_bsp *kept = run->desc->bsp; /* the kept tree: only the traversal is per frame */
+        if (kept && kept->n != c->n)
+            return spr__fail(run->err, SPR_E_ARG, "render: the BSP tree is for %zu splats, the model has %zu", kept->n, c->n);
         spr_bsp t;
-        spr_result r = spr_bsp_build(c, &t, run->err);
+        spr_result r = kept ? SPR_OK : spr_bsp_build(c, &t, run->err);
         if (r) return r;
-        spr_bsp_back_to_front(&t, c, v, out);
-        spr_bsp_free(&t);
-        return SPR_OK;
+        if (spr_bsp_back_to_front(kept ? kept : &t, c, v, out)) r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
+        if (!kept) spr_bsp_free(&t);
+        return r;
     }
     depth_key *k = malloc((c->n ? c->n : 1) * sizeof *k);
     if (!k) return spr__fail(run->err, SPR_E_NOMEM, "transparent1: out of memory");
