@@ -504,12 +504,8 @@ static int same_dumps(const char *a, const char *b, const char *what)
         char pa[512], pb[512];
         snprintf(pa, sizeof pa, "%s/%s", a, e->d_name);
         snprintf(pb, sizeof pb, "%s/%s", b, e->d_name);
-        size_t na, nb;
-        unsigned char *x = slurp(pa, &na), *y = slurp(pb, &nb);
-        ck_assert_msg(y != NULL, "%s: --stream wrote no %s", what, e->d_name);
-        ck_assert_msg(na == nb && !memcmp(x, y, na), "%s: %s differs between the whole cloud and --stream", what, e->d_name);
-        free(x);
-        free(y);
+        ck_assert_msg(access(pb, F_OK) == 0, "%s: --stream wrote no %s", what, e->d_name);
+        ck_assert_msg(tu_same_file(pa, pb), "%s: %s differs between the whole cloud and --stream", what, e->d_name);
         n++;
     }
     closedir(d);
@@ -559,11 +555,7 @@ START_TEST(stream_equals_whole_cloud)
         int k = same_dumps(a, b, variants[v][0]);
         snprintf(a, sizeof a, "%s/f%zu_0.pfm", dir, v);
         snprintf(b, sizeof b, "%s/f%zu_1.pfm", dir, v);
-        size_t na, nb;
-        unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
-        ck_assert_msg(x && y && na == nb && !memcmp(x, y, na), "%s: final images differ", variants[v][0]);
-        free(x);
-        free(y);
+        ck_assert_msg(tu_same_file(a, b), "%s: final images differ", variants[v][0]);
         ck_assert_int_gt(k, 3);
         planes += k;
     }

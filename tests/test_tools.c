@@ -38,19 +38,6 @@ static int cli(const char *first, ...)
     return rc;
 }
 
-static int same_file(const char *a, const char *b)
-{
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    ck_assert_msg(fa && fb, "cannot open %s or %s", a, b);
-    int same = 1, ca, cb;
-    do {
-        ca = fgetc(fa), cb = fgetc(fb);
-        same &= ca == cb;
-    } while (same && ca != EOF);
-    fclose(fa);
-    fclose(fb);
-    return same;
-}
 
 static void write_file(const char *path, const char *text)
 {
@@ -93,14 +80,14 @@ START_TEST(scene_round_trip_every_algorithm)
         ck_assert_msg(rc == 0, "%s: %s", name, out);
         rc = cli("render", "--scene", in_dir("s.json"), "--float", in_dir("b.pfm"), "--out", in_dir("b.png"), "--quiet", NULL);
         ck_assert_msg(rc == 0, "%s: %s", name, out);
-        ck_assert_msg(same_file(in_dir("a.pfm"), in_dir("b.pfm")), "%s: --scene renders other bits than the command line", name);
+        ck_assert_msg(tu_same_file(in_dir("a.pfm"), in_dir("b.pfm")), "%s: --scene renders other bits than the command line", name);
         /* and with the camera saved as raw matrices */
         rc = cli("render", "--scene", in_dir("s.json"), "--scene-camera", "matrices", "--save-scene", in_dir("m.json"), "--out",
                  in_dir("c.png"), "--quiet", NULL);
         ck_assert_msg(rc == 0, "%s: %s", name, out);
         rc = cli("render", "--scene", in_dir("m.json"), "--float", in_dir("c.pfm"), "--out", in_dir("c.png"), "--quiet", NULL);
         ck_assert_msg(rc == 0, "%s: %s", name, out);
-        ck_assert_msg(same_file(in_dir("a.pfm"), in_dir("c.pfm")), "%s: the matrix form renders other bits", name);
+        ck_assert_msg(tu_same_file(in_dir("a.pfm"), in_dir("c.pfm")), "%s: the matrix form renders other bits", name);
         printf("scene round trip: %-20s --save-scene/--scene and the matrix form: identical bits\n", name);
     }
 }
@@ -129,7 +116,7 @@ START_TEST(scene_hand_matrices_equal_lookat)
              "--far", "8", "--size", "120x90", "--algo", "deferred", "--voronoi", "--float", in_dir("e.pfm"), "--out", in_dir("e.png"),
              "--dump", in_dir("de"), "--quiet", NULL);
     ck_assert_msg(rc == 0, "%s", out);
-    ck_assert_msg(same_file(in_dir("m.pfm"), in_dir("e.pfm")), "hand matrices and the eye form render other bits");
+    ck_assert_msg(tu_same_file(in_dir("m.pfm"), in_dir("e.pfm")), "hand matrices and the eye form render other bits");
     /* every plane of every pass too: the test depth (z̃ + ρ/n) depends on near and far */
     DIR *d = opendir(in_dir("de"));
     ck_assert_ptr_nonnull(d);
@@ -140,7 +127,7 @@ START_TEST(scene_hand_matrices_equal_lookat)
         char a[400], b[400];
         snprintf(a, sizeof a, "%s/dm/%s", dir, e->d_name);
         snprintf(b, sizeof b, "%s/de/%s", dir, e->d_name);
-        ck_assert_msg(same_file(a, b), "plane %s differs between the matrix and the eye form", e->d_name);
+        ck_assert_msg(tu_same_file(a, b), "plane %s differs between the matrix and the eye form", e->d_name);
         files++;
     }
     closedir(d);
@@ -494,7 +481,7 @@ START_TEST(parity_stream_bit_exact)
     rc = cli("render", "--model", in_dir("t.ply"), "--size", "64x48", "--algo", "deferred", "--groups", "hash", "--float", in_dir("gl.pfm"),
              "--out", in_dir("gl.png"), "--backend", "gl", "--stream", "--chunk", "97", "--quiet", NULL);
     ck_assert_msg(rc == 0, "%s", out);
-    ck_assert_msg(same_file(in_dir("cpu.pfm"), in_dir("gl.pfm")), "the GL backend's streamed image differs from the CPU's whole-cloud image");
+    ck_assert_msg(tu_same_file(in_dir("cpu.pfm"), in_dir("gl.pfm")), "the GL backend's streamed image differs from the CPU's whole-cloud image");
     printf("render --stream --backend gl: the same bits as the CPU reference on the whole cloud\n");
 }
 END_TEST

@@ -176,3 +176,17 @@ const char *tu_in(const char *dir, const char *name)
     snprintf(p[k], sizeof p[k], "%s/%s", dir, name);
     return p[k];
 }
+
+int tu_same_file(const char *a, const char *b)
+{
+    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+    ck_assert_msg(fa && fb, "cannot open %s or %s", a, b);
+    int same = 1, ca, cb;
+    do {
+        ca = fgetc(fa), cb = fgetc(fb);
+        same &= ca == cb;
+    } while (same && ca != EOF);
+    fclose(fa);
+    fclose(fb);
+    return same;
+}
