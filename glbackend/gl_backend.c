@@ -248,6 +248,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
             g->c[k] = cl->color[3 * (size_t)sid + k];
         }
         g->pr[3] = r;
+        spr_draw_ellipse(d, sid, r, g->e);
         g->na[3] = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
         g->c[3] = 0.0f;
         g->id = d->id_base + sid;
@@ -520,7 +521,9 @@ static void setup_vao(gl_context *c)
     glVertexArrayAttribIFormat(vao, 4, 1, GL_UNSIGNED_INT, offsetof(gl_instance, id));
     glEnableVertexArrayAttrib(vao, 5);
     glVertexArrayAttribIFormat(vao, 5, 1, GL_UNSIGNED_INT, offsetof(gl_instance, seq));
-    for (GLuint a = 0; a < 6; a++) glVertexArrayAttribBinding(vao, a, 0);
+    glEnableVertexArrayAttrib(vao, 6);
+    glVertexArrayAttribFormat(vao, 6, 4, GL_FLOAT, GL_FALSE, offsetof(gl_instance, e));
+    for (GLuint a = 0; a < 7; a++) glVertexArrayAttribBinding(vao, a, 0);
 }
 
 spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)

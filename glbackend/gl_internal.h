@@ -99,6 +99,7 @@ typedef struct gl_instance {
     float pr[4];
     float na[4];
     float c[4];
+    float e[4];     /* ellipse: u, r_v (spr_draw_ellipse) */
     uint32_t id;
     uint32_t seq;   /* submission index (pixel history) */
 } gl_instance;

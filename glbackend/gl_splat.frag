@@ -5,6 +5,7 @@
 flat in vec4 v_pr;
 flat in vec4 v_na;
 flat in vec4 v_c;
+flat in vec4 v_e;
 flat in uint v_id;
 flat in uint v_seq;
 uniform float u_M[16];
@@ -29,7 +30,8 @@ void main()
     float t;
     float rho2;
     float rho;
-    if (spr_splat_covers(o0, d, p, n, v_pr.w, u_cull, u_mask, z_near, u_eps, t, rho2, rho) == 0) discard;
+    float e[4] = float[4](v_e.x, v_e.y, v_e.z, v_e.w);
+    if (spr_splat_covers(o0, d, p, n, e, v_pr.w, u_cull, u_mask, z_near, u_eps, t, rho2, rho) == 0) discard;
     atomicCounterIncrement(u_generated);
     float z = spr_test_depth(u_depth, u_eps, u_dmin, u_dmax, u_n, u_invn, t, rho);
     gl_FragDepth = z;

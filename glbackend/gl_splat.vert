@@ -9,10 +9,12 @@ layout(location = 2) in vec4 i_na;      /* normal, opacity */
 layout(location = 3) in vec4 i_c;       /* colour */
 layout(location = 4) in uint i_id;
 layout(location = 5) in uint i_seq;     /* position in the draw's submission order (pixel history) */
+layout(location = 6) in vec4 i_e;       /* ellipse: major axis u, minor radius (spr_ray_ellipse) */
 uniform vec2 u_size;
 flat out vec4 v_pr;
 flat out vec4 v_na;
 flat out vec4 v_c;
+flat out vec4 v_e;
 flat out uint v_id;
 flat out uint v_seq;
 void main()
@@ -23,6 +25,7 @@ void main()
     v_pr = i_pr;
     v_na = i_na;
     v_c = i_c;
+    v_e = i_e;
     v_id = i_id;
     v_seq = i_seq;
 }

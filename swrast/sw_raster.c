@@ -65,12 +65,14 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
         int y1 = be->y1 < ty0 + SW_TILE - 1 ? be->y1 : ty0 + SW_TILE - 1;
         const float *p = be->p, *n = be->n, *col = be->c;
         const float r = be->r;
+        float e[4] = {0.0f, 0.0f, 0.0f, r};
+        if (d->cloud->ell) spr_draw_ellipse(d, sid - d->id_base, r, e); /* elliptical: looked up, the bin keeps its line */
         for (int y = y0; y <= y1; y++) {
             for (int x = x0; x <= x1; x++) {
                 size_t pix = (size_t)y * W + x;
                 const float *ray = c->ray + 6 * pix;
                 float t, rho2, rho;
-                if (!spr_splat_covers(ray, ray + 3, p, n, r, s->cull_backfaces, z_near != NULL, z_near ? z_near[pix] : 0.0f,
+                if (!spr_splat_covers(ray, ray + 3, p, n, e, r, s->cull_backfaces, z_near != NULL, z_near ? z_near[pix] : 0.0f,
                                       s->eps_t, &t, &rho2, &rho))
                     continue;
                 gen++;

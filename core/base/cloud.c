@@ -33,8 +33,23 @@ spr_result spr_cloud_alloc(spr_cloud *c, size_t n)
     return SPR_OK;
 }
 
+spr_result spr_cloud_alloc_ell(spr_cloud *c)
+{
+    if (c->ell) return SPR_OK;
+    c->ell = malloc(4 * (c->n ? c->n : 1) * sizeof(float));
+    if (!c->ell) return SPR_E_NOMEM;
+    for (size_t i = 0; i < c->n; i++) {
+        c->ell[4 * i] = c->ell[4 * i + 1] = c->ell[4 * i + 2] = 0.0f;
+        c->ell[4 * i + 3] = c->radius[i];
+    }
+    c->flags |= SPR_SRC_ELLIPSES;
+    return SPR_OK;
+}
+
 void spr_cloud_free(spr_cloud *c)
 {
+    free(c->ell);
+    free(c->sh);
     free(c->pos);
     free(c->nrm);
     free(c->radius);
@@ -79,6 +94,16 @@ spr_result spr__cloud_validate_from(const spr_cloud *c, const char *what, size_t
                              (double)c->radius[i]);
         if (!(c->alpha[i] >= 0.0f && c->alpha[i] <= 1.0f))
             return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: opacity outside [0,1]", what, first + i);
+        if (c->ell && c->ell[4 * i + 3] != c->radius[i]) {
+            const float *e = c->ell + 4 * i;
+            double u2 = (double)e[0] * e[0] + (double)e[1] * e[1] + (double)e[2] * e[2];
+            double un = (double)e[0] * nv[0] + (double)e[1] * nv[1] + (double)e[2] * nv[2];
+            if (!(fabs(u2 - 1.0) <= 1e-5) || !(fabs(un) <= 1e-4))
+                return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: ellipse axis is not a unit tangent", what, first + i);
+            if (!isfinite(e[3]) || !(e[3] > 0.0f) || !(e[3] <= c->radius[i]))
+                return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: minor radius %g is not in (0, radius %g]", what,
+                                 first + i, (double)e[3], (double)c->radius[i]);
+        }
     }
     return SPR_OK;
 }
@@ -211,4 +236,51 @@ spr_result spr__cloud_finish(spr_cloud *c, const char *path, size_t first, doubl
         for (size_t i = 0; i < c->n; i++) c->alpha[i] = (float)opacity;
     }
     return spr__cloud_validate_from(c, path, first, err);
+}
+
+/* The real spherical harmonics of degree ≤ 3 at the unit direction (x, y,
+ * z), with the constants and signs of the 3D Gaussian Splatting training
+ * code (utils/sh_utils.py, KHR_gaussian_splatting Appendix A). */
+static void sh_basis(double x, double y, double z, double Y[16])
+{
+    const double xx = x * x, yy = y * y, zz = z * z;
+    Y[0] = 0.28209479177387814;
+    Y[1] = -0.4886025119029199 * y;
+    Y[2] = 0.4886025119029199 * z;
+    Y[3] = -0.4886025119029199 * x;
+    Y[4] = 1.0925484305920792 * x * y;
+    Y[5] = -1.0925484305920792 * y * z;
+    Y[6] = 0.31539156525252005 * (2.0 * zz - xx - yy);
+    Y[7] = -1.0925484305920792 * x * z;
+    Y[8] = 0.5462742152960396 * (xx - yy);
+    Y[9] = -0.5900435899266435 * y * (3.0 * xx - yy);
+    Y[10] = 2.890611442640554 * x * y * z;
+    Y[11] = -0.4570457994644658 * y * (4.0 * zz - xx - yy);
+    Y[12] = 0.3731763325901154 * z * (2.0 * zz - 3.0 * xx - 3.0 * yy);
+    Y[13] = -0.4570457994644658 * x * (4.0 * zz - xx - yy);
+    Y[14] = 1.445305721320277 * z * (xx - yy);
+    Y[15] = -0.5900435899266435 * x * (xx - 3.0 * yy);
+}
+
+void spr_cloud_sh_colors(spr_cloud *c, const double eye[3])
+{
+    if (!c->sh || c->sh_k < 1) return;
+    const int K = c->sh_k > 16 ? 16 : c->sh_k;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)c->n; i++) {
+        double d[3], l = 0.0, Y[16];
+        for (int k = 0; k < 3; k++) {
+            d[k] = (double)c->pos[3 * i + k] - eye[k];
+            l += d[k] * d[k];
+        }
+        l = sqrt(l);
+        if (!(l > 0.0)) l = 1.0, d[0] = d[1] = 0.0, d[2] = 1.0; /* the eye on the centre: any direction */
+        sh_basis(d[0] / l, d[1] / l, d[2] / l, Y);
+        const float *s = c->sh + (size_t)i * (size_t)c->sh_k * 3;
+        for (int ch = 0; ch < 3; ch++) {
+            double v = 0.5;
+            for (int k = 0; k < K; k++) v += Y[k] * s[3 * k + ch];
+            c->color[3 * i + ch] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+        }
+    }
 }

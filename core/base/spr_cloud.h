@@ -18,7 +18,9 @@ typedef enum spr_source_flags {
     SPR_SRC_COLORS  = 1u << 1,  /* colours read from the file */
     SPR_SRC_RADII   = 1u << 2,  /* radii read from the file */
     SPR_SRC_ALPHA   = 1u << 3,  /* opacity read from the file */
-    SPR_SRC_FACES   = 1u << 4   /* normals from mesh faces */
+    SPR_SRC_FACES   = 1u << 4,  /* normals from mesh faces */
+    SPR_SRC_ELLIPSES = 1u << 5, /* elliptical splats (cloud->ell) */
+    SPR_SRC_GAUSSIAN = 1u << 6  /* a Gaussian-splat capture (radii = cut × σ, α = sigmoid) */
 } spr_source_flags;
 
 typedef struct spr_cloud {
@@ -28,11 +30,26 @@ typedef struct spr_cloud {
     float *radius;  /* n */
     float *color;   /* 3n: r g b in [0,1] */
     float *alpha;   /* n: opacity in [0,1] */
+    float *ell;     /* 4n or NULL (every splat circular): elliptical splats (SPEC §1, issue 15) —
+                     * u, the unit major tangent axis (⟂ n), then r_v, the minor radius, in
+                     * (0, radius]; radius is the major radius r_u, the splat's bounding radius.
+                     * A splat with r_v == radius is a circle (u unused). */
+    float *sh;      /* n·sh_k·3 or NULL: a Gaussian capture's spherical-harmonics coefficients per
+                     * splat, coefficient-major, r g b each (k = 0 the DC term), for colours that
+                     * depend on the view (spr_cloud_sh_colors, --sh-degree) */
+    int sh_k;       /* coefficients per channel: (degree + 1)², 0 without sh */
     unsigned flags; /* spr_source_flags */
 } spr_cloud;
 
 /* Allocate n splats (normals +z, colour 0.8, alpha 1, radius 0); 0 or SPR_E_NOMEM. */
 spr_result spr_cloud_alloc(spr_cloud *c, size_t n);
+/* Give c its ellipse array, every splat a circle (u = 0, r_v = radius): 0 or SPR_E_NOMEM. */
+spr_result spr_cloud_alloc_ell(spr_cloud *c);
+/* Colours of a cloud with sh for a camera at eye (world space): for every
+ * splat c = 0.5 + Σ_k Y_k(dir)·sh_k, dir the unit vector from the eye to its
+ * centre, in double, clamped to [0,1] and rounded once — on the host, so
+ * every backend gets the same bits.  Nothing without sh. */
+void spr_cloud_sh_colors(spr_cloud *c, const double eye[3]);
 /* Release the arrays; safe on a zeroed cloud. */
 void spr_cloud_free(spr_cloud *c);
 /* Check every invariant above; names `what` (a file) and the first bad splat. */

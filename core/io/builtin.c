@@ -177,8 +177,10 @@ spr_result spr__add_balls(spr_cloud *c, int nballs, spr_error *err)
     }
     if (kept < nballs)
         return spr__fail(err, SPR_E_ARG, "--balls %d: found room for only %d balls inside the model (are its normals outward?)", nballs, kept);
+    if (c->sh) return spr__fail(err, SPR_E_ARG, "--balls: not with view-dependent colours (--sh-degree above 0)");
     spr_cloud o;
     spr_result r = spr_cloud_alloc(&o, n + (size_t)nballs * PER_BALL);
+    if (!r && c->ell && (r = spr_cloud_alloc_ell(&o))) spr_cloud_free(&o);
     if (r) return spr__fail(err, r, "--balls: out of memory");
     memcpy(o.pos, c->pos, 3 * n * sizeof(float));
     memcpy(o.nrm, c->nrm, 3 * n * sizeof(float));
@@ -189,6 +191,10 @@ spr_result spr__add_balls(spr_cloud *c, int nballs, spr_error *err)
         size_t first = n + (size_t)j * PER_BALL;
         fibonacci_sphere(&o, first, PER_BALL, centre[j][0], centre[j][1], centre[j][2], rb, face_colors[j % 8]);
         for (size_t i = first; i < first + PER_BALL; i++) o.radius[i] = (float)sr;
+    }
+    if (o.ell) { /* the model's ellipses, the balls' circles */
+        memcpy(o.ell, c->ell, 4 * n * sizeof(float));
+        for (size_t i = n; i < o.n; i++) o.ell[4 * i] = o.ell[4 * i + 1] = o.ell[4 * i + 2] = 0.0f, o.ell[4 * i + 3] = o.radius[i];
     }
     o.flags = c->flags;
     spr_cloud_free(c);

@@ -177,18 +177,30 @@ static spr_result complete(spr_cloud *c, const spr__mesh *mesh, const spr_load_d
 
 /* Read a file once and run the reader of its extension over it (mesh gets
  * the faces of OFF and PLY files). */
-static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog, const spr_warn *warn,
-                            spr_error *err)
+static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr__mesh *mesh, const spr_load_desc *d, spr_error *err)
 {
-    int ply = ieq(ext, "ply"), off = ieq(ext, "off"), xyz = ieq(ext, "xyz") || ieq(ext, "pwn");
-    if (!ply && !off && !xyz)
-        return spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz or .pwn)", path, ext);
+    int ply = ieq(ext, "ply"), off = ieq(ext, "off"), xyz = ieq(ext, "xyz") || ieq(ext, "pwn"),
+        txt = ieq(ext, "txt") || ieq(ext, "asc") || ieq(ext, "csv") || ieq(ext, "pts"), splat = ieq(ext, "splat"), spz = ieq(ext, "spz"),
+        glb = ieq(ext, "glb");
+    if (!ply && !off && !xyz && !txt && !splat && !spz && !glb)
+        return spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz, .pwn, .txt, .asc, .csv, .pts, .splat, .spz or .glb)",
+                         path, ext);
+    spr__gauss_opts go;
+    spr__gauss_defaults(&go);
+    if (d && d->gauss_cut > 0.0) go.cut = d->gauss_cut;
+    if (d) go.sh_degree = d->sh_degree;
     char *buf;
     size_t len;
     spr_result r = spr__read_file(path, &buf, &len, err);
     if (r) return r;
-    r = ply ? spr__parse_ply(path, buf, len, c, mesh, prog, warn, err) : off ? spr__parse_off(path, buf, len, c, mesh, err)
-                                                               : spr__parse_xyz(path, buf, len, c, err);
+    const spr_progress *prog = d ? &d->progress : NULL;
+    const spr_warn *warn = d ? &d->warn : NULL;
+    if (ply) r = spr__parse_ply(path, buf, len, c, mesh, prog, warn, &go, err);
+    else if (off) r = spr__parse_off(path, buf, len, c, mesh, err);
+    else if (splat) r = spr__parse_splat(path, buf, len, &go, c, err);
+    else if (spz) r = spr__parse_spz(path, buf, len, &go, c, err);
+    else if (glb) r = spr__parse_glb(path, buf, len, &go, c, err);
+    else r = spr__parse_xyz(path, buf, len, c, err);
     free(buf);
     return r;
 }
@@ -201,6 +213,8 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
     if (d.radius_k <= 0) d.radius_k = 8;
     if (!(d.radius_rho > 0.0)) d.radius_rho = 1.0;
     if (d.normal_k <= 0) d.normal_k = 10;
+    if (d.gauss_cut < 0.0 || d.gauss_cut > 3.0 || d.sh_degree < 0 || d.sh_degree > 3)
+        return spr__fail(err, SPR_E_ARG, "%s: --gauss-cut must lie in (0, 3] and --sh-degree in 0..3", path);
     spr__mesh mesh = {0};
     spr_result r;
     memset(c, 0, sizeof *c);
@@ -208,7 +222,7 @@ spr_result spr_load(const char *path, const spr_load_desc *din, spr_cloud *c, sp
     if (strncmp(path, "builtin:", 8) == 0) {
         r = spr__builtin(path + 8, d.points, c, err);
     } else {
-        r = load_file(path, ext_of(path), c, &mesh, &d.progress, &d.warn, err);
+        r = load_file(path, ext_of(path), c, &mesh, &d, err);
     }
     spr_progress_report(&d.progress, "reading", 1, 1);
     if (r) return r;
@@ -235,7 +249,7 @@ spr_result spr_sample_mesh(const char *path, size_t n, uint64_t seed, const spr_
     spr_cloud m;
     spr__mesh mesh;
     const char *e = ext_of(path);
-    spr_result r = ieq(e, "off") || ieq(e, "ply") ? load_file(path, e, &m, &mesh, NULL, din ? &din->warn : NULL, err)
+    spr_result r = ieq(e, "off") || ieq(e, "ply") ? load_file(path, e, &m, &mesh, din, err)
                                                   : spr__fail(err, SPR_E_FORMAT, "%s: sampling needs a mesh (.off or .ply with faces)", path);
     if (r) return r;
     if (!mesh.nt) { spr_cloud_free(&m); return spr__fail(err, SPR_E_FORMAT, "%s: mesh has no faces to sample", path); }

@@ -66,10 +66,22 @@ static double bin_value(const unsigned char *p, ply_type t, int big)
 }
 
 /* Role of a vertex property in the cloud. */
-enum { R_NONE, R_X, R_Y, R_Z, R_NX, R_NY, R_NZ, R_R, R_G, R_B, R_A, R_RADIUS };
+enum { R_NONE, R_X, R_Y, R_Z, R_NX, R_NY, R_NZ, R_R, R_G, R_B, R_A, R_RADIUS,
+       R_UX, R_UY, R_UZ, R_RV,                    /* elliptical splats: major axis u, minor radius (radius = r_u) */
+       R_FDC0, R_FDC1, R_FDC2, R_OPAC, R_SC0, R_SC1, R_SC2, R_ROT0, R_ROT1, R_ROT2, R_ROT3,
+       R_FREST };                                 /* Gaussian splats (3DGS / 2DGS PLY) */
+#define HAVE(r) (1 << (r))
 
 static int role_of(const char *n)
 {
+    static const struct { const char *n; int r; } gs[] = {
+        {"ux", R_UX}, {"uy", R_UY}, {"uz", R_UZ}, {"rv", R_RV}, {"ru", R_RADIUS},
+        {"f_dc_0", R_FDC0}, {"f_dc_1", R_FDC1}, {"f_dc_2", R_FDC2}, {"opacity", R_OPAC},
+        {"scale_0", R_SC0}, {"scale_1", R_SC1}, {"scale_2", R_SC2},
+        {"rot_0", R_ROT0}, {"rot_1", R_ROT1}, {"rot_2", R_ROT2}, {"rot_3", R_ROT3}};
+    for (size_t i = 0; i < sizeof gs / sizeof gs[0]; i++)
+        if (strcmp(n, gs[i].n) == 0) return gs[i].r;
+    if (strncmp(n, "f_rest_", 7) == 0) return R_FREST;
     static const struct { const char *n; int r; } tab[] = {
         {"x", R_X}, {"y", R_Y}, {"z", R_Z}, {"nx", R_NX}, {"ny", R_NY}, {"nz", R_NZ},
         {"normal_x", R_NX}, {"normal_y", R_NY}, {"normal_z", R_NZ},
@@ -210,23 +222,101 @@ typedef struct vertex_layout {
     const ply_elem *V;
     int role[64];
     ply_type ctype[64];
+    int sub[64];  /* R_FREST: the coefficient's index in the file */
     int have;  /* bit R_* set when the role is present */
+    int gauss;    /* a Gaussian-splat layout (rot_0..3, scale_0, scale_1): mapped by spr__gauss_put */
+    int ellipse;  /* our elliptical splats: ux uy uz rv with radius */
+    int rest;     /* f_rest_* per channel */
+    spr__gauss_opts go;
 } vertex_layout;
 
 /* Fill the roles of V's properties; an error for colours of 32-bit integer type. */
-static spr_result vertex_layout_make(const char *path, const ply_elem *V, vertex_layout *L, spr_error *err)
+static spr_result vertex_layout_make(const char *path, const ply_elem *V, const spr__gauss_opts *go, vertex_layout *L, spr_error *err)
 {
     L->V = V;
     L->have = 0;
+    int nrest = 0;
     for (int k = 0; k < V->nprops; k++) {
         L->role[k] = V->props[k].count_type == T_NONE ? role_of(V->props[k].name) : R_NONE;
         L->ctype[k] = V->props[k].type;
+        L->sub[k] = 0;
+        if (L->role[k] == R_FREST) {
+            char *e;
+            long j = strtol(V->props[k].name + 7, &e, 10);
+            if (*e || j < 0 || j >= 45) L->role[k] = R_NONE;
+            else L->sub[k] = (int)j, nrest++;
+        }
         if (L->role[k]) L->have |= 1 << L->role[k];
         if ((L->role[k] >= R_R && L->role[k] <= R_A) && (L->ctype[k] == T_I32 || L->ctype[k] == T_U32))
             return spr__fail(err, SPR_E_FORMAT, "%s: colour property \"%s\" has a 32-bit integer type", path, V->props[k].name);
     }
     if ((L->have & ((1 << R_X) | (1 << R_Y) | (1 << R_Z))) != ((1 << R_X) | (1 << R_Y) | (1 << R_Z)))
         return spr__fail(err, SPR_E_FORMAT, "%s: vertex element lacks x, y or z", path);
+    const int rot = HAVE(R_ROT0) | HAVE(R_ROT1) | HAVE(R_ROT2) | HAVE(R_ROT3), sc = HAVE(R_SC0) | HAVE(R_SC1);
+    L->gauss = (L->have & (rot | sc)) == (rot | sc);
+    if (!L->gauss && (L->have & (rot | sc | HAVE(R_SC2))))
+        return spr__fail(err, SPR_E_FORMAT, "%s: vertex element has some Gaussian-splat properties but not rot_0..rot_3, scale_0 and scale_1", path);
+    const int ell = HAVE(R_UX) | HAVE(R_UY) | HAVE(R_UZ) | HAVE(R_RV);
+    L->ellipse = !L->gauss && (L->have & ell) == ell;
+    if (L->ellipse && !(L->have & HAVE(R_RADIUS)))
+        return spr__fail(err, SPR_E_FORMAT, "%s: elliptical splats (ux uy uz rv) need the major radius (radius or ru)", path);
+    if (L->ellipse && !(L->have & HAVE(R_NX)))
+        return spr__fail(err, SPR_E_FORMAT, "%s: elliptical splats (ux uy uz rv) need normals", path);
+    L->rest = nrest % 3 == 0 && nrest <= 45 ? nrest / 3 : 0;
+    if (go) L->go = *go; else spr__gauss_defaults(&L->go);
+    return SPR_OK;
+}
+
+/* The one decoding of a Gaussian-splat vertex's values (3DGS: f_dc, opacity
+ * before the sigmoid, log scales, rot = w x y z), then the one mapping. */
+static spr_result gauss_vertex(const char *path, const vertex_layout *L, const double *val, spr_cloud *c, size_t s, unsigned long long i,
+                               spr_error *err)
+{
+    spr__gauss g;
+    const int have = L->have;
+    for (int k = 0; k < 3; k++) {
+        g.pos[k] = val[R_X + k];
+        g.sigma[k] = k == 2 && !(have & HAVE(R_SC2)) ? -1.0 : exp(val[R_SC0 + k]);
+        g.rgb[k] = have & HAVE(R_FDC0 + k) ? 0.5 + 0.28209479177387814 * val[R_FDC0 + k]
+                   : have & HAVE(R_R + k)  ? val[R_R + k]
+                                           : 0.5;
+    }
+    for (int k = 0; k < 4; k++) g.q[k] = val[R_ROT0 + k];
+    g.alpha = have & HAVE(R_OPAC) ? spr__sigmoid(val[R_OPAC]) : have & HAVE(R_A) ? val[R_A] : 1.0;
+    if (c->sh) {
+        float *sh = c->sh + s * (size_t)c->sh_k * 3;
+        for (int ch = 0; ch < 3; ch++) sh[ch] = (float)val[R_FDC0 + ch];
+    }
+    spr_error e;
+    if (spr__gauss_put(&g, &L->go, c, s, path, (size_t)i, &e)) return spr__fail(err, SPR_E_VALUE, "%s", e.msg);
+    return SPR_OK;
+}
+
+/* Our elliptical splats: u renormalised; r_v > r_u swaps the axes (u ← n × u). */
+static spr_result ellipse_vertex(const char *path, const double *val, spr_cloud *c, size_t s, unsigned long long i, spr_error *err)
+{
+    float *e = c->ell + 4 * s;
+    double u[3] = {val[R_UX], val[R_UY], val[R_UZ]}, rv = val[R_RV], r = c->radius[s];
+    if (!(rv > 0.0) || !isfinite(rv)) return spr__fail(err, SPR_E_VALUE, "%s: vertex %llu: rv %g is not positive and finite", path, i, rv);
+    const float *n = c->nrm + 3 * s;
+    if (rv > r) {
+        double t[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+        memcpy(u, t, sizeof u);
+        c->radius[s] = (float)rv;
+        rv = r;
+    }
+    if (rv == r) { /* a circle */
+        e[0] = e[1] = e[2] = 0.0f;
+        e[3] = c->radius[s];
+        return SPR_OK;
+    }
+    const double un = u[0] * n[0] + u[1] * n[1] + u[2] * n[2]; /* into the splat's plane */
+    for (int k = 0; k < 3; k++) u[k] -= un * n[k];
+    double l = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    if (!(l > 1e-6) || !isfinite(l))
+        return spr__fail(err, SPR_E_VALUE, "%s: vertex %llu: axis ux uy uz is zero, not finite or along the normal", path, i);
+    for (int k = 0; k < 3; k++) e[k] = (float)(u[k] / l);
+    e[3] = (float)rv;
     return SPR_OK;
 }
 
@@ -239,10 +329,17 @@ static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c
     const char *path = cu->path;
     spr_error *err = cu->err;
     spr_result r;
+    double val[R_FREST + 1] = {0};
     for (int k = 0; k < V->nprops; k++) {
         const ply_prop *P = &V->props[k];
         const int role = L->role[k];
         double v;
+        if (cu->fmt != F_ASCII && P->count_type == T_NONE && (role == R_NONE || (role == R_FREST && !c->sh))) { /* unused: skipped */
+            if ((size_t)(cu->end - cu->p) < (size_t)type_size(P->type))
+                return spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: file ends inside %s %llu", path, cursor_at(cu, 0), V->name, i);
+            cu->p += type_size(P->type);
+            continue;
+        }
         if (P->count_type != T_NONE) { /* a list in the vertex element: read past it */
             double cnt;
             if ((r = read_value(cu, P->count_type, &cnt, V->name, i))) return r;
@@ -259,6 +356,19 @@ static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c
                                    role <= R_Z ? "coordinate" : "property", P->name, v)
                        : spr__fail(err, SPR_E_VALUE, "%s: byte %zu: vertex %llu: %s %s (%g) is not a finite 32-bit float", path,
                                    cursor_at(cu, type_size(P->type)), i, role <= R_Z ? "coordinate" : "property", P->name, v);
+        if (role >= R_UX) {
+            if (role == R_FREST) {
+                const int ch = L->rest ? L->sub[k] / L->rest : 3, kk = L->rest ? 1 + L->sub[k] % L->rest : 0;
+                if (c->sh && ch < 3 && kk < c->sh_k) c->sh[(s * (size_t)c->sh_k + (size_t)kk) * 3 + (size_t)ch] = (float)v;
+            } else {
+                val[role] = v;
+            }
+            continue;
+        }
+        if (L->gauss) { /* positions and colours go through the mapping */
+            val[role] = role >= R_R && role <= R_A ? v * color_scale(L->ctype[k]) : v;
+            continue;
+        }
         switch (role) {
         case R_X: case R_Y: case R_Z: c->pos[3 * s + role - R_X] = (float)v; break;
         case R_NX: case R_NY: case R_NZ: c->nrm[3 * s + role - R_NX] = (float)v; break;
@@ -275,16 +385,25 @@ static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c
         default: break;
         }
     }
+    if (L->gauss) return gauss_vertex(path, L, val, c, s, i, err);
     float *n = c->nrm + 3 * s;
     if ((L->have & (1 << R_NX)) && !(n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) && spr__normalize3(n))
         return spr__fail(err, SPR_E_VALUE, "%s: vertex %llu: zero or non-finite normal", path, i);
+    if (L->ellipse) {
+        if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)
+            return spr__fail(err, SPR_E_VALUE, "%s: vertex %llu: an elliptical splat needs a normal", path, i);
+        return ellipse_vertex(path, val, c, s, i, err);
+    }
     return SPR_OK; /* an all-zero normal stays zero: zero_normals() judges the file */
 }
 
 /* Where the vertex data came from, as spr_cloud flags. */
 static unsigned vertex_flags(int have)
 {
-    return ((have & (1 << R_NX)) ? SPR_SRC_NORMALS : 0) | ((have & (1 << R_R)) ? SPR_SRC_COLORS : 0) |
+    const int rot = HAVE(R_ROT0) | HAVE(R_ROT1) | HAVE(R_ROT2) | HAVE(R_ROT3), sc = HAVE(R_SC0) | HAVE(R_SC1);
+    if ((have & (rot | sc)) == (rot | sc))
+        return SPR_SRC_NORMALS | SPR_SRC_COLORS | SPR_SRC_RADII | SPR_SRC_ALPHA | SPR_SRC_ELLIPSES | SPR_SRC_GAUSSIAN;
+    return ((have & HAVE(R_UX)) && (have & HAVE(R_RV)) ? SPR_SRC_ELLIPSES : 0) | ((have & (1 << R_NX)) ? SPR_SRC_NORMALS : 0) | ((have & (1 << R_R)) ? SPR_SRC_COLORS : 0) |
            ((have & (1 << R_RADIUS)) ? SPR_SRC_RADII : 0) | ((have & (1 << R_A)) ? SPR_SRC_ALPHA : 0);
 }
 
@@ -349,8 +468,146 @@ static spr_result zero_normals(const char *path, const spr_cloud *c, size_t firs
     return SPR_OK;
 }
 
+/* Index of property `name` in E, −1 when absent or not of type t. */
+static int prop_index(const ply_elem *E, const char *name, ply_type t)
+{
+    for (int k = 0; k < E->nprops; k++)
+        if (!strcmp(E->props[k].name, name)) return E->props[k].type == t && E->props[k].count_type == T_NONE ? k : -1;
+    return -1;
+}
+
+/* Bytes of one item of E (binary, scalars only); 0 when E has a list. */
+static size_t item_bytes(const ply_elem *E)
+{
+    size_t b = 0;
+    for (int k = 0; k < E->nprops; k++) {
+        if (E->props[k].count_type != T_NONE) return 0;
+        b += (size_t)type_size(E->props[k].type);
+    }
+    return b;
+}
+
+static double unorm(uint32_t v, int shift, int bits) { return (double)((v >> shift) & ((1u << bits) - 1u)) / (double)((1u << bits) - 1u); }
+static double lerp(double a, double b, double t) { return a * (1.0 - t) + b * t; }
+
+/* The compressed PLY of PlayCanvas SuperSplat / splat-transform: `element
+ * chunk` (per 256 splats: float bounds of position, log scale and colour),
+ * `element vertex` of packed uint32 position (11-10-11 bits), rotation
+ * (2-bit index of the largest component, three 10-bit others), scale
+ * (11-10-11) and colour (RGBA 8888), optional `element sh` of uchar
+ * f_rest_*.  Binary little-endian only, as its writer writes it. */
+static spr_result spr__parse_compressed_ply(const char *path, const char *buf, size_t len, size_t body, int fmt, const ply_elem *el, int nel,
+                                   const spr__gauss_opts *go, spr_cloud *c, spr_error *err)
+{
+    static const char *const cn[] = {"min_x", "min_y", "min_z", "max_x", "max_y", "max_z", "min_scale_x", "min_scale_y", "min_scale_z",
+                                     "max_scale_x", "max_scale_y", "max_scale_z", "min_r", "min_g", "min_b", "max_r", "max_g", "max_b"};
+    static const char *const vn[] = {"packed_position", "packed_rotation", "packed_scale", "packed_color"};
+    if (fmt != F_LE) return spr__fail(err, SPR_E_FORMAT, "%s: a compressed PLY (element chunk) must be binary_little_endian", path);
+    const ply_elem *C = NULL, *V = NULL, *S = NULL;
+    size_t off[16], at = body;
+    for (int e = 0; e < nel; e++) {
+        const size_t ib = item_bytes(&el[e]);
+        if (!ib && el[e].count) return spr__fail(err, SPR_E_FORMAT, "%s: compressed PLY element \"%s\" has a list property", path, el[e].name);
+        off[e] = at;
+        if (el[e].count > (len - at) / (ib ? ib : 1))
+            return spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: element \"%s\" declares %llu items of %zu bytes but only %zu bytes follow", path, at,
+                             el[e].name, el[e].count, ib, len - at);
+        at += (size_t)el[e].count * ib;
+        if (!strcmp(el[e].name, "chunk")) C = &el[e];
+        else if (!strcmp(el[e].name, "vertex")) V = &el[e];
+        else if (!strcmp(el[e].name, "sh")) S = &el[e];
+    }
+    int ci[18], vi[4], si[45] = {0};
+    const int colour_bounds = prop_index(C, "min_r", T_F32) >= 0;
+    for (int k = 0; k < 18; k++)
+        if ((ci[k] = prop_index(C, cn[k], T_F32)) < 0 && (k < 12 || colour_bounds))
+            return spr__fail(err, SPR_E_FORMAT, "%s: compressed PLY: element chunk lacks float %s", path, cn[k]);
+    for (int k = 0; k < 4; k++)
+        if ((vi[k] = prop_index(V, vn[k], T_U32)) < 0)
+            return spr__fail(err, SPR_E_FORMAT, "%s: compressed PLY: element vertex lacks uint %s", path, vn[k]);
+    int nsh = 0;
+    if (S) {
+        nsh = S->nprops;
+        if (S->count != V->count || (nsh != 9 && nsh != 24 && nsh != 45))
+            return spr__fail(err, SPR_E_FORMAT, "%s: compressed PLY: element sh needs one item per vertex and 9, 24 or 45 properties", path);
+        for (int k = 0; k < nsh; k++) {
+            char nm[16];
+            snprintf(nm, sizeof nm, "f_rest_%d", k);
+            if ((si[k] = prop_index(S, nm, T_U8)) < 0) return spr__fail(err, SPR_E_FORMAT, "%s: compressed PLY: element sh lacks uchar %s", path, nm);
+        }
+    }
+    const size_t n = (size_t)V->count;
+    if (n == 0) return spr__fail(err, SPR_E_FORMAT, "%s: no points", path);
+    if (n > SPR_MAX_SPLATS) return spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %zu vertices (limit %u)", path, n, SPR_MAX_SPLATS);
+    if (C->count < (n + 255) / 256)
+        return spr__fail(err, SPR_E_FORMAT, "%s: compressed PLY: %llu chunks for %zu vertices (256 per chunk)", path, C->count, n);
+    spr_result r = spr__gauss_alloc(c, n, 1 + nsh / 3, go, path, err);
+    if (r) return r;
+    const int Ci = (int)(C - el), Vi = (int)(V - el), Si = S ? (int)(S - el) : 0;
+    const size_t cb = item_bytes(C), vb = item_bytes(V), sb = S ? item_bytes(S) : 0;
+    size_t cofs[18], vofs[4], sofs[45];
+    for (int k = 0; k < 18; k++) {
+        cofs[k] = 0;
+        for (int j = 0; j < ci[k]; j++) cofs[k] += (size_t)type_size(C->props[j].type);
+    }
+    for (int k = 0; k < 4; k++) {
+        vofs[k] = 0;
+        for (int j = 0; j < vi[k]; j++) vofs[k] += (size_t)type_size(V->props[j].type);
+    }
+    for (int k = 0; k < nsh; k++) sofs[k] = (size_t)si[k];
+    const unsigned char *B = (const unsigned char *)buf;
+    long bad = -1;
+    spr_error first = {0};
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)n; i++) {
+        const unsigned char *ch = B + off[Ci] + (size_t)(i / 256) * cb, *vx = B + off[Vi] + (size_t)i * vb;
+        float cf[18];
+        uint32_t pv[4];
+        for (int k = 0; k < 18; k++) {
+            if (ci[k] >= 0) memcpy(&cf[k], ch + cofs[k], 4); else cf[k] = 0.0f;
+        }
+        for (int k = 0; k < 4; k++) memcpy(&pv[k], vx + vofs[k], 4);
+        spr__gauss g;
+        for (int k = 0; k < 3; k++) {
+            const int sh = k == 0 ? 21 : k == 1 ? 11 : 0, bits = k == 1 ? 10 : 11;
+            g.pos[k] = lerp(cf[k], cf[3 + k], unorm(pv[0], sh, bits));
+            g.sigma[k] = exp(lerp(cf[6 + k], cf[9 + k], unorm(pv[2], sh, bits)));
+            const double t = unorm(pv[3], 24 - 8 * k, 8);
+            g.rgb[k] = colour_bounds ? lerp(cf[12 + k], cf[15 + k], t) : t;
+        }
+        g.alpha = unorm(pv[3], 0, 8);
+        const int big = (int)(pv[1] >> 30);
+        const double norm = 1.0 / (sqrt(2.0) * 0.5);
+        double o3[3] = {(unorm(pv[1], 20, 10) - 0.5) * norm, (unorm(pv[1], 10, 10) - 0.5) * norm, (unorm(pv[1], 0, 10) - 0.5) * norm};
+        double s2 = o3[0] * o3[0] + o3[1] * o3[1] + o3[2] * o3[2];
+        for (int k = 0, j = 0; k < 4; k++) g.q[k] = k == big ? sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0) : o3[j++]; /* rot_0..3 = w x y z */
+        if (c->sh) {
+            float *shv = c->sh + (size_t)i * (size_t)c->sh_k * 3;
+            const int per = nsh / 3;
+            for (int chn = 0; chn < 3; chn++) shv[chn] = (float)((g.rgb[chn] - 0.5) / 0.28209479177387814);
+            const unsigned char *sv = B + off[Si] + (size_t)i * sb;
+            for (int k = 1; k < c->sh_k; k++)
+                for (int chn = 0; chn < 3; chn++) {
+                    const unsigned v = sv[sofs[chn * per + k - 1]];
+                    const double t = v == 0 ? 0.0 : v == 255 ? 1.0 : (v + 0.5) / 256.0;
+                    shv[3 * k + chn] = (float)((t - 0.5) * 8.0);
+                }
+        }
+        spr_error e;
+        if (spr__gauss_put(&g, go, c, (size_t)i, path, (size_t)i, &e)) {
+#pragma omp critical(spr_cply_bad)
+            if (bad < 0 || i < bad) bad = i, first = e;
+        }
+    }
+    if (bad >= 0) {
+        spr_cloud_free(c);
+        return spr__fail(err, SPR_E_VALUE, "%s", first.msg);
+    }
+    return SPR_OK;
+}
+
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
-                          const spr_warn *warn, spr_error *err)
+                          const spr_warn *warn, const spr__gauss_opts *go, spr_error *err)
 {
     spr_result r;
     int fmt = F_ASCII, nel = 0;
@@ -370,8 +627,11 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
         r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %llu vertices (limit %u)", path, V->count, SPR_MAX_SPLATS);
         goto fail;
     }
+    for (int e = 0; e < nel; e++)
+        if (!strcmp(el[e].name, "chunk") && prop_index(V, "packed_position", T_U32) >= 0)
+            return spr__parse_compressed_ply(path, buf, len, body, fmt, el, nel, go, c, err);
     vertex_layout lay;
-    if ((r = vertex_layout_make(path, V, &lay, err))) goto fail;
+    if ((r = vertex_layout_make(path, V, go, &lay, err))) goto fail;
     const int have = lay.have;
     /* Size check before allocating or reading: every item of every element
      * takes at least its fixed-size values plus the count of each list
@@ -393,8 +653,13 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
             goto fail;
         }
     }
-    r = spr_cloud_alloc(c, (size_t)V->count);
-    if (r) { spr__fail(err, r, "%s: cannot allocate %llu splats", path, V->count); goto fail; }
+    if (lay.gauss) {
+        if ((r = spr__gauss_alloc(c, (size_t)V->count, 1 + lay.rest, &lay.go, path, err))) goto fail;
+    } else {
+        r = spr_cloud_alloc(c, (size_t)V->count);
+        if (!r && lay.ellipse) r = spr_cloud_alloc_ell(c);
+        if (r) { spr__fail(err, r, "%s: cannot allocate %llu splats", path, V->count); goto fail; }
+    }
     cursor cu = {path, (const unsigned char *)buf + body, (const unsigned char *)buf + len, (const unsigned char *)buf,
                  fmt, 0, err, 0};
     /* header line count for ascii error positions */
@@ -413,6 +678,8 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
                 spr_progress_report(prog, "reading vertices", first, (size_t)E->count);
                 spr_cloud part = *c; /* splats first … first+m−1 */
                 part.pos += 3 * first, part.nrm += 3 * first, part.color += 3 * first, part.radius += first, part.alpha += first;
+                if (part.ell) part.ell += 4 * first;
+                if (part.sh) part.sh += first * (size_t)c->sh_k * 3;
                 if ((r = decode_block(path, fmt, &lay, cu.p, m * rec, (size_t)(cu.p - cu.base), rec, first, m, &part, err))) goto fail;
                 cu.p += m * rec;
             }
@@ -461,6 +728,7 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
     }
     mesh->nv = c->n;
     int no_normals = 0;
+    if (lay.gauss) return SPR_OK; /* flags set by spr__gauss_alloc */
     if ((have & (1 << R_NX)) && (r = zero_normals(path, c, 0, 1, warn, &no_normals, err))) goto fail;
     c->flags = vertex_flags(no_normals ? have & ~((1 << R_NX) | (1 << R_NY) | (1 << R_NZ)) : have);
     if (!(c->flags & SPR_SRC_NORMALS))
@@ -479,15 +747,18 @@ static int write_ply_body(FILE *f, const void *user)
                "property float x\nproperty float y\nproperty float z\n"
                "property float nx\nproperty float ny\nproperty float nz\n"
                "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n"
-               "property float radius\nend_header\n", c->n);
+               "property float radius\n%send_header\n", c->n,
+            c->ell ? "property float ux\nproperty float uy\nproperty float uz\nproperty float rv\n" : "");
     for (size_t i = 0; i < c->n; i++) {
-        unsigned char rec[6 * 4 + 4 + 4];
+        unsigned char rec[6 * 4 + 4 + 4 + 16];
+        const size_t rl = c->ell ? sizeof rec : sizeof rec - 16;
+        if (c->ell) memcpy(rec + 32, c->ell + 4 * i, 16); /* ellipses: u, r_v (a circle: 0 0 0 radius) */
         float fv[6] = {c->pos[3 * i], c->pos[3 * i + 1], c->pos[3 * i + 2], c->nrm[3 * i], c->nrm[3 * i + 1], c->nrm[3 * i + 2]};
         memcpy(rec, fv, 24); /* host is little-endian (checked in CMake) */
         for (int k = 0; k < 3; k++) rec[24 + k] = (unsigned char)lrintf(c->color[3 * i + k] * 255.0f);
         rec[27] = (unsigned char)lrintf(c->alpha[i] * 255.0f);
         memcpy(rec + 28, &c->radius[i], 4);
-        if (fwrite(rec, sizeof rec, 1, f) != 1) return -1;
+        if (fwrite(rec, rl, 1, f) != 1) return -1;
     }
     return 0;
 }
@@ -575,7 +846,12 @@ spr_result spr_ply_source_open(const char *path, const spr_load_desc *d, size_t 
     }
     if (vi < 0) { r = spr__fail(err, SPR_E_FORMAT, "%s: no \"vertex\" element", path); goto fail; }
     ps->V = el[vi];
-    if ((r = vertex_layout_make(path, &ps->V, &ps->lay, err))) goto fail;
+    if ((r = vertex_layout_make(path, &ps->V, NULL, &ps->lay, err))) goto fail;
+    if (ps->lay.gauss || ps->lay.ellipse) {
+        r = spr__fail(err, SPR_E_ARG, "%s: --stream reads circular splats; this file holds %s: load it without --stream", path,
+                      ps->lay.gauss ? "Gaussian splats" : "elliptical splats");
+        goto fail;
+    }
     if (ps->V.count == 0) { r = spr__fail(err, SPR_E_FORMAT, "%s: no points", path); goto fail; }
     if (ps->V.count > SPR_MAX_SPLATS) {
         r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %llu vertices (limit %u)", path, ps->V.count, SPR_MAX_SPLATS);

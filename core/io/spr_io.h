@@ -28,6 +28,9 @@ typedef struct spr_load_desc {
     int balls;           /* > 0: add this many small opaque balls inside the model (SPEC 6) */
     spr_progress progress;
     spr_warn warn;       /* deviations accepted (a header line outside the grammar, all-zero normals) */
+    double gauss_cut;    /* Gaussian-splat files: the surfel's edge in standard deviations, in (0, 3] (0 = 3) */
+    int sh_degree;       /* Gaussian-splat files: spherical-harmonics degree kept for view-dependent colour, 0..3 */
+    const char *columns; /* text point files without a header: column names "x,y,z,…" (NULL: 3 or 6 columns) */
 } spr_load_desc;
 void spr_load_defaults(spr_load_desc *d);
 
@@ -74,8 +77,34 @@ static inline int spr__finite_float(double v) { return isfinite(v) && isfinite((
 /* (prog: NULL, or progress every 2^20 vertices; warn: NULL, or the
  * deviations accepted: header lines outside the grammar skipped, normals
  * that are all zero read as none) */
+
+/* Gaussian splats (io_gauss.c): one Gaussian as the readers decode it, and
+ * the one mapping to an elliptical surfel (docs/formats.md). */
+typedef struct spr__gauss_opts {
+    double cut;      /* radii = cut × σ */
+    int sh_degree;   /* SH coefficients kept: (degree + 1)², capped by the file's */
+} spr__gauss_opts;
+void spr__gauss_defaults(spr__gauss_opts *o);
+typedef struct spr__gauss {
+    double pos[3];
+    double sigma[3]; /* σ along the local axes, linear (after exp); sigma[2] < 0: a 2D Gaussian */
+    double q[4];     /* rotation w x y z, any non-zero length (normalised here) */
+    double rgb[3];   /* colour, clamped to [0,1] here */
+    double alpha;    /* opacity in [0,1] (after the sigmoid) */
+} spr__gauss;
+/* c with ellipses (and sh when o asks for more than degree 0 and the file
+ * has file_k > 1 coefficients per channel) for n Gaussians. */
+spr_result spr__gauss_alloc(spr_cloud *c, size_t n, int file_k, const spr__gauss_opts *o, const char *path, spr_error *err);
+/* Splat s of c from g: the surfel spans the two largest axes (largest = u),
+ * n = u × v along the smallest, r_u = cut·σ_u, r_v = cut·σ_v. */
+spr_result spr__gauss_put(const spr__gauss *g, const spr__gauss_opts *o, spr_cloud *c, size_t s, const char *path, size_t index,
+                          spr_error *err);
+double spr__sigmoid(double x);
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
-                          const spr_warn *warn, spr_error *err);
+                          const spr_warn *warn, const spr__gauss_opts *go, spr_error *err);
+spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
+spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
+spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err);
 spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err);

@@ -129,6 +129,33 @@ SPR_FN int spr_ray_disk(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR p[3], SPR_CARR n
     return 1;
 }
 
+/* Ray–ellipse intersection: 1 when the closed elliptical splat (p, n, e)
+ * covers the ray within 0 ≤ t ≤ 1, with t, ρ² and den as spr_ray_disk.
+ * e = (u, r_v): the unit major tangent axis u and the minor radius r_v;
+ * r = r_u is the major radius (the splat's bounding radius).  v = n × u
+ * (so n = u × v), ρ² = (q·u / r_u)² + (q·v / r_v)².  An ellipse with
+ * r_v == r_u is a circle and takes the circle's arithmetic, bit for bit. */
+SPR_FN int spr_ray_ellipse(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR p[3], SPR_CARR n[3], SPR_CARR e[4], float r,
+                           SPR_OUT t_out, SPR_OUT rho2_out, SPR_OUT den_out)
+{
+    if (e[3] == r) return spr_ray_disk(o0, d, p, n, r, t_out, rho2_out, den_out);
+    float t;
+    float q[3];
+    if (spr_ray_plane(o0, d, p, n, SPR_REF(t), q, den_out) == 0) return 0;
+    SPR_PRECISE float v0 = n[1] * e[2] - n[2] * e[1];
+    SPR_PRECISE float v1 = n[2] * e[0] - n[0] * e[2];
+    SPR_PRECISE float v2 = n[0] * e[1] - n[1] * e[0];
+    SPR_PRECISE float a = (q[0] * e[0] + q[1] * e[1]) + q[2] * e[2];
+    SPR_PRECISE float b = (q[0] * v0 + q[1] * v1) + q[2] * v2;
+    SPR_PRECISE float au = a / r;
+    SPR_PRECISE float bv = b / e[3];
+    SPR_PRECISE float rho2 = au * au + bv * bv;
+    if (!(rho2 <= 1.0f)) return 0;
+    SPR_SET(t_out) = t;
+    SPR_SET(rho2_out) = rho2;
+    return 1;
+}
+
 /* ---- depth test values (SPEC §3.3) ---- */
 
 /* z̃ of [ZP] Eq. 10, all in float. */
@@ -163,17 +190,19 @@ SPR_FN int spr_depth_masked(float d_f, float z_near, float eps_t)
     return 0;
 }
 
-/* Does splat (p, n, r) yield a fragment at this pixel?  Covered (above),
+/* Does splat (p, n, e, r) yield a fragment at this pixel?  Covered (above;
+ * e as spr_ray_ellipse, e = (0, 0, 0, r) for a circular splat),
  * not back-facing when culling, and not inside the nearest layer when the
  * draw has a depth mask (z_near: the mask target's stored depth).  Gives t,
  * ρ² and ρ = sqrt(ρ²). */
-SPR_FN int spr_splat_covers(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR p[3], SPR_CARR n[3], float r, int cull, int mask,
-                            float z_near, float eps_t, SPR_OUT t_out, SPR_OUT rho2_out, SPR_OUT rho_out)
+SPR_FN int spr_splat_covers(SPR_CARR o0[3], SPR_CARR d[3], SPR_CARR p[3], SPR_CARR n[3], SPR_CARR e[4], float r,
+                            int cull, int mask, float z_near, float eps_t, SPR_OUT t_out, SPR_OUT rho2_out,
+                            SPR_OUT rho_out)
 {
     float t;
     float rho2;
     float den;
-    if (spr_ray_disk(o0, d, p, n, r, SPR_REF(t), SPR_REF(rho2), SPR_REF(den)) == 0) return 0;
+    if (spr_ray_ellipse(o0, d, p, n, e, r, SPR_REF(t), SPR_REF(rho2), SPR_REF(den)) == 0) return 0;
     if (cull != 0 && den > 0.0f) return 0;
     if (mask != 0 && spr_depth_masked(t, z_near, eps_t) != 0) return 0;
     SPR_PRECISE float rho = spr_sqrt(rho2);

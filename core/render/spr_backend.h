@@ -159,6 +159,22 @@ static inline float spr_draw_radius(const spr_draw_desc *d, uint32_t sid)
     const float r = d->cloud->radius[sid];
     return d->radius_scale > 0.0f ? d->radius_scale * r : r;
 }
+/* The ellipse e = (u, r_v) splat sid is drawn with, r its spr_draw_radius
+ * (spr_ray_ellipse): (0, 0, 0, r) for a circular splat, the minor radius
+ * scaled as the radius is (both backends, on the host). */
+static inline void spr_draw_ellipse(const spr_draw_desc *d, uint32_t sid, float r, float e[4])
+{
+    const float *ce = d->cloud->ell ? d->cloud->ell + 4 * (size_t)sid : NULL;
+    if (!ce || ce[3] == d->cloud->radius[sid]) {
+        e[0] = e[1] = e[2] = 0.0f;
+        e[3] = r;
+        return;
+    }
+    e[0] = ce[0];
+    e[1] = ce[1];
+    e[2] = ce[2];
+    e[3] = d->radius_scale > 0.0f ? d->radius_scale * ce[3] : ce[3];
+}
 
 typedef struct spr_draw_stats {
     uint64_t splats;      /* splats submitted */

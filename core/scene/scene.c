@@ -155,8 +155,10 @@ int spr__model_opts(spr__args *a, spr_scene *s, spr_load_desc *ld)
     if ((!strncmp(model, "builtin:", 8) && spr__get_size(a, "points", &ld->points, 16, SPR_MAX_SPLATS) < 0) ||
         spr__get_int(a, "radius-k", &ld->radius_k, 1, 256) < 0 || spr__get_double(a, "radius-scale", &ld->radius_rho, 1e-6, 1e6) < 0 ||
         spr__get_int(a, "threads", &s->threads, 0, 1024) < 0 || spr__get_double(a, "opacity", &ld->opacity, 1e-6, 1.0) < 0 ||
-        spr__get_int(a, "balls", &ld->balls, 1, 64) < 0)
+        spr__get_int(a, "balls", &ld->balls, 1, 64) < 0 || spr__get_double(a, "gauss-cut", &ld->gauss_cut, 1e-3, 3.0) < 0 ||
+        spr__get_int(a, "sh-degree", &ld->sh_degree, 0, 3) < 0)
         return -1;
+    ld->columns = spr__get(a, "columns");
     ld->threads = s->threads;
     ld->progress = spr__progress(spr__flag(a, "quiet"));
     ld->warn = spr__warn(a);
@@ -323,6 +325,11 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     }
     if (spr__reject_unused(a) || spr__load_model(a, s, &ld)) return -1;
     if (spr_view_make(&s->cam, &s->view, &err)) { spr__error(a, "%s", err.msg); return -1; }
+    if (s->cloud.sh) { /* view-dependent colours for this camera (--sh-degree), on the host: one set of bits for every backend */
+        double eye[3];
+        spr_view_matrix_eye(s->view.V, eye);
+        spr_cloud_sh_colors(&s->cloud, eye);
+    }
     int32_t *axes = NULL;
     if ((uses & SPR_USES_ORDER) && rd->order == SPR_ORDER_BSP && !stream) { /* the tree of [ZP] §5.2.1, once for every frame */
         if (spr_bsp_build(&s->cloud, &s->bsp, &err)) { spr__error(a, "%s", err.msg); return -1; }

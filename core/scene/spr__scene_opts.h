@@ -6,13 +6,16 @@
 
 /* Loading a model. */
 #define SPR__MODEL_OPTS \
-    {"model", "PATH|builtin:NAME", "model file (.ply .off .xyz .pwn) or builtin:sphere|torus|octahedron|planes|cube|spheres (default builtin:torus)"}, \
+    {"model", "PATH|builtin:NAME", "model file (.ply .off .xyz .pwn .txt .asc .csv .pts .splat .spz .glb; docs/formats.md) or builtin:sphere|torus|octahedron|planes|cube|spheres (default builtin:torus)"}, \
     {"points", "N", "size of a built-in model (default 20000)"}, \
     {"radius-k", "K", "k of the radius rule r = rho*d_k when the file has no radii (default 8)"}, \
     {"radius-scale", "RHO", "rho of the radius rule (default 1.0)"}, \
     {"threads", "N", "CPU threads (default: all cores)"}, \
     {"opacity", "A", "set every splat's opacity in (0,1] as loaded, before --balls (default: the file's, else 1)"}, \
     {"balls", "N", "add N small opaque balls inside the closed model, 1..64 (the scenes of [ZP] Fig. 17-19)"}, \
+    {"gauss-cut", "C", "Gaussian-splat files: cut each Gaussian at C standard deviations, in (0,3] (default 3: the gauss kernel is then the capture's Gaussian)"}, \
+    {"sh-degree", "D", "Gaussian-splat files: spherical-harmonics degree of the view-dependent colour, 0..3 (default 0: the DC colour)"}, \
+    {"columns", "LIST", "text point files without a header: the column names, e.g. x,y,z,r,g,b,_,nx,ny,nz (_ skips one)"}, \
     {"quiet", NULL, "no progress on stderr"}
 
 /* The camera and the image. */

@@ -34,7 +34,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 #if defined(SPR_FUZZ_PLY) || defined(SPR_FUZZ_OFF)
     spr__mesh mesh;
 #if defined(SPR_FUZZ_PLY)
-    spr_result r = spr__parse_ply("fuzz.ply", (const char *)data, size, &c, &mesh, NULL, NULL, &err);
+    spr_result r = spr__parse_ply("fuzz.ply", (const char *)data, size, &c, &mesh, NULL, NULL, NULL, &err);
     check_message(r, &err, "fuzz.ply");
 #else
     spr_result r = spr__parse_off("fuzz.off", (const char *)data, size, &c, &mesh, &err);

@@ -1,0 +1,485 @@
+/* io_gauss.c — Gaussian-splat captures as elliptical surfels (issue 15):
+ * the one mapping from a 3D (or 2D) Gaussian to a splat, and the readers
+ * of `.splat`, `.spz` and `.glb` (KHR_gaussian_splatting).  The PLY layouts
+ * (3DGS, 2DGS, compressed) are read in io_ply.c and mapped here.
+ *
+ * Written here rather than taken from a library: none of these readers is
+ * packaged in Debian; zlib inflates `.spz` and cJSON parses the glTF JSON.
+ * The layouts were learnt from their sources (../shared/FORMATS.md) and
+ * are described, with the mapping and its reasoning, in docs/formats.md.
+ */
+#include "spr_io.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zlib.h>
+
+void spr__gauss_defaults(spr__gauss_opts *o)
+{
+    o->cut = 3.0;
+    o->sh_degree = 0;
+}
+
+spr_result spr__gauss_alloc(spr_cloud *c, size_t n, int file_k, const spr__gauss_opts *o, const char *path, spr_error *err)
+{
+    spr_result r = spr_cloud_alloc(c, n);
+    if (!r) r = spr_cloud_alloc_ell(c);
+    const int want = (o->sh_degree + 1) * (o->sh_degree + 1);
+    c->sh_k = o->sh_degree > 0 ? (file_k < want ? file_k : want) : 0;
+    if (c->sh_k <= 1) c->sh_k = 0;
+    if (!r && c->sh_k && !(c->sh = calloc((n ? n : 1) * (size_t)c->sh_k * 3, sizeof(float)))) r = SPR_E_NOMEM;
+    if (r) {
+        spr_cloud_free(c);
+        return spr__fail(err, r, "%s: cannot allocate %zu Gaussian splats", path, n);
+    }
+    c->flags = SPR_SRC_NORMALS | SPR_SRC_COLORS | SPR_SRC_RADII | SPR_SRC_ALPHA | SPR_SRC_ELLIPSES | SPR_SRC_GAUSSIAN;
+    return SPR_OK;
+}
+
+double spr__sigmoid(double x) { return x >= 0.0 ? 1.0 / (1.0 + exp(-x)) : exp(x) / (1.0 + exp(x)); }
+
+spr_result spr__gauss_put(const spr__gauss *g, const spr__gauss_opts *o, spr_cloud *c, size_t s, const char *path, size_t index,
+                          spr_error *err)
+{
+    for (int k = 0; k < 3; k++)
+        if (!spr__finite_float(g->pos[k]))
+            return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: coordinate %c (%g) is not a finite 32-bit float", path, index, "xyz"[k], g->pos[k]);
+    const int ns = g->sigma[2] < 0.0 ? 2 : 3;
+    for (int k = 0; k < ns; k++)
+        if (!(g->sigma[k] > 0.0) || !isfinite(g->sigma[k]))
+            return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: scale %d (σ = %g) is not positive and finite", path, index, k, g->sigma[k]);
+    double w = g->q[0], x = g->q[1], y = g->q[2], z = g->q[3];
+    double l = sqrt(w * w + x * x + y * y + z * z);
+    if (!(l > 0.0) || !isfinite(l))
+        return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: rotation quaternion is zero or not finite", path, index);
+    w /= l, x /= l, y /= l, z /= l;
+    /* columns of R: the Gaussian's local axes in the world */
+    const double R[3][3] = {{1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y + w * z), 2.0 * (x * z - w * y)},
+                            {2.0 * (x * y - w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z + w * x)},
+                            {2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y)}};
+    /* the surfel spans the two largest axes (a 2D Gaussian: its two), largest first; ties by axis */
+    int a = 0, b = 1;
+    if (ns == 3) {
+        int ord[3] = {0, 1, 2};
+        for (int i = 1; i < 3; i++)
+            for (int j = i; j > 0 && g->sigma[ord[j]] > g->sigma[ord[j - 1]]; j--) {
+                int t = ord[j];
+                ord[j] = ord[j - 1];
+                ord[j - 1] = t;
+            }
+        a = ord[0], b = ord[1];
+    } else if (g->sigma[1] > g->sigma[0]) {
+        a = 1, b = 0;
+    }
+    const double *u = R[a], *v = R[b];
+    double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]}; /* n = u × v */
+    const double ru = o->cut * g->sigma[a], rv = o->cut * g->sigma[b];
+    if (!((float)ru > 0.0f) || !isfinite((float)ru) || !((float)rv > 0.0f))
+        return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: radii %g × %g do not fit a 32-bit float", path, index, ru, rv);
+    if (!(g->alpha >= 0.0 && g->alpha <= 1.0))
+        return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: opacity %g is outside [0,1]", path, index, g->alpha);
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(g->rgb[k])) return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: colour is not finite", path, index);
+        c->pos[3 * s + k] = (float)g->pos[k];
+        c->nrm[3 * s + k] = (float)n[k];
+        c->ell[4 * s + k] = (float)u[k];
+        c->color[3 * s + k] = (float)(g->rgb[k] < 0.0 ? 0.0 : g->rgb[k] > 1.0 ? 1.0 : g->rgb[k]);
+    }
+    spr__normalize3(c->nrm + 3 * s);
+    spr__normalize3(c->ell + 4 * s);
+    c->radius[s] = (float)ru;
+    c->ell[4 * s + 3] = (float)rv;
+    c->alpha[s] = (float)g->alpha;
+    return SPR_OK;
+}
+
+/* ---- .splat: 32-byte records (antimatter15's viewer, converters) ---- */
+
+static float le_f32(const unsigned char *p)
+{
+    float f;
+    memcpy(&f, p, 4); /* host is little-endian (checked in CMake) */
+    return f;
+}
+
+spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err)
+{
+    memset(c, 0, sizeof *c);
+    if (len == 0) return spr__fail(err, SPR_E_FORMAT, "%s: no points", path);
+    if (len % 32)
+        return spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: %zu bytes are not whole 32-byte .splat records (the last one ends early)", path,
+                         len - len % 32, len);
+    const size_t n = len / 32;
+    if (n > SPR_MAX_SPLATS) return spr__fail(err, SPR_E_TOO_LARGE, "%s: %zu splats (limit %u)", path, n, SPR_MAX_SPLATS);
+    spr__gauss_opts oo = *o;
+    oo.sh_degree = 0; /* .splat holds colours only */
+    spr_result r = spr__gauss_alloc(c, n, 1, &oo, path, err);
+    if (r) return r;
+    const unsigned char *p = (const unsigned char *)buf;
+    long bad = -1;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)n; i++) {
+        const unsigned char *rec = p + 32 * (size_t)i;
+        spr__gauss g;
+        for (int k = 0; k < 3; k++) {
+            g.pos[k] = le_f32(rec + 4 * k);
+            g.sigma[k] = le_f32(rec + 12 + 4 * k); /* linear σ */
+            g.rgb[k] = rec[24 + k] / 255.0;
+        }
+        g.alpha = rec[27] / 255.0;
+        for (int k = 0; k < 4; k++) g.q[k] = ((double)rec[28 + k] - 128.0) / 128.0; /* w x y z */
+        spr_error e;
+        if (spr__gauss_put(&g, &oo, c, (size_t)i, path, (size_t)i, &e)) {
+#pragma omp critical(spr_splat_bad)
+            if (bad < 0 || i < bad) bad = i;
+        }
+    }
+    if (bad >= 0) { /* the first bad record again, alone, for its message (any thread count) */
+        const unsigned char *rec = p + 32 * (size_t)bad;
+        spr__gauss g;
+        for (int k = 0; k < 3; k++) {
+            g.pos[k] = le_f32(rec + 4 * k);
+            g.sigma[k] = le_f32(rec + 12 + 4 * k);
+            g.rgb[k] = rec[24 + k] / 255.0;
+        }
+        g.alpha = rec[27] / 255.0;
+        for (int k = 0; k < 4; k++) g.q[k] = ((double)rec[28 + k] - 128.0) / 128.0;
+        spr_error e;
+        spr__gauss_put(&g, &oo, c, (size_t)bad, path, (size_t)bad, &e);
+        spr_cloud_free(c);
+        return spr__fail(err, SPR_E_VALUE, "%s (record at byte %zu)", e.msg, 32 * (size_t)bad);
+    }
+    return SPR_OK;
+}
+
+/* ---- .spz: gzip, fixed point (Niantic's library, converters; versions 1–3) ---- */
+
+/* The uncompressed stream, at most `cap` bytes: SPR_E_FORMAT when it is no gzip stream. */
+static spr_result inflate_all(const char *path, const char *buf, size_t len, size_t cap, unsigned char **out, size_t *out_len,
+                              spr_error *err)
+{
+    *out = NULL;
+    *out_len = 0;
+    z_stream zs;
+    memset(&zs, 0, sizeof zs);
+    if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) return spr__fail(err, SPR_E_NOMEM, "%s: cannot start inflating", path);
+    size_t size = 0, room = len * 4 + 4096;
+    if (room > cap) room = cap;
+    unsigned char *o = malloc(room ? room : 1);
+    spr_result r = SPR_OK;
+    zs.next_in = (unsigned char *)buf;
+    zs.avail_in = (uInt)(len < UINT32_MAX ? len : UINT32_MAX);
+    for (;;) {
+        if (!o) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory inflating", path); break; }
+        if (size == room) {
+            if (room == cap) { r = spr__fail(err, SPR_E_TOO_LARGE, "%s: inflates to more than the %zu bytes its header allows", path, cap); break; }
+            size_t nr = room * 2 < cap ? room * 2 : cap;
+            unsigned char *no = realloc(o, nr);
+            if (!no) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory inflating", path); break; }
+            o = no, room = nr;
+        }
+        zs.next_out = o + size;
+        zs.avail_out = (uInt)(room - size < UINT32_MAX ? room - size : UINT32_MAX);
+        int z = inflate(&zs, Z_NO_FLUSH);
+        size = (size_t)(zs.next_out - o);
+        if (z == Z_STREAM_END) break;
+        if (z == Z_OK || (z == Z_BUF_ERROR && zs.avail_out == 0)) continue;
+        r = z == Z_BUF_ERROR ? spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: the gzip stream ends early", path, (size_t)(zs.next_in - (unsigned char *)buf))
+                             : spr__fail(err, SPR_E_FORMAT, "%s: byte %zu: not a valid gzip stream (%s)", path,
+                                         (size_t)(zs.next_in - (unsigned char *)buf), zs.msg ? zs.msg : "inflate failed");
+        break;
+    }
+    inflateEnd(&zs);
+    if (r) { free(o); return r; }
+    *out = o;
+    *out_len = size;
+    return SPR_OK;
+}
+
+static int spz_sh_dim(int degree) { return degree == 1 ? 3 : degree == 2 ? 8 : degree == 3 ? 15 : degree == 4 ? 24 : 0; }
+
+spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err)
+{
+    memset(c, 0, sizeof *c);
+    if (len < 2 || (unsigned char)buf[0] != 0x1f || (unsigned char)buf[1] != 0x8b)
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte 0: not a gzip stream (.spz versions 1–3 are gzip; version 4's zstd container is not read)", path);
+    /* the header first: 16 bytes say how long the rest is */
+    unsigned char *d;
+    size_t dl;
+    const size_t max_bytes = 16 + (size_t)SPR_MAX_SPLATS * (9 + 1 + 3 + 3 + 4 + 24 * 3);
+    spr_result r = inflate_all(path, buf, len, max_bytes, &d, &dl, err);
+    if (r) return r;
+    uint32_t magic = 0, version = 0, n = 0;
+    if (dl >= 16) {
+        memcpy(&magic, d, 4);
+        memcpy(&version, d + 4, 4);
+        memcpy(&n, d + 8, 4);
+    }
+    const int degree = dl >= 16 ? d[12] : 0, frac = dl >= 16 ? d[13] : 0, flags = dl >= 16 ? d[14] : 0;
+    if (dl < 16) r = spr__fail(err, SPR_E_TRUNCATED, "%s: inflated byte %zu: the stream ends inside the 16-byte header", path, dl);
+    else if (magic != 0x5053474eu) r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 0: magic is not NGSP", path);
+    else if (version < 1 || version > 3)
+        r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 4: version %u (versions 1–3 are read)", path, version);
+    else if (degree > 4) r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 12: SH degree %d (at most 4)", path, degree);
+    else if (flags & 2) r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 14: the file carries extensions (flag 2), which are not read", path);
+    else if (frac > 23) r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 13: %d fractional bits (at most 23)", path, frac);
+    else if (n == 0) r = spr__fail(err, SPR_E_FORMAT, "%s: no points", path);
+    else if (n > SPR_MAX_SPLATS) r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %u splats (limit %u)", path, n, SPR_MAX_SPLATS);
+    const size_t pb = version == 1 ? 6 : 9, qb = version >= 3 ? 4 : 3, dim = (size_t)spz_sh_dim(degree);
+    const size_t need = r ? 0 : 16 + (size_t)n * (pb + 1 + 3 + 3 + qb + dim * 3);
+    if (!r && dl != need)
+        r = spr__fail(err, dl < need ? SPR_E_TRUNCATED : SPR_E_FORMAT, "%s: inflated byte %zu: %u splats of version %u need %zu bytes, the stream has %zu",
+                      path, dl < need ? dl : need, n, version, need, dl);
+    if (!r) r = spr__gauss_alloc(c, n, (int)dim + 1, o, path, err);
+    if (r) { free(d); return r; }
+    const unsigned char *P = d + 16, *A = P + (size_t)n * pb, *C = A + n, *S = C + 3 * (size_t)n, *Q = S + 3 * (size_t)n,
+                        *H = Q + qb * (size_t)n;
+    long bad = -1;
+    spr_error first = {0};
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)n; i++) {
+        spr__gauss g;
+        for (int k = 0; k < 3; k++) {
+            if (version == 1) { /* half floats */
+                uint16_t h = (uint16_t)(P[6 * i + 2 * k] | P[6 * i + 2 * k + 1] << 8);
+                int e = h >> 10 & 31, m = h & 1023;
+                double v = e == 0 ? ldexp(m, -24) : e == 31 ? (m ? NAN : INFINITY) : ldexp(m + 1024, e - 25);
+                g.pos[k] = h & 0x8000 ? -v : v;
+            } else { /* 24-bit fixed point */
+                const unsigned char *b = P + 9 * (size_t)i + 3 * (size_t)k;
+                int32_t f = (int32_t)(b[0] | b[1] << 8 | (uint32_t)b[2] << 16);
+                if (f & 0x800000) f -= 0x1000000;
+                g.pos[k] = ldexp((double)f, -frac);
+            }
+            g.sigma[k] = exp(S[3 * i + k] / 16.0 - 10.0);
+            g.rgb[k] = 0.5 + 0.28209479177387814 * ((C[3 * i + k] / 255.0 - 0.5) / 0.15);
+        }
+        g.alpha = A[i] / 255.0; /* stored after the sigmoid */
+        double q[4]; /* x y z w */
+        if (qb == 3) {
+            double s2 = 0.0;
+            for (int k = 0; k < 3; k++) {
+                q[k] = Q[3 * i + k] / 127.5 - 1.0;
+                s2 += q[k] * q[k];
+            }
+            q[3] = sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0);
+        } else { /* smallest three: 2 bits the largest component, 3 × (sign, 9-bit magnitude) */
+            const unsigned char *b = Q + 4 * (size_t)i;
+            uint32_t comp = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+            const int big = (int)(comp >> 30);
+            double s2 = 0.0;
+            for (int k = 3; k >= 0; k--) {
+                if (k == big) continue;
+                double m = 0.7071067811865476 * (double)(comp & 511u) / 511.0;
+                q[k] = (comp >> 9 & 1u) ? -m : m;
+                comp >>= 10;
+                s2 += q[k] * q[k];
+            }
+            q[big] = sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0);
+        }
+        g.q[0] = q[3], g.q[1] = q[0], g.q[2] = q[1], g.q[3] = q[2];
+        if (c->sh) {
+            float *sh = c->sh + (size_t)i * (size_t)c->sh_k * 3;
+            for (int ch = 0; ch < 3; ch++) sh[ch] = (float)((C[3 * i + ch] / 255.0 - 0.5) / 0.15);
+            for (int k = 1; k < c->sh_k; k++)
+                for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] = (float)((H[(size_t)i * dim * 3 + 3 * (size_t)(k - 1) + ch] - 128.0) / 128.0);
+        }
+        spr_error e;
+        if (spr__gauss_put(&g, o, c, (size_t)i, path, (size_t)i, &e)) {
+#pragma omp critical(spr_spz_bad)
+            if (bad < 0 || i < bad) bad = i, first = e;
+        }
+    }
+    free(d);
+    if (bad >= 0) {
+        spr_cloud_free(c);
+        return spr__fail(err, SPR_E_VALUE, "%s", first.msg);
+    }
+    return SPR_OK;
+}
+
+/* ---- .glb: glTF 2.0 binary with KHR_gaussian_splatting ---- */
+
+typedef struct glb_acc {
+    const unsigned char *p; /* first element */
+    size_t count, stride;
+    int ctype, comps, normalized;
+} glb_acc;
+
+static int comp_size(int ct) { return ct == 5120 || ct == 5121 ? 1 : ct == 5122 || ct == 5123 ? 2 : ct == 5125 || ct == 5126 ? 4 : 0; }
+
+static double comp_value(const glb_acc *a, size_t i, int k)
+{
+    const unsigned char *p = a->p + i * a->stride + (size_t)k * (size_t)comp_size(a->ctype);
+    switch (a->ctype) {
+    case 5126: return le_f32(p);
+    case 5120: { double v = (int8_t)p[0]; return a->normalized ? fmax(v / 127.0, -1.0) : v; }
+    case 5121: { double v = p[0]; return a->normalized ? v / 255.0 : v; }
+    case 5122: { int16_t s; memcpy(&s, p, 2); return a->normalized ? fmax(s / 32767.0, -1.0) : s; }
+    case 5123: { uint16_t s; memcpy(&s, p, 2); return a->normalized ? s / 65535.0 : s; }
+    default: return NAN;
+    }
+}
+
+static int json_int(const cJSON *o, const char *key, int dflt)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    return cJSON_IsNumber(v) && v->valuedouble >= 0 && v->valuedouble <= 2147483647.0 ? (int)v->valuedouble : cJSON_IsNumber(v) || v ? -2 : dflt;
+}
+
+/* Accessor `idx` of the JSON over the binary chunk, checked to lie inside it. */
+static spr_result glb_accessor(const char *path, const cJSON *root, int idx, const unsigned char *bin, size_t bin_len, const char *what,
+                               int comps, glb_acc *a, spr_error *err)
+{
+    const cJSON *acc = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "accessors"), idx);
+    if (idx < 0 || !cJSON_IsObject(acc)) return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: accessor %d does not exist", path, what, idx);
+    const cJSON *type = cJSON_GetObjectItemCaseSensitive(acc, "type");
+    const char *want = comps == 1 ? "SCALAR" : comps == 3 ? "VEC3" : "VEC4";
+    if (!cJSON_IsString(type) || strcmp(type->valuestring, want))
+        return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: accessor %d is not %s", path, what, idx, want);
+    a->ctype = json_int(acc, "componentType", -1);
+    a->normalized = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(acc, "normalized"));
+    a->comps = comps;
+    int count = json_int(acc, "count", -1), view = json_int(acc, "bufferView", -1), off = json_int(acc, "byteOffset", 0);
+    if (!comp_size(a->ctype) || a->ctype == 5125 || (a->ctype != 5126 && !a->normalized && strcmp(what, "KHR_gaussian_splatting:SCALE")))
+        return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: component type %d is not one KHR_gaussian_splatting allows", path, what, a->ctype);
+    if (cJSON_GetObjectItemCaseSensitive(acc, "sparse"))
+        return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: sparse accessors are not read", path, what);
+    const cJSON *bv = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "bufferViews"), view);
+    if (count < 0 || off < 0 || view < 0 || !cJSON_IsObject(bv))
+        return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: accessor %d has no valid count, byteOffset or bufferView", path, what, idx);
+    int buffer = json_int(bv, "buffer", -1), voff = json_int(bv, "byteOffset", 0), vlen = json_int(bv, "byteLength", -1),
+        stride = json_int(bv, "byteStride", 0);
+    if (buffer != 0 || voff < 0 || vlen < 0 || stride < 0)
+        return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: buffer view %d is not in the GLB binary chunk or is malformed", path, what, view);
+    const size_t elem = (size_t)comps * (size_t)comp_size(a->ctype);
+    a->stride = stride ? (size_t)stride : elem;
+    a->count = (size_t)count;
+    if (a->stride < elem || (size_t)voff + (size_t)vlen > bin_len ||
+        (count && (size_t)off + (a->count - 1) * a->stride + elem > (size_t)vlen))
+        return spr__fail(err, SPR_E_TRUNCATED, "%s: attribute %s: accessor %d reaches past its buffer view or the binary chunk", path, what, idx);
+    a->p = bin + voff + off;
+    return SPR_OK;
+}
+
+spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err)
+{
+    memset(c, 0, sizeof *c);
+    const unsigned char *b = (const unsigned char *)buf;
+    uint32_t h[5] = {0};
+    if (len >= 20) memcpy(h, b, 20);
+    if (len < 20 || h[0] != 0x46546C67u) return spr__fail(err, SPR_E_FORMAT, "%s: byte 0: not a binary glTF (magic glTF)", path);
+    if (h[1] != 2) return spr__fail(err, SPR_E_FORMAT, "%s: byte 4: glTF version %u (2 is read)", path, h[1]);
+    if (h[2] > len) return spr__fail(err, SPR_E_TRUNCATED, "%s: byte 8: declares %u bytes, the file has %zu", path, h[2], len);
+    if (h[4] != 0x4E4F534Au || h[3] > len - 20)
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte 12: the first chunk is not a JSON chunk inside the file", path);
+    const size_t jl = h[3], bo = 20 + ((jl + 3) & ~(size_t)3);
+    const unsigned char *bin = NULL;
+    size_t bin_len = 0;
+    if (bo + 8 <= len) {
+        uint32_t ch[2];
+        memcpy(ch, b + bo, 8);
+        if (ch[1] == 0x004E4942u) {
+            if (ch[0] > len - bo - 8) return spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: the binary chunk declares %u bytes, fewer follow", path, bo, ch[0]);
+            bin = b + bo + 8;
+            bin_len = ch[0];
+        }
+    }
+    cJSON *root = cJSON_ParseWithLength(buf + 20, jl);
+    if (!root) {
+        const char *at = cJSON_GetErrorPtr();
+        size_t off = at && at >= buf + 20 && at <= buf + 20 + jl ? (size_t)(at - buf) : 20;
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte %zu: the JSON chunk does not parse", path, off);
+    }
+    spr_result r = SPR_OK;
+    /* the first primitive with KHR_gaussian_splatting */
+    const cJSON *prim = NULL, *meshes = cJSON_GetObjectItemCaseSensitive(root, "meshes"), *m;
+    int mesh_index = -1, mi = 0;
+    cJSON_ArrayForEach(m, meshes) {
+        const cJSON *p;
+        cJSON_ArrayForEach(p, cJSON_GetObjectItemCaseSensitive(m, "primitives")) {
+            if (!prim && cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(p, "extensions"), "KHR_gaussian_splatting")) {
+                prim = p;
+                mesh_index = mi;
+            }
+        }
+        mi++;
+    }
+    if (!prim) { r = spr__fail(err, SPR_E_FORMAT, "%s: no mesh primitive carries KHR_gaussian_splatting", path); goto done; }
+    /* node transforms are not applied: a node placing the mesh must be the identity */
+    const cJSON *node;
+    cJSON_ArrayForEach(node, cJSON_GetObjectItemCaseSensitive(root, "nodes")) {
+        if (json_int(node, "mesh", -1) != mesh_index) continue;
+        static const char *const keys[] = {"matrix", "translation", "rotation", "scale"};
+        static const double ident[4][16] = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, {0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
+        for (int k = 0; k < 4; k++) {
+            const cJSON *v = cJSON_GetObjectItemCaseSensitive(node, keys[k]), *e;
+            int j = 0;
+            cJSON_ArrayForEach(e, v) {
+                if (!cJSON_IsNumber(e) || j >= 16 || e->valuedouble != ident[k][j]) {
+                    r = spr__fail(err, SPR_E_FORMAT, "%s: the node of mesh %d has a %s other than the identity; node transforms are not applied", path,
+                                  mesh_index, keys[k]);
+                    goto done;
+                }
+                j++;
+            }
+        }
+    }
+    const cJSON *attrs = cJSON_GetObjectItemCaseSensitive(prim, "attributes");
+    if (!bin) { r = spr__fail(err, SPR_E_FORMAT, "%s: no binary chunk (external buffers are not read)", path); goto done; }
+    static const char *const need[] = {"POSITION", "KHR_gaussian_splatting:ROTATION", "KHR_gaussian_splatting:SCALE",
+                                       "KHR_gaussian_splatting:OPACITY", "KHR_gaussian_splatting:SH_DEGREE_0_COEF_0"};
+    static const int comps[] = {3, 4, 3, 1, 3};
+    glb_acc acc[5], shacc[15];
+    for (int k = 0; k < 5; k++) {
+        int idx = json_int(attrs, need[k], -1);
+        if (idx == -1) { r = spr__fail(err, SPR_E_FORMAT, "%s: the splat primitive lacks the attribute %s", path, need[k]); goto done; }
+        if ((r = glb_accessor(path, root, idx, bin, bin_len, need[k], comps[k], &acc[k], err))) goto done;
+        if (acc[k].count != acc[0].count) {
+            r = spr__fail(err, SPR_E_FORMAT, "%s: attribute %s has %zu elements, POSITION %zu", path, need[k], acc[k].count, acc[0].count);
+            goto done;
+        }
+    }
+    int file_k = 1;
+    for (int l = 1; l <= 3; l++) { /* whole degrees only */
+        int ok = 1;
+        for (int j = 0; j < 2 * l + 1 && ok; j++) {
+            char name[64];
+            snprintf(name, sizeof name, "KHR_gaussian_splatting:SH_DEGREE_%d_COEF_%d", l, j);
+            int idx = json_int(attrs, name, -1);
+            if (idx == -1) { ok = 0; break; }
+            if ((r = glb_accessor(path, root, idx, bin, bin_len, name, 3, &shacc[l * l - 1 + j], err))) goto done;
+            if (shacc[l * l - 1 + j].count != acc[0].count) { r = spr__fail(err, SPR_E_FORMAT, "%s: attribute %s has the wrong count", path, name); goto done; }
+        }
+        if (!ok) break;
+        file_k = (l + 1) * (l + 1);
+    }
+    const size_t n = acc[0].count;
+    if (n == 0) { r = spr__fail(err, SPR_E_FORMAT, "%s: no points", path); goto done; }
+    if (n > SPR_MAX_SPLATS) { r = spr__fail(err, SPR_E_TOO_LARGE, "%s: %zu splats (limit %u)", path, n, SPR_MAX_SPLATS); goto done; }
+    if ((r = spr__gauss_alloc(c, n, file_k, o, path, err))) goto done;
+    for (size_t i = 0; i < n && !r; i++) {
+        spr__gauss g;
+        for (int k = 0; k < 3; k++) {
+            g.pos[k] = comp_value(&acc[0], i, k);
+            double s = comp_value(&acc[2], i, k);
+            g.sigma[k] = exp(s); /* log scale */
+            g.rgb[k] = 0.5 + 0.28209479177387814 * comp_value(&acc[4], i, k);
+        }
+        g.q[0] = comp_value(&acc[1], i, 3), g.q[1] = comp_value(&acc[1], i, 0), g.q[2] = comp_value(&acc[1], i, 1), g.q[3] = comp_value(&acc[1], i, 2);
+        g.alpha = comp_value(&acc[3], i, 0); /* stored after the sigmoid */
+        if (c->sh) {
+            float *sh = c->sh + i * (size_t)c->sh_k * 3;
+            for (int ch = 0; ch < 3; ch++) sh[ch] = (float)comp_value(&acc[4], i, ch);
+            for (int k = 1; k < c->sh_k; k++)
+                for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] = (float)comp_value(&shacc[k - 1], i, ch);
+        }
+        r = spr__gauss_put(&g, o, c, i, path, i, err);
+    }
+    if (r) spr_cloud_free(c);
+done:
+    cJSON_Delete(root);
+    return r;
+}
