@@ -215,6 +215,26 @@ static int generate(uint64_t seed, int i, const char *tmp_ply, rscene *s, spr_er
     int K = 1 + pick(&st, 8);
     if (!(s->labels = malloc(n * sizeof *s->labels))) return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1;
     for (size_t k = 0; k < n; k++) s->labels[k] = pick(&st, K);
+    /* elliptical splats (issue 15), drawn last so every earlier choice of a seed stays as it was */
+    if (chance(&st, 0.35)) {
+        if (spr_cloud_alloc_ell(&s->cloud)) return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1;
+        const int extreme = chance(&st, 0.3);
+        for (size_t k = 0; k < n; k++) {
+            if (chance(&st, 0.2)) continue; /* some stay circles */
+            const float *nv = s->cloud.nrm + 3 * k;
+            double a[3] = {spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5, spr__uniform01(&st) - 0.5}, d = 0.0;
+            for (int q = 0; q < 3; q++) d += a[q] * nv[q];
+            for (int q = 0; q < 3; q++) a[q] -= d * nv[q];
+            if (!(a[0] * a[0] + a[1] * a[1] + a[2] * a[2] > 1e-12)) continue;
+            unit(a);
+            const double ratio = extreme ? 1e-3 + 0.05 * spr__uniform01(&st) : 0.1 + 0.9 * spr__uniform01(&st);
+            float *e = s->cloud.ell + 4 * k;
+            for (int q = 0; q < 3; q++) e[q] = (float)a[q];
+            e[3] = (float)(ratio * s->cloud.radius[k]);
+            if (!(e[3] > 0.0f) || e[3] > s->cloud.radius[k]) e[3] = s->cloud.radius[k];
+        }
+        feature(s, extreme ? "ellipses-thin" : "ellipses");
+    }
     /* through a file and back: the saved scene is this scene, bit for bit */
     spr_cloud back;
     if (spr_write_ply(tmp_ply, &s->cloud, err) || spr_load(tmp_ply, NULL, &back, err)) return -1;
@@ -293,7 +313,11 @@ static void scene_rects(rscene *s, uint64_t seed, int i)
 static int subset(const rscene *s, const uint32_t *keep, size_t m, spr_cloud *c, int32_t **lab, spr_error *err)
 {
     *lab = malloc((m ? m : 1) * sizeof **lab);
-    if (!*lab || spr_cloud_alloc(c, m)) { free(*lab); return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1; }
+    if (!*lab || spr_cloud_alloc(c, m) || (s->cloud.ell && spr_cloud_alloc_ell(c))) {
+        free(*lab);
+        spr_cloud_free(c);
+        return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1;
+    }
     for (size_t k = 0; k < m; k++) {
         size_t j = keep[k];
         memcpy(c->pos + 3 * k, s->cloud.pos + 3 * j, 3 * sizeof(float));
@@ -301,6 +325,7 @@ static int subset(const rscene *s, const uint32_t *keep, size_t m, spr_cloud *c,
         memcpy(c->color + 3 * k, s->cloud.color + 3 * j, 3 * sizeof(float));
         c->alpha[k] = s->cloud.alpha[j];
         c->radius[k] = s->cloud.radius[j];
+        if (s->cloud.ell) memcpy(c->ell + 4 * k, s->cloud.ell + 4 * j, 4 * sizeof(float));
         (*lab)[k] = s->labels[j];
     }
     c->flags = s->cloud.flags;
