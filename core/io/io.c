@@ -200,7 +200,7 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
     else if (splat) r = spr__parse_splat(path, buf, len, &go, c, err);
     else if (spz) r = spr__parse_spz(path, buf, len, &go, c, err);
     else if (glb) r = spr__parse_glb(path, buf, len, &go, c, err);
-    else r = spr__parse_xyz(path, buf, len, c, err);
+    else r = spr__parse_xyz(path, buf, len, d ? d->columns : NULL, c, err);
     free(buf);
     return r;
 }

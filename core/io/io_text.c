@@ -206,55 +206,191 @@ fail:
     return r;
 }
 
-spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err)
+/* ---- point files by column name ---- */
+
+enum { C_SKIP = -1, C_X, C_Y, C_Z, C_NX, C_NY, C_NZ, C_R, C_G, C_B, C_A, C_RADIUS, C__N };
+
+/* Role of a column name, case-insensitive; C_SKIP for names we do not read. */
+static int column_role(const char *name, size_t len)
+{
+    static const struct { const char *n; int r; } tab[] = {
+        {"x", C_X}, {"y", C_Y}, {"z", C_Z}, {"nx", C_NX}, {"ny", C_NY}, {"nz", C_NZ}, {"normal_x", C_NX}, {"normal_y", C_NY},
+        {"normal_z", C_NZ}, {"r", C_R}, {"g", C_G}, {"b", C_B}, {"red", C_R}, {"green", C_G}, {"blue", C_B}, {"a", C_A},
+        {"alpha", C_A}, {"radius", C_RADIUS}};
+    for (size_t k = 0; k < sizeof tab / sizeof tab[0]; k++) {
+        size_t L = strlen(tab[k].n);
+        if (L != len) continue;
+        size_t j = 0;
+        while (j < L && (name[j] | 32) == tab[k].n[j]) j++;
+        if (j == L) return tab[k].r;
+    }
+    return C_SKIP;
+}
+
+static int is_sep(char ch) { return ch == ' ' || ch == '\t' || ch == ',' || ch == ';' || ch == '\r'; }
+
+/* The fields of the line [p, e): starts and lengths, at most max (the count, even past max, is returned). */
+static int split_fields(const char *p, const char *e, const char **f, size_t *fl, int max)
+{
+    int n = 0;
+    while (p < e) {
+        while (p < e && is_sep(*p)) p++;
+        if (p >= e) break;
+        const char *q = p;
+        while (q < e && !is_sep(*q)) q++;
+        if (n < max) f[n] = p, fl[n] = (size_t)(q - p);
+        n++;
+        p = q;
+    }
+    return n;
+}
+
+/* The line [q, e) without a trailing `# comment`. */
+static const char *cut_comment(const char *q, const char *e)
+{
+    const char *h = memchr(q, '#', (size_t)(e - q));
+    return h ? h : e;
+}
+
+/* A field that reads as a number. */
+static int numeric(const char *f, size_t l, double *v)
+{
+    char tmp[64];
+    if (l == 0 || l >= sizeof tmp) return 0;
+    memcpy(tmp, f, l);
+    tmp[l] = 0;
+    char *end;
+    *v = strtod(tmp, &end);
+    return *end == 0;
+}
+
+#define MAX_COLS 64
+
+spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const char *columns, spr_cloud *c, spr_error *err)
 {
     spr_result r;
     memset(c, 0, sizeof *c);
-    if ((r = spr__check_text(path, buf, 0, len, err))) goto fail;
-    /* First pass: count data lines and columns of the first one. */
-    size_t lines = 0;
-    int cols = -1;
-    lexer lx = {path, buf, buf + len, 1};
-    while (lx.p < lx.end) {
-        skip_space(&lx, 0);
-        if (lx.p >= lx.end) break;
-        int n = 0;
-        size_t line = lx.line;
-        while (lx.p < lx.end && *lx.p != '\n') {
-            char tok[128];
-            skip_space(&lx, 1);
-            if (lx.p >= lx.end || *lx.p == '\n') break;
-            size_t k = 0;
-            while (lx.p < lx.end && !strchr(" \t\r\n#", *lx.p)) { if (k < sizeof tok - 1) tok[k++] = *lx.p; lx.p++; }
-            n++;
+    if ((r = spr__check_text(path, buf, 0, len, err))) return r;
+    int role[MAX_COLS], ncols = -1, header_line = 0;
+    const char *f[MAX_COLS];
+    size_t fl[MAX_COLS];
+    if (columns) { /* --columns x,y,z,… */
+        ncols = split_fields(columns, columns + strlen(columns), f, fl, MAX_COLS);
+        if (ncols > MAX_COLS) return spr__fail(err, SPR_E_ARG, "%s: --columns names %d columns (at most %d)", path, ncols, MAX_COLS);
+        for (int k = 0; k < ncols; k++) {
+            role[k] = fl[k] == 1 && f[k][0] == '_' ? C_SKIP : column_role(f[k], fl[k]);
+            if (role[k] == C_SKIP && !(fl[k] == 1 && f[k][0] == '_'))
+                return spr__fail(err, SPR_E_ARG, "%s: --columns: unknown column \"%.*s\" (x y z nx ny nz r g b a radius, _ to skip one)", path,
+                                 (int)(fl[k] < 40 ? fl[k] : 40), f[k]);
         }
-        if (cols < 0) cols = n;
-        if (n != cols || !(n == 3 || n == 6)) {
-            r = spr__fail(err, SPR_E_FORMAT, "%s:%zu: expected %s numbers per line, found %d", path, line,
-                          cols == 6 ? "6 (x y z nx ny nz)" : "3 or 6", n);
-            goto fail;
-        }
-        lines++;
     }
-    if (!lines) { r = spr__fail(err, SPR_E_FORMAT, "%s: no points", path); goto fail; }
-    if ((r = spr_cloud_alloc(c, lines))) { spr__fail(err, r, "%s: cannot allocate %zu splats", path, lines); goto fail; }
-    lexer l2 = {path, buf, buf + len, 1};
-    for (size_t i = 0; i < lines; i++) {
-        double v[6];
-        for (int k = 0; k < cols; k++)
-            if ((r = next_double(&l2, &v[k], "point", i, err))) goto fail;
-        if ((r = check_point(&l2, v, i, err)) || (r = check_values(&l2, v, cols, "point", i, err))) goto fail;
-        for (int k = 0; k < 3; k++) c->pos[3 * i + k] = (float)v[k];
-        if (cols == 6) {
-            for (int k = 0; k < 3; k++) c->nrm[3 * i + k] = (float)v[3 + k];
-            if (spr__normalize3(c->nrm + 3 * i)) { r = spr__fail(err, SPR_E_VALUE, "%s:%zu: point %zu: zero or non-finite normal", path, l2.line, i); goto fail; }
+    /* first pass: the header, then count the data lines and check their width */
+    size_t lines = 0, line = 0, first_data = 0;
+    double cmax = 0.0;
+    for (const char *p = buf, *end = buf + len; p < end;) {
+        const char *e = memchr(p, '\n', (size_t)(end - p));
+        if (!e) e = end;
+        line++;
+        const char *q = p;
+        while (q < e && is_sep(*q)) q++;
+        int comment = q < e && (*q == '#' || (q + 1 < e && q[0] == '/' && q[1] == '/'));
+        if (comment) q += *q == '#' ? 1 : 2;
+        else e = cut_comment(q, e);
+        int n = split_fields(q, e, f, fl, MAX_COLS);
+        double v;
+        int names = n > 0 && n <= MAX_COLS && !numeric(f[0], fl[0], &v);
+        if (!lines && !header_line && names && !columns) { /* a header line: `//X Y Z …`, `# x y z …` or CSV `x,y,z,…` */
+            int have = 0;
+            for (int k = 0; k < n; k++) {
+                role[k] = column_role(f[k], fl[k]);
+                if (role[k] >= 0) have |= 1 << role[k];
+            }
+            if ((have & 7) == 7 || !comment) {
+                if ((have & 7) != 7)
+                    return spr__fail(err, SPR_E_FORMAT, "%s:%zu: the header line does not name columns x, y and z", path, line);
+                ncols = n;
+                header_line = (int)line;
+                p = e + 1;
+                continue;
+            }
+        }
+        if (comment || n == 0) { p = e + 1; continue; } /* comments and blank lines */
+        if (ncols < 0) { /* no header, no --columns: x y z [nx ny nz] */
+            if (n != 3 && n != 6)
+                return spr__fail(err, SPR_E_FORMAT, "%s:%zu: expected 3 or 6 numbers per line (x y z [nx ny nz]), found %d: name the columns with a "
+                                 "header line (//X Y Z R G B Nx Ny Nz) or --columns (e.g. x,y,z,r,g,b,_,nx,ny,nz)", path, line, n);
+            ncols = n;
+            for (int k = 0; k < n; k++) role[k] = k;
+        }
+        if (n != ncols)
+            return spr__fail(err, SPR_E_FORMAT, "%s:%zu: expected %d %s per line, found %d", path, line, ncols,
+                             header_line ? "columns (as the header names)" : columns ? "columns (as --columns names)" : "numbers", n);
+        for (int k = 0; k < n; k++) {
+            if (!numeric(f[k], fl[k], &v))
+                return spr__fail(err, SPR_E_FORMAT, "%s:%zu: column %d: expected a number, found \"%.*s\"", path, line, k + 1,
+                                 (int)(fl[k] < 40 ? fl[k] : 40), f[k]);
+            if (role[k] >= C_R && role[k] <= C_A && v > cmax) cmax = v;
+        }
+        if (!lines) first_data = line;
+        lines++;
+        p = e + 1;
+    }
+    (void)first_data;
+    if (!lines) return spr__fail(err, SPR_E_FORMAT, "%s: no points", path);
+    int have = 0;
+    for (int k = 0; k < ncols; k++)
+        if (role[k] >= 0) have |= 1 << role[k];
+    if ((have & 7) != 7) return spr__fail(err, SPR_E_FORMAT, "%s: the columns do not include x, y and z", path);
+    const int nrm = (have & 0x38) == 0x38, col = (have & 0x1c0) == 0x1c0;
+    if ((have & 0x38) && !nrm) return spr__fail(err, SPR_E_FORMAT, "%s: the columns name some of nx ny nz but not all three", path);
+    if ((r = spr_cloud_alloc(c, lines))) return spr__fail(err, r, "%s: cannot allocate %zu splats", path, lines);
+    /* colours: integers 0..255 when any exceeds 1 (CloudCompare writes 0..255), else [0,1] */
+    const double cs = cmax > 1.0 ? 1.0 / 255.0 : 1.0;
+    size_t i = 0;
+    line = 0;
+    for (const char *p = buf, *end = buf + len; p < end && i < lines; p = p + 1) {
+        const char *e = memchr(p, '\n', (size_t)(end - p));
+        if (!e) e = end;
+        line++;
+        const char *q = p;
+        while (q < e && is_sep(*q)) q++;
+        const int comment = q < e && (*q == '#' || (q + 1 < e && q[0] == '/' && q[1] == '/'));
+        p = e;
+        int n = comment || (int)line == header_line ? 0 : split_fields(q, cut_comment(q, e), f, fl, MAX_COLS);
+        if (!n) continue;
+        double v[C__N] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0};
+        for (int k = 0; k < n; k++) {
+            double x = 0.0;
+            numeric(f[k], fl[k], &x);
+            if (role[k] < 0) continue;
+            if (!spr__finite_float(x) && role[k] <= C_Z)
+                return spr_cloud_free(c), spr__fail(err, SPR_E_VALUE, "%s:%zu: point %zu: coordinate %c (%g) is not a finite 32-bit float", path,
+                                                    line, i, "xyz"[role[k]], x);
+            if (!spr__finite_float(x))
+                return spr_cloud_free(c), spr__fail(err, SPR_E_VALUE, "%s:%zu: point %zu: column %d (%g) is not a finite 32-bit float", path, line,
+                                                    i, k + 1, x);
+            v[role[k]] = x;
+        }
+        for (int k = 0; k < 3; k++) c->pos[3 * i + k] = (float)v[C_X + k];
+        if (nrm) {
+            for (int k = 0; k < 3; k++) c->nrm[3 * i + k] = (float)v[C_NX + k];
+            if (spr__normalize3(c->nrm + 3 * i))
+                return spr_cloud_free(c), spr__fail(err, SPR_E_VALUE, "%s:%zu: point %zu: zero or non-finite normal", path, line, i);
         } else {
             c->nrm[3 * i] = c->nrm[3 * i + 1] = c->nrm[3 * i + 2] = 0.0f;
         }
+        if (col) {
+            for (int k = 0; k < 3; k++) c->color[3 * i + k] = (float)(v[C_R + k] * cs);
+            if (have & (1 << C_A)) c->alpha[i] = (float)(v[C_A] * cs);
+        }
+        if (have & (1 << C_RADIUS)) {
+            if (!(v[C_RADIUS] > 0.0))
+                return spr_cloud_free(c), spr__fail(err, SPR_E_VALUE, "%s:%zu: point %zu: radius %g is not positive", path, line, i, v[C_RADIUS]);
+            c->radius[i] = (float)v[C_RADIUS];
+        }
+        i++;
     }
-    c->flags = cols == 6 ? SPR_SRC_NORMALS : 0;
+    c->flags = (nrm ? SPR_SRC_NORMALS : 0) | (col ? SPR_SRC_COLORS : 0) | ((have & (1 << C_A)) ? SPR_SRC_ALPHA : 0) |
+               ((have & (1 << C_RADIUS)) ? SPR_SRC_RADII : 0);
     return SPR_OK;
-fail:
-    spr_cloud_free(c);
-    return r;
 }

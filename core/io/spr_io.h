@@ -106,7 +106,12 @@ spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const
 spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
-spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, spr_cloud *c, spr_error *err);
+/* Point files by column name (docs/formats.md): a header line (`//X Y Z
+ * R G B … Nx Ny Nz`, `# x y z nx ny nz`, CSV `x,y,z,…`) names the columns,
+ * case-insensitive, unknown ones skipped; separators space, tab, comma,
+ * semicolon; columns (--columns, NULL: none) names them for a file without
+ * a header; otherwise 3 (x y z) or 6 (x y z nx ny nz) columns. */
+spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const char *columns, spr_cloud *c, spr_error *err);
 spr_result spr__builtin(const char *name, size_t n, spr_cloud *c, spr_error *err);
 /* Append n small opaque balls inside the closed model c (builtin.c). */
 spr_result spr__add_balls(spr_cloud *c, int n, spr_error *err);

@@ -45,7 +45,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         spr_cloud_free(&c);
     }
 #elif defined(SPR_FUZZ_XYZ)
-    spr_result r = spr__parse_xyz("fuzz.xyz", (const char *)data, size, &c, &err);
+    spr_result r = spr__parse_xyz("fuzz.xyz", (const char *)data, size, NULL, &c, &err);
     check_message(r, &err, "fuzz.xyz");
     if (!r) spr_cloud_free(&c);
 #elif defined(SPR_FUZZ_GROUPS)
