@@ -15,6 +15,7 @@
 #include "spr_group.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -31,7 +32,14 @@ void spr_mgc_defaults(spr_mgc_desc *d)
 
 static double dot3(const float *a, const float *b) { return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2]; }
 
+static int conflict_cos(const spr_cloud *c, const spr_mgc_desc *d, double cos_c, size_t i, size_t j);
+
 int spr_mgc_conflict(const spr_cloud *c, const spr_mgc_desc *d, size_t i, size_t j)
+{
+    return conflict_cos(c, d, cos(d->coplanar_deg * M_PI / 180.0), i, j);
+}
+
+static int conflict_cos(const spr_cloud *c, const spr_mgc_desc *d, double cos_c, size_t i, size_t j)
 {
     if (i == j) return 0;
     const float *pi = c->pos + 3 * i, *pj = c->pos + 3 * j, *ni = c->nrm + 3 * i, *nj = c->nrm + 3 * j;
@@ -40,12 +48,20 @@ int spr_mgc_conflict(const spr_cloud *c, const spr_mgc_desc *d, size_t i, size_t
     if (!(dist < d->c * ((double)c->radius[i] + (double)c->radius[j]))) return 0;
     double nn = dot3(ni, nj);
     if (d->relax_opposite && nn < 0.0) return 0;
-    if (d->relax_coplanar && nn >= cos(d->coplanar_deg * M_PI / 180.0)) {
+    if (d->relax_coplanar && nn >= cos_c) {
         double hi = fabs(q[0] * ni[0] + q[1] * ni[1] + q[2] * ni[2]);
         double hj = fabs(q[0] * nj[0] + q[1] * nj[1] + q[2] * nj[2]);
         if (hi <= d->coplanar_tau * c->radius[i] && hj <= d->coplanar_tau * c->radius[j]) return 0;
     }
     return 1;
+}
+
+typedef struct mgc_keep { const spr_cloud *c; const spr_mgc_desc *d; double cos_c; } mgc_keep;
+/* The conflict test is symmetric in i and j (each relaxation is). */
+static int keep_conflict(const void *user, size_t i, size_t j)
+{
+    const mgc_keep *k = user;
+    return conflict_cos(k->c, k->d, k->cos_c, i, j);
 }
 
 typedef struct { uint32_t deg, idx; } vdeg;
@@ -64,23 +80,17 @@ spr_result spr_group_mgc(const spr_cloud *c, const spr_mgc_desc *din, int32_t *l
     double t0 = spr_now_ms();
     spr_graph g; /* |p_i − p_j| < c·(r_i + r_j): relaxation 3 applied by the search */
     spr_result r = SPR_OK;
-    if (d.c > 0.0) {
-        r = spr__pair_graph(c, d.c, d.threads, &d.progress, &g, err);
+    const double cos_c = cos(d.coplanar_deg * M_PI / 180.0);
+    mgc_keep mk = {c, &d, cos_c};
+    if (d.c > 0.0) { /* relaxations 1 and 2 decided once per pair, inside the search */
+        r = spr__pair_graph_keep(c, d.c, d.threads, &d.progress, keep_conflict, &mk, &g, err);
     } else { /* c = 0: no pair is closer than 0, so no edge (SPEC §5.1 allows c ∈ [0, 1]) */
         g.n = c->n;
         g.adj = NULL;
         if (!(g.start = calloc(c->n + 1, sizeof *g.start))) r = spr__fail(err, SPR_E_NOMEM, "mgc: out of memory");
     }
     if (r) return r;
-    /* Keep only conflict edges, in place (lists stay ascending). */
-    uint64_t w = 0;
-    for (size_t i = 0; i < c->n; i++) {
-        uint64_t s = g.start[i], e = g.start[i + 1];
-        g.start[i] = w;
-        for (uint64_t k = s; k < e; k++)
-            if (spr_mgc_conflict(c, &d, i, g.adj[k])) g.adj[w++] = g.adj[k];
-    }
-    g.start[c->n] = w;
+    const uint64_t w = g.start[c->n];
     st->ms_graph = spr_now_ms() - t0;
     t0 = spr_now_ms();
     vdeg *order = malloc(c->n * sizeof *order);

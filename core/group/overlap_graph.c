@@ -5,6 +5,7 @@
 #include "spr_group.h"
 #include "spr_overlap.h"
 
+#include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,34 +23,261 @@ spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_
     return spr__pair_graph_rows(c, f, NULL, 0, threads, prog, g, err);
 }
 
+/* The pairs are found on a grid of columns, not with a kd-tree: the (y, z)
+ * plane is cut into square cells of side h (about one search radius), each
+ * column holds its points sorted by x, and a query scans the columns its
+ * ball's box meets, each from a binary search to px − R up to px + R.
+ * The candidates lie contiguous in cell order, copied there once (x y z r),
+ * and the work splits evenly over threads.  A pair with r_j ≤ r_i lies
+ * within f·2r_i of p_i, so every pair is found from the side of its larger
+ * radius (ties: the smaller index) with that search radius, whatever the
+ * largest radius of the cloud, then entered in both rows.  Membership is
+ * decided in double, |p_i − p_j|² < (f·(r_i + r_j))², so the graph is
+ * exactly the one of any exact search: rows ascending, the same for any
+ * thread count. */
+typedef struct col_grid {
+    double lo[2], h;   /* y, z */
+    int64_t dim[2];
+    uint32_t *start;   /* columns + 1 */
+    uint32_t *idx;     /* point index in column order (by x, then index) */
+    float *s;          /* x y z r per entry of idx */
+} col_grid;
+
+static int64_t col_cell(const col_grid *G, double v, int a)
+{
+    double k = floor((v - G->lo[a]) / G->h);
+    return k < 0.0 ? 0 : k >= (double)G->dim[a] ? G->dim[a] - 1 : (int64_t)k;
+}
+
+typedef struct xkey { float x; uint32_t i; } xkey;
+static int by_x(const void *a, const void *b)
+{
+    const xkey *p = a, *q = b;
+    if (p->x != q->x) return p->x < q->x ? -1 : 1;
+    return (p->i > q->i) - (p->i < q->i);
+}
+
+static spr_result grid_build(const spr_cloud *c, const spr_bounds *b, double f, int nt, col_grid *G, spr_error *err)
+{
+    const size_t n = c->n;
+    double ext[2];
+    for (int a = 0; a < 2; a++) {
+        G->lo[a] = b->lo[a + 1];
+        ext[a] = b->hi[a + 1] - b->lo[a + 1];
+    }
+    G->h = 2.0 * f * b->mean_radius; /* about the mean search radius; at most 4n (+64K) columns */
+    if (!(G->h > 0.0)) G->h = 1.0;
+    double cols;
+    for (;;) {
+        cols = (floor(ext[0] / G->h) + 1.0) * (floor(ext[1] / G->h) + 1.0);
+        if (cols <= 4.0 * (double)n + 65536.0) break;
+        G->h *= 1.25;
+    }
+    for (int a = 0; a < 2; a++) G->dim[a] = (int64_t)(floor(ext[a] / G->h) + 1.0);
+    const size_t ncol = (size_t)cols;
+    G->start = calloc(ncol + 1, sizeof *G->start);
+    G->idx = malloc(n * sizeof *G->idx);
+    G->s = malloc(4 * n * sizeof *G->s);
+    uint32_t *key = malloc(n * sizeof *key), *fill = malloc(ncol * sizeof *fill);
+    xkey *xk = malloc(n * sizeof *xk);
+    spr_result r = SPR_OK;
+    if (!G->start || !G->idx || !G->s || !key || !fill || !xk) {
+        r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour grid");
+        goto done;
+    }
+#pragma omp parallel for num_threads(nt) schedule(static)
+    for (long i = 0; i < (long)n; i++) {
+        const float *p = c->pos + 3 * (size_t)i;
+        key[i] = (uint32_t)(col_cell(G, p[2], 1) * G->dim[0] + col_cell(G, p[1], 0));
+    }
+    for (size_t i = 0; i < n; i++) G->start[key[i] + 1]++;
+    for (size_t k = 0; k < ncol; k++) G->start[k + 1] += G->start[k];
+    memcpy(fill, G->start, ncol * sizeof *fill);
+    for (size_t i = 0; i < n; i++) {
+        xkey *e = &xk[fill[key[i]]++];
+        e->x = c->pos[3 * i];
+        e->i = (uint32_t)i;
+    }
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 64)
+    for (long k = 0; k < (long)ncol; k++) {
+        const uint32_t a = G->start[k], e = G->start[k + 1];
+        if (e - a > 1) qsort(xk + a, e - a, sizeof *xk, by_x);
+        for (uint32_t q = a; q < e; q++) {
+            const uint32_t i = xk[q].i;
+            G->idx[q] = i;
+            memcpy(G->s + 4 * (size_t)q, c->pos + 3 * (size_t)i, 3 * sizeof(float));
+            G->s[4 * (size_t)q + 3] = c->radius[i];
+        }
+    }
+done:
+    free(key);
+    free(fill);
+    free(xk);
+    return r;
+}
+
+/* The neighbours of point i (entry q of the grid) within R that meet the
+ * pair test (with `half`: only those found from i's side); out gets up to
+ * cap of them; returns how many there are. */
+static size_t grid_query(const col_grid *G, size_t q, double R, double f, int half, spr__pair_keep keep, const void *user, uint32_t *out,
+                         size_t cap)
+{
+    const float *pi = G->s + 4 * q;
+    const uint32_t i = G->idx[q];
+    const double px = pi[0], ri = pi[3];
+    const int64_t y0 = col_cell(G, (double)pi[1] - R, 0), y1 = col_cell(G, (double)pi[1] + R, 0);
+    const int64_t z0 = col_cell(G, (double)pi[2] - R, 1), z1 = col_cell(G, (double)pi[2] + R, 1);
+    size_t m = 0;
+    for (int64_t z = z0; z <= z1; z++)
+        for (int64_t y = y0; y <= y1; y++) {
+            const size_t col = (size_t)(z * G->dim[0] + y);
+            uint32_t lo = G->start[col], hi = G->start[col + 1];
+            const double xlo = px - R, xhi = px + R;
+            while (lo < hi) { /* first entry with x ≥ px − R */
+                uint32_t mid = lo + (hi - lo) / 2;
+                if ((double)G->s[4 * (size_t)mid] < xlo) lo = mid + 1; else hi = mid;
+            }
+            for (uint32_t k = lo; k < G->start[col + 1]; k++) {
+                const float *pj = G->s + 4 * (size_t)k;
+                if ((double)pj[0] > xhi) break;
+                const uint32_t j = G->idx[k];
+                if (j == i) continue;
+                const double rj = pj[3];
+                if (half && (rj > ri || (rj == ri && j < i))) continue; /* found from j's side */
+                double d2 = 0.0;
+                for (int a = 0; a < 3; a++) {
+                    double d = (double)pi[a] - (double)pj[a];
+                    d2 += d * d;
+                }
+                const double lim = f * (ri + rj);
+                if (!(d2 < lim * lim)) continue;
+                if (keep && !keep(user, i, j)) continue;
+                if (m < cap) out[m] = j;
+                m++;
+            }
+        }
+    return m;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads, const spr_progress *prog,
+                             spr__pair_keep keep, const void *user, spr_graph *g, spr_error *err);
+
 spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
                                 const spr_progress *prog, spr_graph *g, spr_error *err)
 {
+    return pair_graph(c, f, row, want, threads, prog, NULL, NULL, g, err);
+}
+
+spr_result spr__pair_graph_keep(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr__pair_keep keep, const void *user,
+                                spr_graph *g, spr_error *err)
+{
+    return pair_graph(c, f, NULL, 0, threads, prog, keep, user, g, err);
+}
+
+static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads, const spr_progress *prog,
+                             spr__pair_keep keep, const void *user, spr_graph *g, spr_error *err)
+{
+    memset(g, 0, sizeof *g);
+    const size_t n = c->n;
+    g->n = n;
+    if (n == 0) {
+        if (!(g->start = calloc(1, sizeof *g->start))) return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+        return SPR_OK;
+    }
     spr_bounds b;
     spr_cloud_bounds(c, &b);
-    spr_knn *kn;
-    spr_result r = spr_knn_build(c->pos, c->n, &kn, err);
-    if (r) return r;
-    r = spr_knn_radius_graph_rows(kn, c->radius, f, b.max_radius, row, want, threads, g, prog, err);
-    spr_knn_free(kn);
-    if (r) return r;
-    uint64_t w = 0;
-    for (size_t i = 0; i < c->n; i++) {
-        uint64_t s = g->start[i], e = g->start[i + 1];
-        g->start[i] = w;
-        for (uint64_t k = s; k < e; k++) {
-            size_t j = g->adj[k];
-            double d2 = 0.0;
-            for (int a = 0; a < 3; a++) {
-                double q = (double)c->pos[3 * i + a] - c->pos[3 * j + a];
-                d2 += q * q;
-            }
-            double lim = f * ((double)c->radius[i] + c->radius[j]);
-            if (d2 < lim * lim) g->adj[w++] = g->adj[k];
+    const int nt = threads > 0 ? threads : omp_get_max_threads();
+    col_grid G = {0};
+    spr_result r = grid_build(c, &b, f, nt, &G, err);
+    uint32_t *cnt = r ? NULL : calloc(n + 1, sizeof *cnt);
+    if (!r && !cnt) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+    const int half = row == NULL; /* whole graph: each pair from one side, then both rows */
+    /* pass 1: how many each searched row finds (queries in grid order: neighbours share cache lines) */
+    if (!r) {
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1024)
+        for (long q = 0; q < (long)n; q++) {
+            if ((q & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", (size_t)q, 2 * n);
+            const uint32_t i = G.idx[q];
+            if (row && row[i] != want) continue;
+            const double R = half ? 2.0 * f * c->radius[i] : f * ((double)c->radius[i] + b.max_radius);
+            cnt[i] = (uint32_t)grid_query(&G, (size_t)q, R, f, half, keep, user, NULL, 0);
         }
     }
-    g->start[c->n] = w;
-    return SPR_OK;
+    uint64_t *fst = r ? NULL : malloc((n + 1) * sizeof *fst);
+    if (!r && !fst) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+    uint32_t *found = NULL;
+    if (!r) {
+        fst[0] = 0;
+        for (size_t i = 0; i < n; i++) fst[i + 1] = fst[i] + cnt[i];
+        if (!(found = malloc((fst[n] ? fst[n] : 1) * sizeof *found))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+    }
+    if (!r) { /* pass 2: the pairs */
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1024)
+        for (long q = 0; q < (long)n; q++) {
+            if ((q & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", n + (size_t)q, 2 * n);
+            const uint32_t i = G.idx[q];
+            if (fst[i + 1] == fst[i]) continue;
+            const double R = half ? 2.0 * f * c->radius[i] : f * ((double)c->radius[i] + b.max_radius);
+            grid_query(&G, (size_t)q, R, f, half, keep, user, found + fst[i], (size_t)(fst[i + 1] - fst[i]));
+        }
+    }
+    free(G.start);
+    free(G.idx);
+    free(G.s);
+    if (!r) { /* the rows: a row's own finds, and with `half` every pair entered from the other side too */
+        if (!(g->start = malloc((n + 1) * sizeof *g->start))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+    }
+    if (!r) {
+        uint64_t *deg = calloc(n + 1, sizeof *deg);
+        if (!deg) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+        for (size_t i = 0; !r && i < n; i++) {
+            deg[i] += fst[i + 1] - fst[i];
+            if (half)
+                for (uint64_t k = fst[i]; k < fst[i + 1]; k++) deg[found[k]]++;
+        }
+        if (!r) {
+            g->start[0] = 0;
+            for (size_t i = 0; i < n; i++) g->start[i + 1] = g->start[i] + deg[i];
+            if (!(g->adj = malloc((g->start[n] ? g->start[n] : 1) * sizeof *g->adj)))
+                r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+        }
+        if (!r) {
+            for (size_t i = 0; i < n; i++) deg[i] = g->start[i];
+            for (size_t i = 0; i < n; i++)
+                for (uint64_t k = fst[i]; k < fst[i + 1]; k++) {
+                    g->adj[deg[i]++] = found[k];
+                    if (half) g->adj[deg[found[k]]++] = (uint32_t)i;
+                }
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 4096)
+            for (long i = 0; i < (long)n; i++) {
+                uint32_t *a = g->adj + g->start[i];
+                const size_t m = (size_t)(g->start[i + 1] - g->start[i]);
+                if (m > 64) {
+                    qsort(a, m, sizeof *a, cmp_u32);
+                    continue;
+                }
+                for (size_t x = 1; x < m; x++) { /* short rows: insertion sort */
+                    uint32_t v = a[x];
+                    size_t y = x;
+                    for (; y > 0 && a[y - 1] > v; y--) a[y] = a[y - 1];
+                    a[y] = v;
+                }
+            }
+        }
+        free(deg);
+    }
+    free(found);
+    free(fst);
+    free(cnt);
+    if (r) spr_graph_free(g);
+    spr_progress_report(prog, "neighbour graph", 2 * n, 2 * n);
+    return r;
 }
 
 spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,

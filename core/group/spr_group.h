@@ -134,6 +134,11 @@ spr_result spr_overlap_graph_build_rows_need(const spr_cloud *c, double eps, con
 /* All pairs with |p_i − p_j| < f·(r_i + r_j) (no areas); row (may be NULL):
  * only rows i with row[i] == want are searched. */
 spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err);
+/* The same graph with only the pairs keep(user, i, j) accepts; keep must be
+ * symmetric (keep(i, j) == keep(j, i)): each pair is asked once. */
+typedef int (*spr__pair_keep)(const void *user, size_t i, size_t j);
+spr_result spr__pair_graph_keep(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr__pair_keep keep, const void *user,
+                                spr_graph *g, spr_error *err);
 spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
                                 const spr_progress *prog, spr_graph *g, spr_error *err);
 
