@@ -22,6 +22,8 @@ Suite *make_domain_suite(void);
 Suite *make_tools_suite(void);
 Suite *make_tools_gl_suite(void);
 Suite *make_browser_suite(void);
+Suite *make_capture_suite(void);
+Suite *make_capture_gl_suite(void);
 
 static const struct { const char *name; Suite *(*make)(void); int gl; } suites[] = {
     {"kernel", make_kernel_suite, 0}, {"camera", make_camera_suite, 0}, {"raster", make_raster_suite, 0},
@@ -32,6 +34,8 @@ static const struct { const char *name; Suite *(*make)(void); int gl; } suites[]
     {"tools", make_tools_suite, 0},
     {"tools_gl", make_tools_gl_suite, 1},
     {"browser", make_browser_suite, 0},
+    {"capture", make_capture_suite, 0},
+    {"capture_gl", make_capture_gl_suite, 1},
     {"gl", make_gl_suite, 1},
 };
 

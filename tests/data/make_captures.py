@@ -1,0 +1,222 @@
+#!/usr/bin/env python3
+"""make_captures.py — writes the small capture files of tests/data/captures/
+(issue 15), each built to its published layout (../shared/FORMATS.md,
+docs/formats.md).  The files are committed; this script documents how they
+were made and remakes them: python3 tests/data/make_captures.py.
+
+One scene, "the sheet": 24 x 24 Gaussians on a plane through (0.25, -0.5,
+0.75), 0.05 apart, all with the rotation q0 (60 degrees about (1, 2, 0.5)),
+log-scales (-3.5, -4.0, -6.25) along the local axes (so the sheet spans
+local x and y and its normal is local z), colour (204, 102, 51)/255 and
+opacity 0.75 (logit ln 3).  The scales are multiples of 1/16 (exact in
+.spz) and the colours exact in bytes, so the formats differ only where
+their layouts quantise: positions (.spz 12 fractional bits, compressed PLY
+11/10/11 bits per chunk), rotations (.splat 8 bits, .spz 9 bits, compressed
+10 bits), colour and opacity (8 bits).
+"""
+import gzip
+import json
+import math
+import os
+import struct
+
+HERE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "captures")
+C0 = 0.28209479177387814
+N, SPACING = 24, 0.05
+CENTRE = (0.25, -0.5, 0.75)
+LOG_SCALE = (-3.5, -4.0, -6.25)
+COLOUR = (204 / 255, 102 / 255, 51 / 255)
+OPACITY = math.log(3.0)  # sigmoid -> 0.75
+
+
+def quat_axis_angle(axis, deg):
+    l = math.sqrt(sum(a * a for a in axis))
+    s = math.sin(math.radians(deg) / 2)
+    return (math.cos(math.radians(deg) / 2), axis[0] / l * s, axis[1] / l * s, axis[2] / l * s)
+
+
+Q0 = quat_axis_angle((1.0, 2.0, 0.5), 60.0)  # w x y z
+
+
+def rot_cols(q):
+    w, x, y, z = q
+    return ((1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)),
+            (2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)),
+            (2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)))
+
+
+def sheet():
+    u, v, _ = rot_cols(Q0)
+    pts = []
+    for j in range(N):
+        for i in range(N):
+            a, b = (i - (N - 1) / 2) * SPACING, (j - (N - 1) / 2) * SPACING
+            pts.append(tuple(struct.unpack("<f", struct.pack("<f", CENTRE[k] + a * u[k] + b * v[k]))[0] for k in range(3)))
+    return pts
+
+
+def ply_header(n, props, extra=""):
+    return ("ply\nformat binary_little_endian 1.0\ncomment made by tests/data/make_captures.py\nelement vertex %d\n" % n +
+            "".join("property %s %s\n" % (t, p) for t, p in props) + extra + "end_header\n").encode()
+
+
+def write(name, data):
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(data)
+
+
+def gs_ply(name, q_scale=1.0, two_d=False):
+    pts = sheet()
+    names = ["x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"] + ["f_rest_%d" % k for k in range(45)] + \
+            ["opacity", "scale_0", "scale_1"] + ([] if two_d else ["scale_2"]) + ["rot_0", "rot_1", "rot_2", "rot_3"]
+    body = b""
+    fdc = [(c - 0.5) / C0 for c in COLOUR]
+    for p in pts:
+        vals = list(p) + [0, 0, 0] + fdc + [0.0] * 45 + [OPACITY] + list(LOG_SCALE[:2 if two_d else 3]) + [q * q_scale for q in Q0]
+        body += struct.pack("<%df" % len(vals), *vals)
+    write(name, ply_header(len(pts), [("float", n) for n in names]) + body)
+
+
+def splat_file():
+    out = b""
+    for p in sheet():
+        sc = [math.exp(s) for s in LOG_SCALE]
+        rgba = [round(c * 255) for c in COLOUR] + [round(0.75 * 255)]
+        rot = [max(0, min(255, round(q * 128 + 128))) for q in Q0]
+        out += struct.pack("<3f3f4B4B", *p, *sc, *rgba, *rot)
+    write("sheet.splat", out)
+
+
+def spz_file(version):
+    pts = sheet()
+    n = len(pts)
+    frac = 12
+    hdr = struct.pack("<IIIBBBB", 0x5053474E, version, n, 0, frac, 0, 0)
+    pos = b""
+    for p in pts:
+        for c in p:
+            f = int(round(c * (1 << frac))) & 0xFFFFFF
+            pos += bytes((f & 255, f >> 8 & 255, f >> 16 & 255))
+    alpha = bytes([round(0.75 * 255)] * n)
+    col = bytes([max(0, min(255, round(((c - 0.5) / C0) * 0.15 * 255 + 127.5))) for c in COLOUR] * n)
+    scale = bytes([round((s + 10) * 16) for s in LOG_SCALE] * n)
+    w, x, y, z = Q0
+    if version >= 3:  # smallest three, (x y z w) order
+        q = [x, y, z, w]
+        big = max(range(4), key=lambda k: abs(q[k]))
+        neg = q[big] < 0
+        comp = big
+        for k in range(4):
+            if k != big:
+                negbit = (q[k] < 0) ^ neg
+                mag = int(511 * (abs(q[k]) / math.sqrt(0.5)) + 0.5)
+                comp = (comp << 10) | (negbit << 9) | mag
+        rot = struct.pack("<I", comp) * n
+    else:  # first three (x y z), w >= 0
+        s = -1 if w < 0 else 1
+        rot = bytes([max(0, min(255, round(s * c * 127.5 + 127.5))) for c in (x, y, z)]) * n
+    write("sheet-v%d.spz" % version, gzip.compress(hdr + pos + alpha + col + scale + rot, mtime=0))
+
+
+def compressed_ply():
+    pts = sheet()
+    n = len(pts)
+    chunks = (n + 255) // 256
+    cprops = ["min_x", "min_y", "min_z", "max_x", "max_y", "max_z", "min_scale_x", "min_scale_y", "min_scale_z",
+              "max_scale_x", "max_scale_y", "max_scale_z", "min_r", "min_g", "min_b", "max_r", "max_g", "max_b"]
+    cbody = b""
+    vbody = b""
+    for ch in range(chunks):
+        part = pts[ch * 256:(ch + 1) * 256]
+        lo = [min(p[k] for p in part) for k in range(3)]
+        hi = [max(p[k] for p in part) for k in range(3)]
+        cbody += struct.pack("<18f", *lo, *hi, *LOG_SCALE, *LOG_SCALE, *COLOUR, *COLOUR)
+        for p in part:
+            def un(v, a, b, bits):
+                t = 0.0 if b == a else (v - a) / (b - a)
+                return max(0, min((1 << bits) - 1, int(round(t * ((1 << bits) - 1)))))
+            pp = un(p[0], lo[0], hi[0], 11) << 21 | un(p[1], lo[1], hi[1], 10) << 11 | un(p[2], lo[2], hi[2], 11)
+            q = list(Q0)  # rot_0..3 = w x y z
+            big = max(range(4), key=lambda k: abs(q[k]))
+            if q[big] < 0:
+                q = [-c for c in q]
+            others = [q[k] for k in range(4) if k != big]
+            rr = big << 30
+            for k, o in enumerate(others):
+                rr |= max(0, min(1023, int(round((o * math.sqrt(2) * 0.5 + 0.5) * 1023)))) << (20 - 10 * k)
+            ss = 0  # min == max: every scale exact
+            cc = 0 << 24 | 0 << 16 | 0 << 8 | round(0.75 * 255)  # min == max colour
+            vbody += struct.pack("<4I", pp, rr, ss, cc)
+    hdr = ("ply\nformat binary_little_endian 1.0\ncomment made by tests/data/make_captures.py\nelement chunk %d\n" % chunks +
+           "".join("property float %s\n" % p for p in cprops) +
+           "element vertex %d\n" % n + "".join("property uint %s\n" % p for p in
+                                               ["packed_position", "packed_rotation", "packed_scale", "packed_color"]) +
+           "end_header\n").encode()
+    write("sheet-compressed.ply", hdr + cbody + vbody)
+
+
+def glb_file():
+    pts = sheet()
+    n = len(pts)
+    bins = []
+    pos = b"".join(struct.pack("<3f", *p) for p in pts)
+    w, x, y, z = Q0
+    rot = struct.pack("<4f", x, y, z, w) * n
+    scale = struct.pack("<3f", *LOG_SCALE) * n
+    opac = struct.pack("<f", 0.75) * n
+    sh0 = struct.pack("<3f", *[(c - 0.5) / C0 for c in COLOUR]) * n
+    views, accessors, off = [], [], 0
+    for data, typ in ((pos, "VEC3"), (rot, "VEC4"), (scale, "VEC3"), (opac, "SCALAR"), (sh0, "VEC3")):
+        views.append({"buffer": 0, "byteOffset": off, "byteLength": len(data)})
+        acc = {"bufferView": len(views) - 1, "componentType": 5126, "count": n, "type": typ}
+        if typ == "VEC3" and data is pos:
+            acc["min"] = [min(p[k] for p in pts) for k in range(3)]
+            acc["max"] = [max(p[k] for p in pts) for k in range(3)]
+        accessors.append(acc)
+        bins.append(data)
+        off += len(data)
+    gltf = {"asset": {"version": "2.0", "generator": "tests/data/make_captures.py"},
+            "extensionsUsed": ["KHR_gaussian_splatting"],
+            "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"mode": 0, "attributes": {
+                "POSITION": 0, "KHR_gaussian_splatting:ROTATION": 1, "KHR_gaussian_splatting:SCALE": 2,
+                "KHR_gaussian_splatting:OPACITY": 3, "KHR_gaussian_splatting:SH_DEGREE_0_COEF_0": 4},
+                "extensions": {"KHR_gaussian_splatting": {"kernel": "ellipse", "colorSpace": "srgb_rec709_display"}}}]}],
+            "buffers": [{"byteLength": off}], "bufferViews": views, "accessors": accessors}
+    js = json.dumps(gltf, separators=(",", ":")).encode()
+    js += b" " * (-len(js) % 4)
+    bd = b"".join(bins)
+    bd += b"\0" * (-len(bd) % 4)
+    total = 12 + 8 + len(js) + 8 + len(bd)
+    write("sheet.glb", struct.pack("<III", 0x46546C67, 2, total) + struct.pack("<II", len(js), 0x4E4F534A) + js +
+          struct.pack("<II", len(bd), 0x004E4942) + bd)
+
+
+def text_files():
+    # CloudCompare's ASCII export: a header naming every column (X Y Z R G B,
+    # a scalar field, Nx Ny Nz), colours 0..255; the same without the header.
+    rows = []
+    for j in range(12):
+        for i in range(12):
+            x, y = i * 0.1, j * 0.1
+            rows.append((x, y, 0.0, 200, 100, 50, 0.5, 0.0, 0.0, 1.0))
+    body = "".join("%.6f %.6f %.6f %d %d %d %.6f %.6f %.6f %.6f\n" % r for r in rows)
+    write("cloudcompare.asc", ("//X Y Z R G B Volume_density_(r=0.05) Nx Ny Nz\n" + body).encode())
+    write("cloudcompare-noheader.txt", body.encode())
+    write("cloudcompare-xyzn.asc", ("//X Y Z Nx Ny Nz\n" + "".join("%.6f %.6f %.6f %.6f %.6f %.6f\n" % (r[0], r[1], r[2], r[7], r[8], r[9])
+                                                                    for r in rows)).encode())
+    write("points.csv", ("x,y,z,nx,ny,nz\n" + "".join("%.6f,%.6f,%.6f,0,0,1\n" % r[:3] for r in rows)).encode())
+    write("points-semicolon.txt", ("# x;y;z\n" + "".join("%.6f;%.6f;%.6f\n" % r[:3] for r in rows)).encode())
+
+
+if __name__ == "__main__":
+    os.makedirs(HERE, exist_ok=True)
+    gs_ply("sheet.ply")
+    gs_ply("sheet-unnormalised.ply", q_scale=1.7)
+    gs_ply("sheet-2dgs.ply", two_d=True)
+    compressed_ply()
+    splat_file()
+    spz_file(2)
+    spz_file(3)
+    glb_file()
+    text_files()
