@@ -271,6 +271,7 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
     glUniform1f(u[GL_SU_DMAX], s->lowres.d_max);
     glUniform1f(u[GL_SU_N], s->lowres.n);
     glUniform1f(u[GL_SU_INVN], s->lowres.inv_n);
+    glUniform1f(u[GL_SU_KSCALE], spr_draw_kernel_scale(d));
     glUniform1i(u[GL_SU_KERNEL], (int)s->kernel);
     glUniform1i(u[GL_SU_DEPTH], (int)s->depth_value);
     glUniform1i(u[GL_SU_OUTPUT], (int)s->output);

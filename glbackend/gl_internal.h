@@ -22,7 +22,7 @@ typedef struct gl_target {
 /* Uniforms each program must have, resolved once at link time. */
 #define GL_SPLAT_UNIFORMS(X)                                                                                   \
     X(M, "u_M") X(SIZE, "u_size") X(SX, "u_sx") X(SY, "u_sy") X(EPS, "u_eps") X(DMIN, "u_dmin") X(DMAX, "u_dmax") \
-    X(N, "u_n") X(INVN, "u_invn") X(KERNEL, "u_kernel") X(DEPTH, "u_depth") X(OUTPUT, "u_output") X(CULL, "u_cull") \
+    X(N, "u_n") X(INVN, "u_invn") X(KSCALE, "u_kscale") X(KERNEL, "u_kernel") X(DEPTH, "u_depth") X(OUTPUT, "u_output") X(CULL, "u_cull") \
     X(MASK, "u_mask") X(LAYER, "u_in_layer")
 #define GL_COMP_UNIFORMS(X) X(K, "u_K") X(EPS, "u_eps") X(BG, "u_bg") X(LAYER, "u_in_layer") X(PRM, "u_prm") \
     X(LISTW, "u_list_width") X(NBRW, "u_nbr_words")

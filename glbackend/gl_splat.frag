@@ -9,7 +9,7 @@ flat in vec4 v_e;
 flat in uint v_id;
 flat in uint v_seq;
 uniform float u_M[16];
-uniform float u_sx, u_sy, u_eps, u_dmin, u_dmax, u_n, u_invn;
+uniform float u_sx, u_sy, u_eps, u_dmin, u_dmax, u_n, u_invn, u_kscale;
 uniform int u_kernel, u_depth, u_output, u_cull, u_mask;
 layout(binding = 0, offset = 0) uniform atomic_uint u_generated;
 layout(location = SPR_LOC_COLOR) out vec4 o_color;
@@ -37,7 +37,7 @@ void main()
     gl_FragDepth = z;
     float c[3] = float[3](v_c.x, v_c.y, v_c.z);
     float src[4];
-    spr_fragment_color(u_output, u_kernel, rho2, rho, c, v_na.w, src);
+    spr_fragment_color(u_output, u_kernel, u_kscale, rho2, rho, c, v_na.w, src);
     o_color = vec4(src[0], src[1], src[2], src[3]);
     float opacity = spr_fragment_opacity(u_output, src, v_na.w);
     o_opacity = opacity;

@@ -57,6 +57,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     const float *z_near = d->depth_mask ? SW_F(&c->targets[d->mask_target], DEPTH) : NULL;
     uint64_t gen = 0, passed = 0;
     spr_probe *probe = c->base.probe;
+    const float ks = spr_draw_kernel_scale(d);
     for (uint32_t e = job->bin_start[tile]; e < job->bin_start[tile + 1]; e++) {
         const sw_bin_entry *be = &job->bin[e];
         const uint32_t sid = be->sid;
@@ -79,7 +80,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                 const float z = spr_test_value(s, t, rho);
                 if (probe && x == probe->x && y == probe->y) { /* pixel history: the fragment before its depth test */
                     spr_probe_frag f = {be->seq, sid, t, rho, z, {0.0f, 0.0f, 0.0f, 0.0f}, 0.0f};
-                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, be->alpha, f.src);
+                    spr_fragment_color((int)s->output, (int)s->kernel, ks, rho2, rho, col, be->alpha, f.src);
                     f.opacity = spr_fragment_opacity((int)s->output, f.src, be->alpha);
                     spr_probe_add_frag(probe, &f);
                 }
@@ -87,7 +88,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
                 passed++;
                 float src[4] = {0.0f, 0.0f, 0.0f, 0.0f}, op = 0.0f, nw[4];
                 if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY | SPR_WRITE_NORMAL)) {
-                    spr_fragment_color((int)s->output, (int)s->kernel, rho2, rho, col, be->alpha, src);
+                    spr_fragment_color((int)s->output, (int)s->kernel, ks, rho2, rho, col, be->alpha, src);
                     op = spr_fragment_opacity((int)s->output, src, be->alpha);
                     if (mask & SPR_WRITE_NORMAL) spr_fragment_normal(src, n, nw);
                 }

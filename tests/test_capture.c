@@ -180,6 +180,34 @@ START_TEST(gauss_mapping_by_hand)
 }
 END_TEST
 
+START_TEST(gauss_kernel_is_the_capture_gaussian)
+{
+    /* cut at C σ, ρ = x/(Cσ): the weight must be the capture's exp(−x²/2σ²) = exp(−C²ρ²/2) */
+    const float white[3] = {1, 1, 1};
+    const double cuts[] = {3.0, 2.5, 2.0, 1.0};
+    for (int k = 0; k < 4; k++) {
+        const double C = cuts[k];
+        const float ks = C == 3.0 ? 1.0f : (float)((C / 3.0) * (C / 3.0));
+        for (int j = 0; j <= 10; j++) {
+            const float rho2 = (float)j / 10.0f, rho = sqrtf(rho2);
+            float src[4];
+            spr_fragment_color(SPR_OUT_WEIGHTED, SPR_KERNEL_GAUSS, ks, rho2, rho, white, 1.0f, src);
+            ck_assert_double_eq_tol(src[3], exp(-C * C * rho2 / 2.0), 2e-6);
+        }
+    }
+    /* the loader records the cut; the draw turns it into that scale */
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    ld.gauss_cut = 2.0;
+    spr_cloud c;
+    spr_error err = {0};
+    ck_assert_msg(spr_load(cap("sheet.ply"), &ld, &c, &err) == SPR_OK, "%s", err.msg);
+    spr_draw_desc d = {.cloud = &c};
+    ck_assert_float_eq(spr_draw_kernel_scale(&d), (float)(4.0 / 9.0));
+    spr_cloud_free(&c);
+}
+END_TEST
+
 START_TEST(gauss_sheet_face_on_and_edge_on)
 {
     spr_cloud c;
@@ -338,9 +366,11 @@ START_TEST(capture_parity_every_algorithm)
 {
     /* the GL backend on a Gaussian-splat capture and on elliptical splats: Tier A for every algorithm */
     char err[8192];
-    const char *files[] = {cap("sheet.ply"), cap("sheet-v3.spz")};
-    for (int k = 0; k < 2; k++) {
-        char *argv[] = {"splatref", "parity", "--model", (char *)files[k], "--algo", "all", "--size", "96x96", "--quiet", NULL};
+    const char *files[] = {cap("sheet.ply"), cap("sheet-v3.spz"), cap("sheet.glb")};
+    const char *cut[] = {"3", "3", "2"}; /* the last with the kernel scaled to the file's σ */
+    for (int k = 0; k < 3; k++) {
+        char *argv[] = {"splatref", "parity", "--model", (char *)files[k], "--gauss-cut", (char *)cut[k], "--algo", "all", "--size", "96x96",
+                        "--quiet", NULL};
         int rc = tu_run(NULL, NULL, 1, argv, err, sizeof err);
         ck_assert_msg(rc == 0 && strstr(err, "BIT-EXACT (Tier A)"), "%s: rc %d: %s", files[k], rc, err);
     }
@@ -355,6 +385,7 @@ Suite *make_capture_suite(void)
     tcase_add_test(tc, ellipse_hand_cases);
     tcase_add_test(tc, equal_radii_keep_the_circle_bits);
     tcase_add_test(tc, gauss_mapping_by_hand);
+    tcase_add_test(tc, gauss_kernel_is_the_capture_gaussian);
     tcase_add_test(tc, gauss_sheet_face_on_and_edge_on);
     tcase_add_test(tc, one_scene_in_every_format);
     tcase_add_test(tc, sh_colour_by_hand);

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 static const spr__opt bench_opts[] = {
     {"scene", "NAME", "bunny | armadillo-1m | all (rendering, default all) | armadillo-10m | armadillo-100m (opt-in scale scenes: pbr2p1 and deferred) | grouping (hash and WGC ratios)"},
@@ -104,6 +105,96 @@ static void stream_floor(const spr_cloud *c, int reps, double t[2])
     sink = (int32_t)sum;
 }
 
+/* The cloud as a 3D Gaussian Splatting PLY, the layout of captures (62
+ * floats a splat: x y z, nx ny nz, f_dc_0..2, f_rest_0..44, opacity,
+ * scale_0..2, rot_0..3): each splat a flat Gaussian, σ = r/3 in its plane
+ * and r/300 along its normal, the rotation taking (x, y, z) to (u, n × u, n). */
+static int write_gauss_body(FILE *f, const void *user)
+{
+    const spr_cloud *c = user;
+    fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex %zu\n", c->n);
+    static const char *const head[] = {"x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"};
+    for (int k = 0; k < 9; k++) fprintf(f, "property float %s\n", head[k]);
+    for (int k = 0; k < 45; k++) fprintf(f, "property float f_rest_%d\n", k);
+    fprintf(f, "property float opacity\nproperty float scale_0\nproperty float scale_1\nproperty float scale_2\n"
+               "property float rot_0\nproperty float rot_1\nproperty float rot_2\nproperty float rot_3\nend_header\n");
+    for (size_t i = 0; i < c->n; i++) {
+        float rec[62] = {0};
+        const float *n = c->nrm + 3 * i;
+        double u[3] = {n[1], -n[0], 0.0};
+        if (fabs(n[2]) > 0.9) u[0] = 0.0, u[1] = n[2], u[2] = -n[1];
+        double l = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        for (int k = 0; k < 3; k++) u[k] /= l;
+        const double v[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+        /* quaternion of the matrix with columns u, v, n (trace form; w > 0 when the trace allows) */
+        const double m00 = u[0], m11 = v[1], m22 = n[2], tr = m00 + m11 + m22;
+        double q[4];
+        if (tr > -0.9) {
+            q[0] = 0.5 * sqrt(1.0 + tr);
+            q[1] = (v[2] - n[1]) / (4.0 * q[0]);
+            q[2] = (n[0] - u[2]) / (4.0 * q[0]);
+            q[3] = (u[1] - v[0]) / (4.0 * q[0]);
+        } else if (m00 >= m11 && m00 >= m22) {
+            q[1] = 0.5 * sqrt(1.0 + m00 - m11 - m22);
+            q[0] = (v[2] - n[1]) / (4.0 * q[1]);
+            q[2] = (u[1] + v[0]) / (4.0 * q[1]);
+            q[3] = (n[0] + u[2]) / (4.0 * q[1]);
+        } else if (m11 >= m22) {
+            q[2] = 0.5 * sqrt(1.0 + m11 - m00 - m22);
+            q[0] = (n[0] - u[2]) / (4.0 * q[2]);
+            q[1] = (u[1] + v[0]) / (4.0 * q[2]);
+            q[3] = (v[2] + n[1]) / (4.0 * q[2]);
+        } else {
+            q[3] = 0.5 * sqrt(1.0 + m22 - m00 - m11);
+            q[0] = (u[1] - v[0]) / (4.0 * q[3]);
+            q[1] = (n[0] + u[2]) / (4.0 * q[3]);
+            q[2] = (v[2] + n[1]) / (4.0 * q[3]);
+        }
+        for (int k = 0; k < 3; k++) {
+            rec[k] = c->pos[3 * i + k];
+            rec[6 + k] = (float)((c->color[3 * i + k] - 0.5) / 0.28209479177387814);
+        }
+        const double a = c->alpha[i] < 0.999 ? c->alpha[i] : 0.999;
+        rec[54] = (float)log(a / (1.0 - a));
+        rec[55] = rec[56] = (float)log(c->radius[i] / 3.0);
+        rec[57] = (float)log(c->radius[i] / 300.0);
+        for (int k = 0; k < 4; k++) rec[58 + k] = (float)q[k];
+        if (fwrite(rec, sizeof rec, 1, f) != 1) return -1;
+    }
+    return 0;
+}
+
+/* Loading a capture: the cloud written as a 3DGS PLY and as our own binary
+ * PLY, each read back by spr_load (best of reps), against the streaming pass. */
+static void bench_capture_load(const spr_cloud *c, int reps, double stream_1t)
+{
+    char gpath[64], opath[64];
+    snprintf(gpath, sizeof gpath, "/tmp/splatref-bench-%d-3dgs.ply", (int)getpid());
+    snprintf(opath, sizeof opath, "/tmp/splatref-bench-%d-own.ply", (int)getpid());
+    spr_error err = {0};
+    if (spr__write_atomic(gpath, write_gauss_body, c, &err) || spr_write_ply(opath, c, &err)) {
+        fprintf(stderr, "splatref bench: %s\n", err.msg);
+        remove(gpath);
+        remove(opath);
+        return;
+    }
+    double tg = 1e300, to = 1e300;
+    for (int r = 0; r < (reps > 2 ? reps : 2); r++)
+        for (int k = 0; k < 2; k++) {
+            spr_cloud back;
+            double t0 = spr_now_ms();
+            if (spr_load(k ? opath : gpath, NULL, &back, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); break; }
+            double ms = spr_now_ms() - t0;
+            spr_cloud_free(&back);
+            if (k) to = ms < to ? ms : to;
+            else tg = ms < tg ? ms : tg;
+        }
+    printf("  loading a 3DGS PLY capture (62 floats a splat, 248 bytes): %.0f ms = %.1fx stream (1 thread); our binary PLY (32 bytes): "
+           "%.0f ms = %.1fx stream; capture / ours %.2f\n", tg, tg / stream_1t, to, to / stream_1t, tg / to);
+    remove(gpath);
+    remove(opath);
+}
+
 static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, int quiet, int scale, double load_ms)
 {
     spr_bounds bd;
@@ -127,6 +218,7 @@ static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, 
     printf("  %s %.0f ms = %.1fx stream (1 thread); hash grouping K=8 mode 1 with BSP axes, 2 threads: %.0f ms = %.1fx stream (2 threads)\n",
            load_ms > 0 ? "loading/sampling" : "loading", load_ms > 0 ? load_ms : 0.0, (load_ms > 0 ? load_ms : 0.0) / floor_ms[0], group_ms,
            group_ms / floor_ms[1]);
+    if (!scale) bench_capture_load(&s->cloud, reps, floor_ms[0]);
     /* the domain pipeline (SPEC 7) for the domain-* rows: its phases timed */
     if (!scale) {
         spr_decomp_desc dd;
@@ -292,7 +384,7 @@ int cli_bench_grouping(spr__args *a, size_t npts, int reps, int quiet)
     spr_cloud c;
     if (spr_sample_mesh(path, npts, 1, &ld, &c, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
     int32_t *lab = malloc(c.n * sizeof *lab), *axes = malloc(c.n * sizeof *axes);
-    printf("grouping benchmark: armadillo resampled to %zu points, best of %d, single-threaded hash, 2-thread FLANN/WGC\n", c.n, reps);
+    printf("grouping benchmark: armadillo resampled to %zu points, best of %d, single-threaded hash, 2-thread neighbour graph and WGC\n", c.n, reps);
     double t_stream = 1e300, t_hash = 1e300, t_hash_normal = 1e300, t_bsp = 1e300, sum = 0.0;
     for (int r = 0; r < reps; r++) {
         double t = spr_cloud_stream_ms(&c, 1, &sum); /* the hash is single-threaded: the floor on one thread */
@@ -321,18 +413,16 @@ int cli_bench_grouping(spr__args *a, size_t npts, int reps, int quiet)
     printf("  hash mode 1, axes from a kept BSP      %9.1f ms   ratio to streaming %.2f\n", t_hash, t_hash / t_stream);
     printf("  hash mode 1, axis from own normal      %9.1f ms   ratio to streaming %.2f\n", t_hash_normal, t_hash_normal / t_stream);
     printf("  (BSP build and leaf axes, once         %9.1f ms)\n", t_bsp);
-    /* WGC against the FLANN neighbour graph alone */
+    /* WGC against the neighbour graph alone */
     double t0 = spr_now_ms();
     spr_bounds b;
     spr_cloud_bounds(&c, &b);
-    spr_knn *kn;
     spr_graph g;
     spr_progress prog = spr__progress(quiet);
-    if (spr_knn_build(c.pos, c.n, &kn, &err) || spr_knn_radius_graph(kn, c.radius, 1.0, b.max_radius, 2, &g, &prog, &err)) {
+    if (spr__pair_graph(&c, 1.0, 2, &prog, &g, &err)) {
         fprintf(stderr, "splatref bench: %s\n", err.msg);
         return 2;
     }
-    spr_knn_free(kn);
     spr_graph_free(&g);
     double t_graph = spr_now_ms() - t0;
     spr_wgc_desc wd;
@@ -343,7 +433,7 @@ int cli_bench_grouping(spr__args *a, size_t npts, int reps, int quiet)
     t0 = spr_now_ms();
     if (spr_group_wgc(&c, &wd, lab, &st, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
     double t_wgc = spr_now_ms() - t0;
-    printf("  FLANN neighbour graph (build + radius search)  %9.1f ms\n", t_graph);
+    printf("  neighbour graph (grid of columns, all pairs)   %9.1f ms\n", t_graph);
     printf("  WGC K=8 (graph %.0f, colouring %.0f, optimisation %.0f)  %9.1f ms   ratio to the graph %.2f\n", st.ms_graph, st.ms_color,
            st.ms_optimise, t_wgc, t_wgc / t_graph);
     free(lab);

@@ -38,6 +38,8 @@ typedef struct spr_cloud {
                      * splat, coefficient-major, r g b each (k = 0 the DC term), for colours that
                      * depend on the view (spr_cloud_sh_colors, --sh-degree) */
     int sh_k;       /* coefficients per channel: (degree + 1)², 0 without sh */
+    float gauss_cut; /* > 0: a Gaussian capture whose radii are gauss_cut × σ (--gauss-cut): the gauss
+                      * kernel then weighs by the file's σ (spr_draw_kernel_scale); 0 otherwise */
     unsigned flags; /* spr_source_flags */
 } spr_cloud;
 

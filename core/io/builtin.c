@@ -197,6 +197,7 @@ spr_result spr__add_balls(spr_cloud *c, int nballs, spr_error *err)
         for (size_t i = n; i < o.n; i++) o.ell[4 * i] = o.ell[4 * i + 1] = o.ell[4 * i + 2] = 0.0f, o.ell[4 * i + 3] = o.radius[i];
     }
     o.flags = c->flags;
+    o.gauss_cut = c->gauss_cut;
     spr_cloud_free(c);
     *c = o;
     return SPR_OK;

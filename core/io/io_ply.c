@@ -613,6 +613,8 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
     int fmt = F_ASCII, nel = 0;
     ply_elem el[16];
     size_t body = 0;
+    spr__gauss_opts go_default;
+    if (!go) spr__gauss_defaults(&go_default), go = &go_default;
     memset(mesh, 0, sizeof *mesh);
     memset(c, 0, sizeof *c);
     r = parse_header(path, buf, len, &fmt, el, &nel, &body, warn, err);

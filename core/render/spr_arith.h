@@ -244,8 +244,9 @@ SPR_FN void spr_weighted4(float w, SPR_CARR v[3], SPR_OARR o[4])
     o[3] = w;
 }
 
-/* What a fragment offers the colour plane: (w·c, w) or (c, α) (SPEC §3.4). */
-SPR_FN void spr_fragment_color(int out_kind, int kernel, float rho2, float rho, SPR_CARR c[3], float alpha,
+/* What a fragment offers the colour plane: (w·c, w) or (c, α) (SPEC §3.4).
+ * ks scales ρ² before the gauss kernel (1: none; spr_draw_kernel_scale). */
+SPR_FN void spr_fragment_color(int out_kind, int kernel, float ks, float rho2, float rho, SPR_CARR c[3], float alpha,
                                SPR_OARR src[4])
 {
     if (out_kind == SPR_OUT_ALPHA) {
@@ -255,7 +256,9 @@ SPR_FN void spr_fragment_color(int out_kind, int kernel, float rho2, float rho, 
         src[3] = alpha;
         return;
     }
-    float w = spr_kernel_weight(kernel, rho2, rho);
+    SPR_PRECISE float kr2 = rho2;
+    if (kernel == SPR_KERNEL_GAUSS && ks != 1.0f) kr2 = rho2 * ks; /* a capture cut at C σ: ks = (C/3)², the file's σ */
+    float w = spr_kernel_weight(kernel, kr2, rho);
     spr_weighted4(w, c, src);
 }
 

@@ -159,6 +159,14 @@ static inline float spr_draw_radius(const spr_draw_desc *d, uint32_t sid)
     const float r = d->cloud->radius[sid];
     return d->radius_scale > 0.0f ? d->radius_scale * r : r;
 }
+/* The scale of ρ² under the gauss kernel of a draw: 1, or (C/3)² for a
+ * Gaussian capture cut at C σ (C < 3), so that the kernel, exp(−4.5·ρ²)
+ * with ρ = 1 at the cut, is the capture's own exp(−x²/2σ²) (docs/formats.md). */
+static inline float spr_draw_kernel_scale(const spr_draw_desc *d)
+{
+    const double C = d->cloud->gauss_cut;
+    return C > 0.0 && C != 3.0 ? (float)((C / 3.0) * (C / 3.0)) : 1.0f;
+}
 /* The ellipse e = (u, r_v) splat sid is drawn with, r its spr_draw_radius
  * (spr_ray_ellipse): (0, 0, 0, r) for a circular splat, the minor radius
  * scaled as the radius is (both backends, on the host). */

@@ -209,7 +209,64 @@ def text_files():
     write("points-semicolon.txt", ("# x;y;z\n" + "".join("%.6f;%.6f;%.6f\n" % r[:3] for r in rows)).encode())
 
 
+def capture_from(src, dst, seed=15):
+    """A capture-like 3DGS PLY from one of our PLY files (x y z nx ny nz red
+    green blue alpha radius, as `splatref sample` writes): every splat an
+    anisotropic Gaussian in its tangent plane (axis ratio 0.35..1, turned at
+    random about the normal), σ = r/3 along its major axis, opacity 0.55..1,
+    colour from its height: the picture of docs/formats.md."""
+    import random
+    rnd = random.Random(seed)
+    b = open(src, "rb").read()
+    i = b.index(b"end_header\n") + 11
+    n = int([l for l in b[:i].decode().split("\n") if l.startswith("element vertex")][0].split()[2])
+    recs = [struct.unpack_from("<6f4Bf", b, i + 32 * k) for k in range(n)]
+    ys = [r[1] for r in recs]
+    lo, hi = min(ys), max(ys)
+    out = []
+    for r in recs:
+        p, nv, rad = r[:3], r[3:6], r[10]
+        t = (nv[1], -nv[0], 0.0) if abs(nv[2]) < 0.9 else (0.0, nv[2], -nv[1])
+        l = math.sqrt(sum(x * x for x in t))
+        t = [x / l for x in t]
+        w = [nv[1] * t[2] - nv[2] * t[1], nv[2] * t[0] - nv[0] * t[2], nv[0] * t[1] - nv[1] * t[0]]
+        a = rnd.uniform(0, math.pi)
+        u = [math.cos(a) * t[k] + math.sin(a) * w[k] for k in range(3)]
+        v = [nv[1] * u[2] - nv[2] * u[1], nv[2] * u[0] - nv[0] * u[2], nv[0] * u[1] - nv[1] * u[0]]
+        # quaternion of the rotation with columns u, v, n
+        m = [[u[0], v[0], nv[0]], [u[1], v[1], nv[1]], [u[2], v[2], nv[2]]]
+        tr = m[0][0] + m[1][1] + m[2][2]
+        if tr > 0:
+            S = math.sqrt(tr + 1) * 2
+            q = (S / 4, (m[2][1] - m[1][2]) / S, (m[0][2] - m[2][0]) / S, (m[1][0] - m[0][1]) / S)
+        elif m[0][0] > m[1][1] and m[0][0] > m[2][2]:
+            S = math.sqrt(1 + m[0][0] - m[1][1] - m[2][2]) * 2
+            q = ((m[2][1] - m[1][2]) / S, S / 4, (m[0][1] + m[1][0]) / S, (m[0][2] + m[2][0]) / S)
+        elif m[1][1] > m[2][2]:
+            S = math.sqrt(1 + m[1][1] - m[0][0] - m[2][2]) * 2
+            q = ((m[0][2] - m[2][0]) / S, (m[0][1] + m[1][0]) / S, S / 4, (m[1][2] + m[2][1]) / S)
+        else:
+            S = math.sqrt(1 + m[2][2] - m[0][0] - m[1][1]) * 2
+            q = ((m[1][0] - m[0][1]) / S, (m[0][2] + m[2][0]) / S, (m[1][2] + m[2][1]) / S, S / 4)
+        h = (p[1] - lo) / (hi - lo)
+        col = (0.25 + 0.7 * h, 0.35 + 0.3 * (1 - abs(2 * h - 1)), 0.9 - 0.7 * h)
+        alpha = rnd.uniform(0.55, 1.0)
+        sig = rad / 3 * 1.3
+        vals = list(p) + [0, 0, 0] + [(c - 0.5) / C0 for c in col] + [0.0] * 45 + \
+            [math.log(alpha / (1 - alpha)) if alpha < 1 else 8.0, math.log(sig), math.log(sig * rnd.uniform(0.35, 1.0)),
+             math.log(sig / 50)] + list(q)
+        out.append(struct.pack("<62f", *vals))
+    names = ["x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"] + ["f_rest_%d" % k for k in range(45)] + \
+            ["opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"]
+    with open(dst, "wb") as f:
+        f.write(ply_header(n, [("float", x) for x in names]) + b"".join(out))
+
+
 if __name__ == "__main__":
+    import sys
+    if len(sys.argv) == 4 and sys.argv[1] == "--capture-from":
+        capture_from(sys.argv[2], sys.argv[3])
+        sys.exit(0)
     os.makedirs(HERE, exist_ok=True)
     gs_ply("sheet.ply")
     gs_ply("sheet-unnormalised.ply", q_scale=1.7)

@@ -1,7 +1,8 @@
 /* fuzz_readers.c — libFuzzer harnesses for the file readers (issue 9).
  *
  * One source, one harness per reader, chosen at compile time with
- * -DSPR_FUZZ_PLY / _OFF / _XYZ / _GROUPS.  The readers run over the input
+ * -DSPR_FUZZ_PLY / _OFF / _XYZ / _GROUPS / _SPLAT / _SPZ / _GLB (issue 15:
+ * the Gaussian-splat readers; their first input byte picks the options).  The readers run over the input
  * as it is, in memory (spr__parse_*; the groups reader through a memfd):
  * any crash, leak, hang or out-of-memory libFuzzer or the sanitizers find
  * is a bug, and every such input goes into corpus/<reader>/ as a
@@ -34,7 +35,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 #if defined(SPR_FUZZ_PLY) || defined(SPR_FUZZ_OFF)
     spr__mesh mesh;
 #if defined(SPR_FUZZ_PLY)
-    spr_result r = spr__parse_ply("fuzz.ply", (const char *)data, size, &c, &mesh, NULL, NULL, NULL, &err);
+    const spr__gauss_opts go = {3.0, (int)(size % 4)}; /* Gaussian PLYs: every SH degree, chosen by the length */
+    spr_result r = spr__parse_ply("fuzz.ply", (const char *)data, size, &c, &mesh, NULL, NULL, &go, &err);
     check_message(r, &err, "fuzz.ply");
 #else
     spr_result r = spr__parse_off("fuzz.off", (const char *)data, size, &c, &mesh, &err);
@@ -42,6 +44,28 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 #endif
     if (!r) {
         spr__mesh_free(&mesh);
+        spr_cloud_free(&c);
+    }
+#elif defined(SPR_FUZZ_SPLAT) || defined(SPR_FUZZ_SPZ) || defined(SPR_FUZZ_GLB)
+    /* Gaussian-splat captures; the first byte chooses the options (SH degree 0..3, cut 1 or 3) */
+    if (size < 1) return 0;
+    spr__gauss_opts go = {(data[0] & 4) ? 1.0 : 3.0, data[0] & 3};
+#if defined(SPR_FUZZ_SPLAT)
+    const char *name = "fuzz.splat";
+    spr_result r = spr__parse_splat(name, (const char *)data + 1, size - 1, &go, &c, &err);
+#elif defined(SPR_FUZZ_SPZ)
+    const char *name = "fuzz.spz";
+    spr_result r = spr__parse_spz(name, (const char *)data + 1, size - 1, &go, &c, &err);
+#else
+    const char *name = "fuzz.glb";
+    spr_result r = spr__parse_glb(name, (const char *)data + 1, size - 1, &go, &c, &err);
+#endif
+    check_message(r, &err, name);
+    if (!r) {
+        if (spr_cloud_validate(&c, name, &err)) { /* what a reader accepts holds every invariant */
+            fprintf(stderr, "accepted an invalid cloud: %s\n", err.msg);
+            abort();
+        }
         spr_cloud_free(&c);
     }
 #elif defined(SPR_FUZZ_XYZ)
@@ -68,7 +92,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     close(fd);
 #else
-#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS"
+#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB"
 #endif
     return 0;
 }
