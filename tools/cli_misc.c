@@ -46,10 +46,24 @@ int cmd_info(int argc, char **argv)
     printf("model:    %s\nsplats:   %zu\n", model, c.n);
     printf("bounds:   [%g, %g, %g] .. [%g, %g, %g]\n", b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]);
     printf("radius:   min %g  mean %g  max %g\n", b.min_radius, b.mean_radius, b.max_radius);
-    printf("normals:  %s\n", c.flags & SPR_SRC_NORMALS ? "from the file" : c.flags & SPR_SRC_FACES ? "from mesh faces (area-weighted)" : "PCA of 10 nearest neighbours");
-    printf("colours:  %s\n", c.flags & SPR_SRC_COLORS ? "from the file" : "0.5*normal + 0.5");
-    printf("radii:    %s\n", c.flags & SPR_SRC_RADII ? "from the file" : "1.0 x distance to the 8th neighbour");
-    printf("opacity:  %s\n", ld.opacity > 0.0 ? "--opacity" : c.flags & SPR_SRC_ALPHA ? "from the file" : "1");
+    const int gs = (c.flags & SPR_SRC_GAUSSIAN) != 0;
+    if (c.ell) { /* elliptical splats: how flat */
+        size_t ne = 0;
+        double ratio = 0.0, rmin = 1.0;
+        for (size_t i = 0; i < c.n; i++)
+            if (c.ell[4 * i + 3] != c.radius[i]) {
+                const double q = (double)c.ell[4 * i + 3] / c.radius[i];
+                ne++, ratio += q, rmin = q < rmin ? q : rmin;
+            }
+        printf("shape:    %zu elliptical splats (r_v / r_u mean %.3g, min %.3g), %zu circles\n", ne, ne ? ratio / (double)ne : 1.0, rmin, c.n - ne);
+    }
+    if (gs)
+        printf("capture:  Gaussian splats as surfels: the two largest axes, cut at %g sigma (--gauss-cut); colour from SH %s\n", c.gauss_cut,
+               c.sh ? "up to the degree of --sh-degree, per view" : "degree 0 (DC)");
+    printf("normals:  %s\n", gs ? "the smallest axis of each Gaussian" : c.flags & SPR_SRC_NORMALS ? "from the file" : c.flags & SPR_SRC_FACES ? "from mesh faces (area-weighted)" : "PCA of 10 nearest neighbours");
+    printf("colours:  %s\n", gs ? "0.5 + C0*f_dc, clamped to [0,1]" : c.flags & SPR_SRC_COLORS ? "from the file" : "0.5*normal + 0.5");
+    printf("radii:    %s\n", gs ? "cut x sigma of the two largest axes" : c.flags & SPR_SRC_RADII ? "from the file" : "1.0 x distance to the 8th neighbour");
+    printf("opacity:  %s\n", ld.opacity > 0.0 ? "--opacity" : gs ? "sigmoid of the file's opacity" : c.flags & SPR_SRC_ALPHA ? "from the file" : "1");
     if (ld.balls > 0) printf("balls:    %d opaque balls inside (--balls), included above\n", ld.balls);
     spr_cloud_free(&c);
     return 0;
