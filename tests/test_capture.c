@@ -377,6 +377,73 @@ START_TEST(capture_parity_every_algorithm)
 }
 END_TEST
 
+/* Bad captures: one line naming the file and where, nothing loaded. */
+START_TEST(bad_captures_are_one_clear_error)
+{
+    char dir[64];
+    tu_tmpdir(dir, "capture");
+    struct { const char *name; const char *bytes; size_t len; const char *want; } bad[] = {
+        {"short.splat", "0123456789012345678901234567890123456789", 40, "byte 32"},
+        {"notgzip.spz", "NGSP....", 8, "byte 0: not a gzip stream"},
+        {"notglb.glb", "glTF\x01\0\0\0\x20\0\0\0", 12, "byte 0"},
+        {"v1.glb", "glTF\x01\0\0\0\x20\0\0\0\x0c\0\0\0JSON", 20, "byte 4: glTF version 1"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        const char *path = tu_in(dir, bad[k].name);
+        FILE *f = fopen(path, "wb");
+        ck_assert(f && fwrite(bad[k].bytes, 1, bad[k].len, f) == bad[k].len);
+        fclose(f);
+        spr_cloud c;
+        spr_error err = {0};
+        ck_assert(spr_load(path, NULL, &c, &err) != SPR_OK);
+        ck_assert_msg(strstr(err.msg, bad[k].name) && strstr(err.msg, bad[k].want) && !strchr(err.msg, '\n'), "%s: %s", bad[k].name, err.msg);
+    }
+    /* a truncated .spz: the gzip stream of the sheet cut in half */
+    {
+        FILE *in = fopen(cap("sheet-v3.spz"), "rb");
+        char buf[8192];
+        size_t n = fread(buf, 1, sizeof buf, in);
+        fclose(in);
+        const char *path = tu_in(dir, "half.spz");
+        FILE *f = fopen(path, "wb");
+        ck_assert(fwrite(buf, 1, n / 2, f) == n / 2);
+        fclose(f);
+        spr_cloud c;
+        spr_error err = {0};
+        ck_assert(spr_load(path, NULL, &c, &err) != SPR_OK);
+        ck_assert_msg(strstr(err.msg, "half.spz") && strstr(err.msg, "ends early"), "%s", err.msg);
+    }
+    /* a Gaussian PLY with a zero quaternion names the vertex; --gauss-cut above 3 is refused */
+    {
+        FILE *in = fopen(cap("sheet.ply"), "rb");
+        static char buf[1 << 18];
+        size_t n = fread(buf, 1, sizeof buf, in);
+        fclose(in);
+        char *body = strstr(buf, "end_header\n") + 11;
+        float zero[4] = {0, 0, 0, 0};
+        memcpy(body + 248 * 5 + 58 * 4, zero, sizeof zero); /* vertex 5: rot_0..3 */
+        const char *path = tu_in(dir, "zeroq.ply");
+        FILE *f = fopen(path, "wb");
+        ck_assert(fwrite(buf, 1, n, f) == n);
+        fclose(f);
+        spr_cloud c;
+        spr_error err = {0};
+        ck_assert(spr_load(path, NULL, &c, &err) != SPR_OK);
+        ck_assert_msg(strstr(err.msg, "zeroq.ply: splat 5: rotation quaternion is zero"), "%s", err.msg);
+        spr_load_desc ld;
+        spr_load_defaults(&ld);
+        ld.gauss_cut = 4.0;
+        ck_assert(spr_load(cap("sheet.ply"), &ld, &c, &err) == SPR_E_ARG);
+        ck_assert_msg(strstr(err.msg, "--gauss-cut"), "%s", err.msg);
+    }
+    /* --stream reads circular splats only */
+    char out[4096];
+    char *argv[] = {"splatref", "render", "--model", (char *)cap("sheet.ply"), "--stream", "--groups", "none", "--out", (char *)tu_in(dir, "x.png"), NULL};
+    ck_assert_int_eq(tu_run(NULL, NULL, 1, argv, out, sizeof out), 2);
+    ck_assert_msg(strstr(out, "--stream reads circular splats"), "%s", out);
+}
+END_TEST
+
 Suite *make_capture_suite(void)
 {
     Suite *s = suite_create("capture");
@@ -390,6 +457,7 @@ Suite *make_capture_suite(void)
     tcase_add_test(tc, one_scene_in_every_format);
     tcase_add_test(tc, sh_colour_by_hand);
     tcase_add_test(tc, text_files_by_column_name);
+    tcase_add_test(tc, bad_captures_are_one_clear_error);
     suite_add_tcase(s, tc);
     return s;
 }
