@@ -531,7 +531,7 @@ static spr_result spr__parse_compressed_ply(const char *path, const char *buf, s
         if (S->count != V->count || (nsh != 9 && nsh != 24 && nsh != 45))
             return spr__fail(err, SPR_E_FORMAT, "%s: compressed PLY: element sh needs one item per vertex and 9, 24 or 45 properties", path);
         for (int k = 0; k < nsh; k++) {
-            char nm[16];
+            char nm[24];
             snprintf(nm, sizeof nm, "f_rest_%d", k);
             if ((si[k] = prop_index(S, nm, T_U8)) < 0) return spr__fail(err, SPR_E_FORMAT, "%s: compressed PLY: element sh lacks uchar %s", path, nm);
         }
