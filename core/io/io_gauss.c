@@ -105,6 +105,19 @@ static float le_f32(const unsigned char *p)
     return f;
 }
 
+/* One 32-byte record: position f32×3, σ f32×3 (linear), RGBA u8×4 (colour
+ * and α as they are), rotation u8×4 (w x y z as (b − 128)/128). */
+static void splat_record(const unsigned char *rec, spr__gauss *g)
+{
+    for (int k = 0; k < 3; k++) {
+        g->pos[k] = le_f32(rec + 4 * k);
+        g->sigma[k] = le_f32(rec + 12 + 4 * k);
+        g->rgb[k] = rec[24 + k] / 255.0;
+    }
+    g->alpha = rec[27] / 255.0;
+    for (int k = 0; k < 4; k++) g->q[k] = ((double)rec[28 + k] - 128.0) / 128.0;
+}
+
 spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err)
 {
     memset(c, 0, sizeof *c);
@@ -122,15 +135,8 @@ spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const
     long bad = -1;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)n; i++) {
-        const unsigned char *rec = p + 32 * (size_t)i;
         spr__gauss g;
-        for (int k = 0; k < 3; k++) {
-            g.pos[k] = le_f32(rec + 4 * k);
-            g.sigma[k] = le_f32(rec + 12 + 4 * k); /* linear σ */
-            g.rgb[k] = rec[24 + k] / 255.0;
-        }
-        g.alpha = rec[27] / 255.0;
-        for (int k = 0; k < 4; k++) g.q[k] = ((double)rec[28 + k] - 128.0) / 128.0; /* w x y z */
+        splat_record(p + 32 * (size_t)i, &g);
         spr_error e;
         if (spr__gauss_put(&g, &oo, c, (size_t)i, path, (size_t)i, &e)) {
 #pragma omp critical(spr_splat_bad)
@@ -138,15 +144,8 @@ spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const
         }
     }
     if (bad >= 0) { /* the first bad record again, alone, for its message (any thread count) */
-        const unsigned char *rec = p + 32 * (size_t)bad;
         spr__gauss g;
-        for (int k = 0; k < 3; k++) {
-            g.pos[k] = le_f32(rec + 4 * k);
-            g.sigma[k] = le_f32(rec + 12 + 4 * k);
-            g.rgb[k] = rec[24 + k] / 255.0;
-        }
-        g.alpha = rec[27] / 255.0;
-        for (int k = 0; k < 4; k++) g.q[k] = ((double)rec[28 + k] - 128.0) / 128.0;
+        splat_record(p + 32 * (size_t)bad, &g);
         spr_error e;
         spr__gauss_put(&g, &oo, c, (size_t)bad, path, (size_t)bad, &e);
         spr_cloud_free(c);
