@@ -326,7 +326,13 @@ START_TEST(sh_colour_by_hand)
 }
 END_TEST
 
-START_TEST(text_files_by_column_name)
+static void count_warning(void *user, const char *msg)
+{
+    ck_assert_msg(strstr(msg, "blender247.ply:3:") != NULL, "%s", msg);
+    ++*(int *)user;
+}
+
+START_TEST(exporters_files_load)
 {
     spr_cloud c;
     /* CloudCompare: //X Y Z R G B Volume_density_(r=0.05) Nx Ny Nz — the scalar field skipped, colours 0..255 */
@@ -349,6 +355,16 @@ START_TEST(text_files_by_column_name)
     ck_assert_msg(spr_load(cap("cloudcompare-noheader.txt"), &ld, &c, &err) == SPR_OK, "%s", err.msg);
     ck_assert_double_eq_tol(c.color[1], 100.0 / 255.0, 1e-7);
     ck_assert_float_eq(c.nrm[2], 1.0f);
+    spr_cloud_free(&c);
+    /* Blender 2.47's PLY: its header line without `comment` skipped, with one warning naming file and line */
+    int warnings = 0;
+    spr_load_defaults(&ld);
+    ld.warn.fn = count_warning;
+    ld.warn.user = &warnings;
+    ck_assert_msg(spr_load(cap("blender247.ply"), &ld, &c, &err) == SPR_OK, "%s", err.msg);
+    ck_assert_int_eq(warnings, 1);
+    ck_assert_uint_eq(c.n, 4);
+    ck_assert(c.flags & SPR_SRC_NORMALS);
     spr_cloud_free(&c);
     /* //X Y Z Nx Ny Nz, CSV with a header, semicolons under a `#` header */
     const char *more[] = {"cloudcompare-xyzn.asc", "points.csv", "points-semicolon.txt"};
@@ -456,7 +472,7 @@ Suite *make_capture_suite(void)
     tcase_add_test(tc, gauss_sheet_face_on_and_edge_on);
     tcase_add_test(tc, one_scene_in_every_format);
     tcase_add_test(tc, sh_colour_by_hand);
-    tcase_add_test(tc, text_files_by_column_name);
+    tcase_add_test(tc, exporters_files_load);
     tcase_add_test(tc, bad_captures_are_one_clear_error);
     suite_add_tcase(s, tc);
     return s;

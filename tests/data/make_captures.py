@@ -262,6 +262,21 @@ def capture_from(src, dst, seed=15):
         f.write(ply_header(n, [("float", x) for x in names]) + b"".join(out))
 
 
+def blender247():
+    # Blender 2.47's PLY export: its "Created by" line lacks `comment`; a small
+    # tetrahedron with vertex normals and faces, ascii as Blender wrote it.
+    v = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    n = [(-0.577, -0.577, -0.577), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    f = [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)]
+    txt = ("ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: 'tetra.blend'\n"
+           "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+           "property float nx\nproperty float ny\nproperty float nz\nelement face 4\n"
+           "property list uchar uint vertex_indices\nend_header\n")
+    txt += "".join("%g %g %g %g %g %g\n" % (a + b) for a, b in zip(v, n))
+    txt += "".join("3 %d %d %d\n" % t for t in f)
+    write("blender247.ply", txt.encode())
+
+
 if __name__ == "__main__":
     import sys
     if len(sys.argv) == 4 and sys.argv[1] == "--capture-from":
@@ -277,3 +292,4 @@ if __name__ == "__main__":
     spz_file(3)
     glb_file()
     text_files()
+    blender247()
