@@ -133,6 +133,13 @@ static spr_result read_value(cursor *cu, ply_type t, double *out, const char *wh
     if ((size_t)(cu->end - cu->p) < (size_t)n)
         return spr__fail(cu->err, SPR_E_TRUNCATED, "%s: byte %zu: file ends inside %s %llu", cu->path,
                          cursor_at(cu, 0), what, index);
+    if (t == T_F32 && cu->fmt == F_LE) { /* the common case, directly (host is little-endian, checked in CMake) */
+        float f;
+        memcpy(&f, cu->p, 4);
+        *out = f;
+        cu->p += 4;
+        return SPR_OK;
+    }
     *out = bin_value(cu->p, t, cu->fmt == F_BE);
     cu->p += n;
     return SPR_OK;
@@ -223,6 +230,8 @@ typedef struct vertex_layout {
     int role[64];
     ply_type ctype[64];
     int sub[64];  /* R_FREST: the coefficient's index in the file */
+    int skip[64]; /* binary: properties k … k + skip[k] − 1 are scalars not read (0: read k) */
+    size_t skip_bytes[64];
     int have;  /* bit R_* set when the role is present */
     int gauss;    /* a Gaussian-splat layout (rot_0..3, scale_0, scale_1): mapped by spr__gauss_put */
     int ellipse;  /* our elliptical splats: ux uy uz rv with radius */
@@ -264,6 +273,13 @@ static spr_result vertex_layout_make(const char *path, const ply_elem *V, const 
         return spr__fail(err, SPR_E_FORMAT, "%s: elliptical splats (ux uy uz rv) need normals", path);
     L->rest = nrest % 3 == 0 && nrest <= 45 ? nrest / 3 : 0;
     if (go) L->go = *go; else spr__gauss_defaults(&L->go);
+    /* runs of scalars nobody reads (f_rest_* too without --sh-degree), skipped at once in binary files */
+    for (int k = V->nprops - 1; k >= 0; k--) {
+        const int unread = V->props[k].count_type == T_NONE &&
+                           (L->role[k] == R_NONE || (L->role[k] == R_FREST && !(L->gauss && L->go.sh_degree > 0)));
+        L->skip[k] = unread ? 1 + (k + 1 < V->nprops ? L->skip[k + 1] : 0) : 0;
+        L->skip_bytes[k] = unread ? (size_t)type_size(V->props[k].type) + (k + 1 < V->nprops ? L->skip_bytes[k + 1] : 0) : 0;
+    }
     return SPR_OK;
 }
 
@@ -334,10 +350,11 @@ static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c
         const ply_prop *P = &V->props[k];
         const int role = L->role[k];
         double v;
-        if (cu->fmt != F_ASCII && P->count_type == T_NONE && (role == R_NONE || (role == R_FREST && !c->sh))) { /* unused: skipped */
-            if ((size_t)(cu->end - cu->p) < (size_t)type_size(P->type))
+        if (cu->fmt != F_ASCII && L->skip[k]) { /* a run of unread scalars: skipped at once */
+            if ((size_t)(cu->end - cu->p) < L->skip_bytes[k])
                 return spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: file ends inside %s %llu", path, cursor_at(cu, 0), V->name, i);
-            cu->p += type_size(P->type);
+            cu->p += L->skip_bytes[k];
+            k += L->skip[k] - 1;
             continue;
         }
         if (P->count_type != T_NONE) { /* a list in the vertex element: read past it */
