@@ -26,15 +26,4 @@ void spr_knn_free(spr_knn *k);
 spr_result spr_knn_query_all(spr_knn *kn, int k, int threads, uint32_t *idx, double *dist, const spr_progress *prog,
                              spr_error *err);
 
-/* Neighbour graph in CSR form: for every i, all j ≠ i with
- * |p_i − p_j| < f·(r_i + r_max) (r NULL: r_i = r_max), ascending j.  With
- * r_max the largest radius this finds every pair closer than f·(r_i + r_j)
- * from both ends while searching far less than f·2·r_max around small splats. */
-spr_result spr_knn_radius_graph(spr_knn *kn, const float *r, double f, double r_max, int threads, spr_graph *g,
-                                const spr_progress *prog, spr_error *err);
-/* The same, searching only the rows i with row[i] == want (row NULL: all);
- * the other rows are left empty. */
-spr_result spr_knn_radius_graph_rows(spr_knn *kn, const float *r, double f, double r_max, const unsigned char *row,
-                                     unsigned char want, int threads, spr_graph *g, const spr_progress *prog, spr_error *err);
-
 #endif
