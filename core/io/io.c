@@ -191,7 +191,8 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
     if (d) go.sh_degree = d->sh_degree;
     char *buf;
     size_t len;
-    spr_result r = spr__read_file(path, &buf, &len, err);
+    int mapped;
+    spr_result r = spr__map_file(path, &buf, &len, &mapped, err);
     if (r) return r;
     const spr_progress *prog = d ? &d->progress : NULL;
     const spr_warn *warn = d ? &d->warn : NULL;
@@ -201,7 +202,7 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
     else if (spz) r = spr__parse_spz(path, buf, len, &go, c, err);
     else if (glb) r = spr__parse_glb(path, buf, len, &go, c, err);
     else r = spr__parse_xyz(path, buf, len, d ? d->columns : NULL, c, err);
-    free(buf);
+    spr__unmap_file(buf, len, mapped);
     return r;
 }
 

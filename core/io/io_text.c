@@ -5,6 +5,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *err)
@@ -25,6 +28,32 @@ spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *
     *buf = b;
     *len = (size_t)sz;
     return SPR_OK;
+}
+
+spr_result spr__map_file(const char *path, char **buf, size_t *len, int *mapped, spr_error *err)
+{
+    *mapped = 0;
+    struct stat st;
+    int fd = open(path, O_RDONLY);
+    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size >= (off_t)SPR__MAP_MIN) {
+        void *p = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+        close(fd);
+        if (p != MAP_FAILED) {
+            *buf = p;
+            *len = (size_t)st.st_size;
+            *mapped = 1;
+            return SPR_OK;
+        }
+    } else if (fd >= 0) {
+        close(fd);
+    }
+    return spr__read_file(path, buf, len, err); /* small files, pipes, or mmap refused: read */
+}
+
+void spr__unmap_file(char *buf, size_t len, int mapped)
+{
+    if (mapped) munmap(buf, len);
+    else free(buf);
 }
 
 spr_result spr__check_text(const char *path, const char *buf, size_t from, size_t len, spr_error *err)

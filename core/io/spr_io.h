@@ -67,6 +67,13 @@ typedef struct spr__mesh {
 } spr__mesh;
 void spr__mesh_free(spr__mesh *m);
 spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *err);
+/* The same for the readers of spr_load, without the copy: a regular file of
+ * SPR__MAP_MIN bytes or more is mapped read-only (the readers never read
+ * past len; a file truncated while it is read is the caller's error), a
+ * smaller one read.  Release with spr__unmap_file(buf, len, mapped). */
+#define SPR__MAP_MIN ((size_t)16 << 20)
+spr_result spr__map_file(const char *path, char **buf, size_t *len, int *mapped, spr_error *err);
+void spr__unmap_file(char *buf, size_t len, int mapped);
 /* Text files hold no NUL byte: SPR_E_FORMAT naming the first one in buf[from, len). */
 spr_result spr__check_text(const char *path, const char *buf, size_t from, size_t len, spr_error *err);
 /* 1 when v is finite as a float too (1e300 is a finite double but not a float). */
