@@ -185,6 +185,8 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
     if (!ply && !off && !xyz && !txt && !splat && !spz && !glb)
         return spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz, .pwn, .txt, .asc, .csv, .pts, .splat, .spz or .glb)",
                          path, ext);
+    if (d && d->columns && !(xyz || txt))
+        return spr__fail(err, SPR_E_ARG, "%s: --columns names the columns of text point files (.xyz .pwn .txt .asc .csv .pts), not .%s", path, ext);
     spr__gauss_opts go;
     spr__gauss_defaults(&go);
     if (d && d->gauss_cut > 0.0) go.cut = d->gauss_cut;
