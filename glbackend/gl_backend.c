@@ -240,7 +240,8 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
         float r = spr_draw_radius(d, sid);
         gl_instance *g = &inst[m];
         int x0, y0, x1, y1;
-        if (!spr_splat_pixel_rect(v, cl->pos + 3 * (size_t)sid, cl->nrm + 3 * (size_t)sid, r, &x0, &y0, &x1, &y1)) continue;
+        spr_draw_ellipse(d, sid, r, g->e);
+        if (!spr_splat_pixel_rect_ell(v, cl->pos + 3 * (size_t)sid, cl->nrm + 3 * (size_t)sid, g->e, r, &x0, &y0, &x1, &y1)) continue;
         g->rect[0] = x0; g->rect[1] = y0; g->rect[2] = x1; g->rect[3] = y1;
         for (int k = 0; k < 3; k++) {
             g->pr[k] = cl->pos[3 * (size_t)sid + k];
@@ -248,7 +249,6 @@ static spr_result gl_draw(spr_backend *b, int target, const spr_draw_desc *d, sp
             g->c[k] = cl->color[3 * (size_t)sid + k];
         }
         g->pr[3] = r;
-        spr_draw_ellipse(d, sid, r, g->e);
         g->na[3] = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
         g->c[3] = 0.0f;
         g->id = d->id_base + sid;

@@ -129,11 +129,12 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
         size_t lo = (size_t)ch * chunk, hi = lo + chunk < n ? lo + chunk : n;
         for (size_t i = lo; i < hi; i++) {
             uint32_t sid = splat_at(d, i);
-            float r = spr_draw_radius(d, sid);
+            float r = spr_draw_radius(d, sid), el[4];
+            spr_draw_ellipse(d, sid, r, el);
             int32_t *rc = rect + 4 * i;
             int x0, y0, x1, y1;
-            if (!spr_splat_pixel_rect(v, d->cloud->pos + 3 * (size_t)sid, d->cloud->nrm + 3 * (size_t)sid, r,
-                                      &x0, &y0, &x1, &y1)) {
+            if (!spr_splat_pixel_rect_ell(v, d->cloud->pos + 3 * (size_t)sid, d->cloud->nrm + 3 * (size_t)sid, el, r,
+                                          &x0, &y0, &x1, &y1)) {
                 rc[0] = -1;
                 continue;
             }

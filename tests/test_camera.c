@@ -126,21 +126,45 @@ START_TEST(pixel_rect_is_conservative)
     spr_error err;
     ck_assert_int_eq(spr_view_make(&c, &v, &err), SPR_OK);
     srand(7);
-    for (int s = 0; s < 300; s++) {
+    size_t covered_in = 0;
+    double area_ell = 0.0, area_circle = 0.0;
+    for (int s = 0; s < 1200; s++) {
         float p[3], n[3], r = 0.05f + 0.5f * rand() / (float)RAND_MAX;
         for (int k = 0; k < 3; k++) { p[k] = 4.0f * rand() / (float)RAND_MAX - 2.0f; n[k] = rand() / (float)RAND_MAX - 0.5f; }
         spr__normalize3(n);
-        int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
-        int any = spr_splat_pixel_rect(&v, p, n, r, &x0, &y0, &x1, &y1);
+        /* every other splat an ellipse: a random tangent u (up to 1e-4 off the plane, as files may
+         * hold it), r_v from 0.001 r to r */
+        float e[4] = {0.0f, 0.0f, 0.0f, r};
+        if (s & 1) {
+            float a[3];
+            for (int k = 0; k < 3; k++) a[k] = rand() / (float)RAND_MAX - 0.5f;
+            float an = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
+            for (int k = 0; k < 3; k++) a[k] -= an * n[k] - 1e-4f * n[k];
+            spr__normalize3(a);
+            for (int k = 0; k < 3; k++) e[k] = a[k];
+            e[3] = r * (s % 4 == 1 ? 0.001f + 0.01f * rand() / (float)RAND_MAX : rand() / (float)RAND_MAX);
+            if (!(e[3] > 0.0f)) e[3] = r * 0.5f;
+        }
+        int x0 = 0, y0 = 0, x1 = -1, y1 = -1, cx0 = 0, cy0 = 0, cx1 = -1, cy1 = -1;
+        int any = spr_splat_pixel_rect_ell(&v, p, n, e, r, &x0, &y0, &x1, &y1);
+        if ((s & 1) && spr_splat_pixel_rect(&v, p, n, r, &cx0, &cy0, &cx1, &cy1)) { /* the ellipse's box inside the circle's */
+            ck_assert(!any || (x0 >= cx0 && x1 <= cx1 && y0 >= cy0 && y1 <= cy1));
+            if (any) area_ell += (double)(x1 - x0 + 1) * (y1 - y0 + 1);
+            area_circle += (double)(cx1 - cx0 + 1) * (cy1 - cy0 + 1);
+        }
         for (int y = 0; y < c.height; y++)
             for (int x = 0; x < c.width; x++) {
                 float o0[3], d[3], t, rho2, den;
                 spr_pixel_ray(&v, x, y, o0, d);
-                if (!spr_ray_disk(o0, d, p, n, r, &t, &rho2, &den)) continue;
+                if (!spr_ray_ellipse(o0, d, p, n, e, r, &t, &rho2, &den)) continue;
+                covered_in++;
                 if (!(any && x >= x0 && x <= x1 && y >= y0 && y <= y1))
                     ck_abort_msg("splat %d covers (%d,%d) outside its rectangle", s, x, y);
             }
     }
+    ck_assert_uint_gt(covered_in, 20000);
+    printf("camera: ellipses' rectangles cover %.0f pixels where their bounding circles' cover %.0f\n", area_ell, area_circle);
+    ck_assert(area_ell < 0.8 * area_circle);
 }
 END_TEST
 

@@ -294,6 +294,13 @@ static void ball_range(double a0, double an, double w0, double bn, double r, dou
 int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], float r,
                          int *x0, int *y0, int *x1, int *y1)
 {
+    const float circle[4] = {0.0f, 0.0f, 0.0f, r};
+    return spr_splat_pixel_rect_ell(v, p, n, circle, r, x0, y0, x1, y1);
+}
+
+int spr_splat_pixel_rect_ell(const spr_view *v, const float p[3], const float n[3], const float el[4], float r,
+                             int *x0, int *y0, int *x1, int *y1)
+{
     /* First the bounding ball of the disk: one projection of the centre,
      * four divisions.  Enough for the many splats that project to a few
      * pixels (the ball is at most √2 wider than the disk's box there);
@@ -318,9 +325,20 @@ int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], 
     double e[3][3];
     const double c0[3] = {cx0, cy0, cw0}; /* rows x, y, w */
     static const int row[3] = {0, 1, 3};
+    const int ellipse = el[3] != r;
+    /* the ellipse's half-extent along axis k: sqrt((r_u·u_k)² + (r_v·v_k)²), v = n × u (a circle: r·sqrt(1 − n_k²));
+     * the margin 1.001 covers the float arithmetic of the per-pixel test, u off the plane by up to 1e-4 included */
+    const double vv[3] = {(double)n[1] * el[2] - (double)n[2] * el[1], (double)n[2] * el[0] - (double)n[0] * el[2],
+                          (double)n[0] * el[1] - (double)n[1] * el[0]};
     for (int k = 0; k < 3; k++) {
         double nk = n[k], s = 1.0 - nk * nk;
-        const double ext = (double)r * sqrt(s > 0.0 ? s : 0.0) * 1.001 + 1e-7 * (double)r;
+        double ext = (double)r * sqrt(s > 0.0 ? s : 0.0);
+        if (ellipse) {
+            const double a = (double)r * el[k], b = (double)el[3] * vv[k];
+            const double ee = sqrt(a * a + b * b);
+            ext = ee < ext ? ee : ext;
+        }
+        ext = ext * 1.001 + 1e-7 * (double)r;
         for (int j = 0; j < 3; j++) e[j][k] = ext * PV[4 * row[j] + k];
     }
     double box[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY}; /* NDC x min, max, y min, max */

@@ -68,6 +68,11 @@ void spr_lowres_make(const spr_view *v, const spr_bounds *b, float eps_t, double
  * pixel by the exact test, so this only has to be conservative. */
 int spr_splat_pixel_rect(const spr_view *v, const float p[3], const float n[3], float r,
                          int *x0, int *y0, int *x1, int *y1);
+/* The same for the ellipse e = (u, r_v) of major radius r (spr_ray_ellipse;
+ * a circle when e[3] == r): the box of the ellipse itself, so a thin splat
+ * is tested over its own extent, not over its bounding circle's. */
+int spr_splat_pixel_rect_ell(const spr_view *v, const float p[3], const float n[3], const float e[4], float r,
+                             int *x0, int *y0, int *x1, int *y1);
 
 /* 4×4 row-major double helpers (exposed for tests). */
 void spr__mat4_mul(const double a[16], const double b[16], double out[16]);
