@@ -262,7 +262,7 @@ static void sh_basis(double x, double y, double z, double Y[16])
     Y[15] = -0.5900435899266435 * x * (xx - 3.0 * yy);
 }
 
-void spr_cloud_sh_colors(spr_cloud *c, const double eye[3])
+void spr_cloud_sh_colors(spr_cloud *c, const double eye[3], const double *view_dir)
 {
     if (!c->sh || c->sh_k < 1) return;
     const int K = c->sh_k > 16 ? 16 : c->sh_k;
@@ -270,7 +270,7 @@ void spr_cloud_sh_colors(spr_cloud *c, const double eye[3])
     for (long i = 0; i < (long)c->n; i++) {
         double d[3], l = 0.0, Y[16];
         for (int k = 0; k < 3; k++) {
-            d[k] = (double)c->pos[3 * i + k] - eye[k];
+            d[k] = view_dir ? view_dir[k] : (double)c->pos[3 * i + k] - eye[k];
             l += d[k] * d[k];
         }
         l = sqrt(l);

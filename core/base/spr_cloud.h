@@ -49,9 +49,11 @@ spr_result spr_cloud_alloc(spr_cloud *c, size_t n);
 spr_result spr_cloud_alloc_ell(spr_cloud *c);
 /* Colours of a cloud with sh for a camera at eye (world space): for every
  * splat c = 0.5 + Σ_k Y_k(dir)·sh_k, dir the unit vector from the eye to its
- * centre, in double, clamped to [0,1] and rounded once — on the host, so
- * every backend gets the same bits.  Nothing without sh. */
-void spr_cloud_sh_colors(spr_cloud *c, const double eye[3]);
+ * centre — or, for an orthographic camera (view_dir not NULL), the viewing
+ * direction itself, the same for every splat — in double, clamped to [0,1]
+ * and rounded once, on the host, so every backend gets the same bits.
+ * Nothing without sh. */
+void spr_cloud_sh_colors(spr_cloud *c, const double eye[3], const double *view_dir);
 /* Release the arrays; safe on a zeroed cloud. */
 void spr_cloud_free(spr_cloud *c);
 /* Check every invariant above; names `what` (a file) and the first bad splat. */
