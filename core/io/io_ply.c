@@ -366,7 +366,14 @@ static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c
                 if ((r = read_value(cu, P->type, &v, V->name, i))) return r;
             continue;
         }
-        if ((r = read_value(cu, P->type, &v, V->name, i))) return r;
+        if (cu->fmt == F_LE && P->type == T_F32 && cu->end - cu->p >= 4) { /* the common case inline (read_value's, exactly) */
+            float f;
+            memcpy(&f, cu->p, 4);
+            cu->p += 4;
+            v = f;
+        } else if ((r = read_value(cu, P->type, &v, V->name, i))) {
+            return r;
+        }
         if (role && !spr__finite_float(v)) /* checked as the float it becomes: 1e300 is a finite double */
             return cu->fmt == F_ASCII
                        ? spr__fail(err, SPR_E_VALUE, "%s:%zu: vertex %llu: %s %s (%g) is not a finite 32-bit float", path, cu->line, i,
