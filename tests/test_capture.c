@@ -307,14 +307,14 @@ START_TEST(sh_colour_by_hand)
     c.sh = calloc(12, sizeof(float));
     c.sh[3 * 2 + 0] = 0.5f;
     const double above[3] = {0, 0, 5}, below[3] = {0, 0, -5};
-    spr_cloud_sh_colors(&c, above, NULL);
+    spr_cloud_sh_colors(&c, above, NULL, c.color);
     ck_assert_double_eq_tol(c.color[0], 0.5 - 0.4886025119029199 * 0.5, 1e-7);
     ck_assert_double_eq_tol(c.color[1], 0.5, 1e-7);
-    spr_cloud_sh_colors(&c, below, NULL);
+    spr_cloud_sh_colors(&c, below, NULL, c.color);
     ck_assert_double_eq_tol(c.color[0], 0.5 + 0.4886025119029199 * 0.5, 1e-7);
     /* orthographic, looking along −z from anywhere: every splat sees the direction (0, 0, −1) */
     const double down[3] = {0, 0, -1};
-    spr_cloud_sh_colors(&c, below, down);
+    spr_cloud_sh_colors(&c, below, down, c.color);
     ck_assert_double_eq_tol(c.color[0], 0.5 - 0.4886025119029199 * 0.5, 1e-7);
     spr_cloud_free(&c);
     /* --sh-degree 3 on a file whose higher coefficients are zero: the DC colour */
@@ -324,7 +324,7 @@ START_TEST(sh_colour_by_hand)
     spr_error err = {0};
     ck_assert_msg(spr_load(cap("sheet.ply"), &ld, &c, &err) == SPR_OK, "%s", err.msg);
     ck_assert_int_eq(c.sh_k, 16);
-    spr_cloud_sh_colors(&c, above, NULL);
+    spr_cloud_sh_colors(&c, above, NULL, c.color);
     ck_assert_double_eq_tol(c.color[0], 204.0 / 255.0, 1e-6);
     spr_cloud_free(&c);
 }

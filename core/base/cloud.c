@@ -262,7 +262,7 @@ static void sh_basis(double x, double y, double z, double Y[16])
     Y[15] = -0.5900435899266435 * x * (xx - 3.0 * yy);
 }
 
-void spr_cloud_sh_colors(spr_cloud *c, const double eye[3], const double *view_dir)
+void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *view_dir, float *color)
 {
     if (!c->sh || c->sh_k < 1) return;
     const int K = c->sh_k > 16 ? 16 : c->sh_k;
@@ -280,7 +280,7 @@ void spr_cloud_sh_colors(spr_cloud *c, const double eye[3], const double *view_d
         for (int ch = 0; ch < 3; ch++) {
             double v = 0.5;
             for (int k = 0; k < K; k++) v += Y[k] * s[3 * k + ch];
-            c->color[3 * i + ch] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+            color[3 * i + ch] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
         }
     }
 }

@@ -47,13 +47,13 @@ typedef struct spr_cloud {
 spr_result spr_cloud_alloc(spr_cloud *c, size_t n);
 /* Give c its ellipse array, every splat a circle (u = 0, r_v = radius): 0 or SPR_E_NOMEM. */
 spr_result spr_cloud_alloc_ell(spr_cloud *c);
-/* Colours of a cloud with sh for a camera at eye (world space): for every
- * splat c = 0.5 + Σ_k Y_k(dir)·sh_k, dir the unit vector from the eye to its
- * centre — or, for an orthographic camera (view_dir not NULL), the viewing
- * direction itself, the same for every splat — in double, clamped to [0,1]
- * and rounded once, on the host, so every backend gets the same bits.
- * Nothing without sh. */
-void spr_cloud_sh_colors(spr_cloud *c, const double eye[3], const double *view_dir);
+/* Colours of a cloud with sh for a camera at eye (world space), into
+ * color (3n): for every splat c = 0.5 + Σ_k Y_k(dir)·sh_k, dir the unit
+ * vector from the eye to its centre — or, for an orthographic camera
+ * (view_dir not NULL), the viewing direction itself, the same for every
+ * splat — in double, clamped to [0,1] and rounded once.  spr_render calls
+ * it once per frame, on the host, so every backend gets the same bits. */
+void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *view_dir, float *color);
 /* Release the arrays; safe on a zeroed cloud. */
 void spr_cloud_free(spr_cloud *c);
 /* Check every invariant above; names `what` (a file) and the first bad splat. */

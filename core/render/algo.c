@@ -277,8 +277,23 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     if (src && src->n != cloud->n) return spr__fail(err, SPR_E_ARG, "render: the stream has %zu splats, the cloud %zu", src->n, cloud->n);
     spr_result r;
     if (src && (r = spr_stream_check(desc->algo, cloud->n, err))) return r;
+    spr_cloud viewed;
+    float *sh_color = NULL;
+    if (cloud->sh) { /* view-dependent colours (--sh-degree): this view's, once per frame on the host, drawn by every backend */
+        if (!(sh_color = malloc((cloud->n ? cloud->n : 1) * 3 * sizeof *sh_color)))
+            return spr__fail(err, SPR_E_NOMEM, "render: out of memory for %zu view-dependent colours", cloud->n);
+        double eye[3], fwd[3] = {-view->V[8], -view->V[9], -view->V[10]}; /* the camera looks down −z of eye space */
+        spr_view_matrix_eye(view->V, eye);
+        spr_cloud_sh_colors(cloud, eye, view->ortho ? fwd : NULL, sh_color);
+        viewed = *cloud;
+        viewed.color = sh_color;
+        cloud = &viewed;
+    }
     r = spr_backend_set_view(b, view);
-    if (r) return backend_failed(&(spr__run){.b = b, .err = err}, r);
+    if (r) {
+        free(sh_color);
+        return backend_failed(&(spr__run){.b = b, .err = err}, r);
+    }
     spr_bounds bd;
     if (src) bd = src->bounds;
     else spr_cloud_bounds(cloud, &bd);
@@ -286,6 +301,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     spr__run run = {b, cloud, desc, out, err, spr_view_eps_t(view, eps), {0, 0, 0, 0}, 0, {0}, 0, {0}, NULL};
     if (src && (spr_cloud_alloc(&run.chunk, src->chunk) || !(run.local = malloc(src->chunk * sizeof *run.local)))) {
         spr_cloud_free(&run.chunk);
+        free(sh_color);
         return spr__fail(err, SPR_E_NOMEM, "render: out of memory for a chunk of %zu splats", src->chunk);
     }
     if ((r = make_params(&run, view))) goto done;
@@ -307,6 +323,7 @@ done:
     spr_progress_report(&desc->progress, "frame", 1, 1); /* done: the terminal line is cleared */
     spr_cloud_free(&run.chunk);
     free(run.local);
+    free(sh_color);
     if (r) spr_render_result_free(out);
     return r;
 }

@@ -325,11 +325,6 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     }
     if (spr__reject_unused(a) || spr__load_model(a, s, &ld)) return -1;
     if (spr_view_make(&s->cam, &s->view, &err)) { spr__error(a, "%s", err.msg); return -1; }
-    if (s->cloud.sh) { /* view-dependent colours for this camera (--sh-degree), on the host: one set of bits for every backend */
-        double eye[3], fwd[3] = {-s->view.V[8], -s->view.V[9], -s->view.V[10]}; /* the camera looks down −z of eye space */
-        spr_view_matrix_eye(s->view.V, eye);
-        spr_cloud_sh_colors(&s->cloud, eye, s->view.ortho ? fwd : NULL);
-    }
     int32_t *axes = NULL;
     if ((uses & SPR_USES_ORDER) && rd->order == SPR_ORDER_BSP && !stream) { /* the tree of [ZP] §5.2.1, once for every frame */
         if (spr_bsp_build(&s->cloud, &s->bsp, &err)) { spr__error(a, "%s", err.msg); return -1; }
