@@ -140,7 +140,7 @@ START_TEST(gauss_mapping_by_hand)
     load_or_fail(cap("sheet.ply"), &c);
     ck_assert_uint_eq(c.n, 576);
     ck_assert(c.ell != NULL);
-    ck_assert(c.flags & SPR_SRC_GAUSSIAN);
+    ck_assert(c.gauss_cut == 3.0f);
     double u[3], v[3], n[3];
     sheet_axis(0, u);
     sheet_axis(1, v);

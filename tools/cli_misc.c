@@ -46,7 +46,7 @@ int cmd_info(int argc, char **argv)
     printf("model:    %s\nsplats:   %zu\n", model, c.n);
     printf("bounds:   [%g, %g, %g] .. [%g, %g, %g]\n", b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]);
     printf("radius:   min %g  mean %g  max %g\n", b.min_radius, b.mean_radius, b.max_radius);
-    const int gs = (c.flags & SPR_SRC_GAUSSIAN) != 0;
+    const int gs = c.gauss_cut > 0.0f;
     if (c.ell) { /* elliptical splats: how flat */
         size_t ne = 0;
         double ratio = 0.0, rmin = 1.0;

@@ -42,7 +42,6 @@ spr_result spr_cloud_alloc_ell(spr_cloud *c)
         c->ell[4 * i] = c->ell[4 * i + 1] = c->ell[4 * i + 2] = 0.0f;
         c->ell[4 * i + 3] = c->radius[i];
     }
-    c->flags |= SPR_SRC_ELLIPSES;
     return SPR_OK;
 }
 

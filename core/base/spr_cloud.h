@@ -18,9 +18,7 @@ typedef enum spr_source_flags {
     SPR_SRC_COLORS  = 1u << 1,  /* colours read from the file */
     SPR_SRC_RADII   = 1u << 2,  /* radii read from the file */
     SPR_SRC_ALPHA   = 1u << 3,  /* opacity read from the file */
-    SPR_SRC_FACES   = 1u << 4,  /* normals from mesh faces */
-    SPR_SRC_ELLIPSES = 1u << 5, /* elliptical splats (cloud->ell) */
-    SPR_SRC_GAUSSIAN = 1u << 6  /* a Gaussian-splat capture (radii = cut × σ, α = sigmoid) */
+    SPR_SRC_FACES   = 1u << 4   /* normals from mesh faces */
 } spr_source_flags;
 
 typedef struct spr_cloud {
@@ -38,8 +36,8 @@ typedef struct spr_cloud {
                      * splat, coefficient-major, r g b each (k = 0 the DC term), for colours that
                      * depend on the view (spr_cloud_sh_colors, --sh-degree) */
     int sh_k;       /* coefficients per channel: (degree + 1)², 0 without sh */
-    float gauss_cut; /* > 0: a Gaussian capture whose radii are gauss_cut × σ (--gauss-cut): the gauss
-                      * kernel then weighs by the file's σ (spr_draw_kernel_scale); 0 otherwise */
+    float gauss_cut; /* > 0: a Gaussian-splat capture, its radii gauss_cut × σ (--gauss-cut): the gauss
+                      * kernel then weighs by the file's σ (spr_draw_kernel_scale); 0: not a capture */
     unsigned flags; /* spr_source_flags */
 } spr_cloud;
 

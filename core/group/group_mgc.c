@@ -15,7 +15,6 @@
 #include "spr_group.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>

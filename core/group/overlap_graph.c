@@ -1,5 +1,5 @@
 /* overlap_graph.c — the neighbour graphs of grouping (SPEC §5): all pairs
- * with |p_i − p_j| < f·(r_i + r_j) found with FLANN, and the overlap graph
+ * with |p_i − p_j| < f·(r_i + r_j) found on a grid of columns, and the overlap graph
  * (f = 1) with the areas A_ij of [ZP] Eq. 8 on every directed edge, shared
  * by WGC, hash collision handling, extended grouping and the metrics. */
 #include "spr_group.h"

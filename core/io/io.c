@@ -174,7 +174,6 @@ static spr_result complete(spr_cloud *c, const spr__mesh *mesh, const spr_load_d
     return spr__cloud_finish(c, path, 0, d->opacity, err);
 }
 
-
 /* Read a file once and run the reader of its extension over it (mesh gets
  * the faces of OFF and PLY files). */
 static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr__mesh *mesh, const spr_load_desc *d, spr_error *err)

@@ -34,7 +34,7 @@ spr_result spr__gauss_alloc(spr_cloud *c, size_t n, int file_k, const spr__gauss
         spr_cloud_free(c);
         return spr__fail(err, r, "%s: cannot allocate %zu Gaussian splats", path, n);
     }
-    c->flags = SPR_SRC_NORMALS | SPR_SRC_COLORS | SPR_SRC_RADII | SPR_SRC_ALPHA | SPR_SRC_ELLIPSES | SPR_SRC_GAUSSIAN;
+    c->flags = SPR_SRC_NORMALS | SPR_SRC_COLORS | SPR_SRC_RADII | SPR_SRC_ALPHA;
     c->gauss_cut = (float)o->cut;
     return SPR_OK;
 }

@@ -133,13 +133,6 @@ static spr_result read_value(cursor *cu, ply_type t, double *out, const char *wh
     if ((size_t)(cu->end - cu->p) < (size_t)n)
         return spr__fail(cu->err, SPR_E_TRUNCATED, "%s: byte %zu: file ends inside %s %llu", cu->path,
                          cursor_at(cu, 0), what, index);
-    if (t == T_F32 && cu->fmt == F_LE) { /* the common case, directly (host is little-endian, checked in CMake) */
-        float f;
-        memcpy(&f, cu->p, 4);
-        *out = f;
-        cu->p += 4;
-        return SPR_OK;
-    }
     *out = bin_value(cu->p, t, cu->fmt == F_BE);
     cu->p += n;
     return SPR_OK;
@@ -366,7 +359,7 @@ static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c
                 if ((r = read_value(cu, P->type, &v, V->name, i))) return r;
             continue;
         }
-        if (cu->fmt == F_LE && P->type == T_F32 && cu->end - cu->p >= 4) { /* the common case inline (read_value's, exactly) */
+        if (cu->fmt == F_LE && P->type == T_F32 && cu->end - cu->p >= 4) { /* the common case inline: read_value's value (host little-endian) */
             float f;
             memcpy(&f, cu->p, 4);
             cu->p += 4;
@@ -424,25 +417,14 @@ static spr_result decode_vertex(cursor *cu, const vertex_layout *L, spr_cloud *c
 /* Where the vertex data came from, as spr_cloud flags. */
 static unsigned vertex_flags(int have)
 {
-    const int rot = HAVE(R_ROT0) | HAVE(R_ROT1) | HAVE(R_ROT2) | HAVE(R_ROT3), sc = HAVE(R_SC0) | HAVE(R_SC1);
-    if ((have & (rot | sc)) == (rot | sc))
-        return SPR_SRC_NORMALS | SPR_SRC_COLORS | SPR_SRC_RADII | SPR_SRC_ALPHA | SPR_SRC_ELLIPSES | SPR_SRC_GAUSSIAN;
-    return ((have & HAVE(R_UX)) && (have & HAVE(R_RV)) ? SPR_SRC_ELLIPSES : 0) | ((have & (1 << R_NX)) ? SPR_SRC_NORMALS : 0) | ((have & (1 << R_R)) ? SPR_SRC_COLORS : 0) |
+    return ((have & (1 << R_NX)) ? SPR_SRC_NORMALS : 0) | ((have & (1 << R_R)) ? SPR_SRC_COLORS : 0) |
            ((have & (1 << R_RADIUS)) ? SPR_SRC_RADII : 0) | ((have & (1 << R_A)) ? SPR_SRC_ALPHA : 0);
 }
 
 /* Bytes of one vertex record when every vertex property is a scalar of a
  * binary file (0: variable-size records, or ascii). */
-static size_t fixed_record(int fmt, const ply_elem *V)
-{
-    if (fmt == F_ASCII) return 0;
-    size_t rec = 0;
-    for (int k = 0; k < V->nprops; k++) {
-        if (V->props[k].count_type != T_NONE) return 0;
-        rec += (size_t)type_size(V->props[k].type);
-    }
-    return rec;
-}
+static size_t item_bytes(const ply_elem *E);
+static size_t fixed_record(int fmt, const ply_elem *V) { return fmt == F_ASCII ? 0 : item_bytes(V); }
 
 /* Vertices first … first+count−1 from fixed-size binary records at `base`
  * (file offset off0, `bytes` long, all present) into splats 0 … count−1 of
@@ -500,15 +482,20 @@ static int prop_index(const ply_elem *E, const char *name, ply_type t)
     return -1;
 }
 
+/* Byte offset of property k in an item of E (binary, scalars before k). */
+static size_t prop_offset(const ply_elem *E, int k)
+{
+    size_t b = 0;
+    for (int j = 0; j < k; j++) b += (size_t)type_size(E->props[j].type);
+    return b;
+}
+
 /* Bytes of one item of E (binary, scalars only); 0 when E has a list. */
 static size_t item_bytes(const ply_elem *E)
 {
-    size_t b = 0;
-    for (int k = 0; k < E->nprops; k++) {
+    for (int k = 0; k < E->nprops; k++)
         if (E->props[k].count_type != T_NONE) return 0;
-        b += (size_t)type_size(E->props[k].type);
-    }
-    return b;
+    return prop_offset(E, E->nprops);
 }
 
 static double unorm(uint32_t v, int shift, int bits) { return (double)((v >> shift) & ((1u << bits) - 1u)) / (double)((1u << bits) - 1u); }
@@ -570,15 +557,9 @@ static spr_result spr__parse_compressed_ply(const char *path, const char *buf, s
     const int Ci = (int)(C - el), Vi = (int)(V - el), Si = S ? (int)(S - el) : 0;
     const size_t cb = item_bytes(C), vb = item_bytes(V), sb = S ? item_bytes(S) : 0;
     size_t cofs[18], vofs[4], sofs[45];
-    for (int k = 0; k < 18; k++) {
-        cofs[k] = 0;
-        for (int j = 0; j < ci[k]; j++) cofs[k] += (size_t)type_size(C->props[j].type);
-    }
-    for (int k = 0; k < 4; k++) {
-        vofs[k] = 0;
-        for (int j = 0; j < vi[k]; j++) vofs[k] += (size_t)type_size(V->props[j].type);
-    }
-    for (int k = 0; k < nsh; k++) sofs[k] = (size_t)si[k];
+    for (int k = 0; k < 18; k++) cofs[k] = ci[k] >= 0 ? prop_offset(C, ci[k]) : 0;
+    for (int k = 0; k < 4; k++) vofs[k] = prop_offset(V, vi[k]);
+    for (int k = 0; k < nsh; k++) sofs[k] = prop_offset(S, si[k]);
     const unsigned char *B = (const unsigned char *)buf;
     long bad = -1;
     spr_error first = {0};

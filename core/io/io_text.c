@@ -314,7 +314,7 @@ spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const c
         }
     }
     /* first pass: the header, then count the data lines and check their width */
-    size_t lines = 0, line = 0, first_data = 0;
+    size_t lines = 0, line = 0;
     double cmax = 0.0;
     for (const char *p = buf, *end = buf + len; p < end;) {
         const char *e = memchr(p, '\n', (size_t)(end - p));
@@ -360,11 +360,9 @@ spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const c
                                  (int)(fl[k] < 40 ? fl[k] : 40), f[k]);
             if (role[k] >= C_R && role[k] <= C_A && v > cmax) cmax = v;
         }
-        if (!lines) first_data = line;
         lines++;
         p = e + 1;
     }
-    (void)first_data;
     if (!lines) return spr__fail(err, SPR_E_FORMAT, "%s: no points", path);
     int have = 0;
     for (int k = 0; k < ncols; k++)
