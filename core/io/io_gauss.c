@@ -96,6 +96,26 @@ spr_result spr__gauss_put(const spr__gauss *g, const spr__gauss_opts *o, spr_clo
     return SPR_OK;
 }
 
+spr_result spr__gauss_fill(spr_cloud *c, const spr__gauss_opts *o, spr__gauss_decode decode, const void *user, const char *path,
+                           spr_error *err)
+{
+    long bad = -1;
+    spr_error first = {0};
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)c->n; i++) {
+        spr__gauss g;
+        decode(user, (size_t)i, &g, c->sh ? c->sh + (size_t)i * (size_t)c->sh_k * 3 : NULL);
+        spr_error e;
+        if (spr__gauss_put(&g, o, c, (size_t)i, path, (size_t)i, &e)) {
+#pragma omp critical(spr_gauss_bad)
+            if (bad < 0 || i < bad) bad = i, first = e; /* the lowest bad splat's message, for any thread count */
+        }
+    }
+    if (bad < 0) return SPR_OK;
+    spr_cloud_free(c);
+    return spr__fail(err, SPR_E_VALUE, "%s", first.msg);
+}
+
 /* ---- .splat: 32-byte records (antimatter15's viewer, converters) ---- */
 
 static float le_f32(const unsigned char *p)
@@ -107,8 +127,10 @@ static float le_f32(const unsigned char *p)
 
 /* One 32-byte record: position f32×3, σ f32×3 (linear), RGBA u8×4 (colour
  * and α as they are), rotation u8×4 (w x y z as (b − 128)/128). */
-static void splat_record(const unsigned char *rec, spr__gauss *g)
+static void splat_record(const void *user, size_t i, spr__gauss *g, float *sh)
 {
+    (void)sh; /* colours only */
+    const unsigned char *rec = (const unsigned char *)user + 32 * i;
     for (int k = 0; k < 3; k++) {
         g->pos[k] = le_f32(rec + 4 * k);
         g->sigma[k] = le_f32(rec + 12 + 4 * k);
@@ -127,31 +149,8 @@ spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const
                          len - len % 32, len);
     const size_t n = len / 32;
     if (n > SPR_MAX_SPLATS) return spr__fail(err, SPR_E_TOO_LARGE, "%s: %zu splats (limit %u)", path, n, SPR_MAX_SPLATS);
-    spr__gauss_opts oo = *o;
-    oo.sh_degree = 0; /* .splat holds colours only */
-    spr_result r = spr__gauss_alloc(c, n, 1, &oo, path, err);
-    if (r) return r;
-    const unsigned char *p = (const unsigned char *)buf;
-    long bad = -1;
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < (long)n; i++) {
-        spr__gauss g;
-        splat_record(p + 32 * (size_t)i, &g);
-        spr_error e;
-        if (spr__gauss_put(&g, &oo, c, (size_t)i, path, (size_t)i, &e)) {
-#pragma omp critical(spr_splat_bad)
-            if (bad < 0 || i < bad) bad = i;
-        }
-    }
-    if (bad >= 0) { /* the first bad record again, alone, for its message (any thread count) */
-        spr__gauss g;
-        splat_record(p + 32 * (size_t)bad, &g);
-        spr_error e;
-        spr__gauss_put(&g, &oo, c, (size_t)bad, path, (size_t)bad, &e);
-        spr_cloud_free(c);
-        return spr__fail(err, SPR_E_VALUE, "%s (record at byte %zu)", e.msg, 32 * (size_t)bad);
-    }
-    return SPR_OK;
+    spr_result r = spr__gauss_alloc(c, n, 1, o, path, err); /* one coefficient: colours only */
+    return r ? r : spr__gauss_fill(c, o, splat_record, buf, path, err);
 }
 
 /* ---- .spz: gzip, fixed point (Niantic's library, converters; versions 1–3) ---- */
@@ -198,6 +197,68 @@ static spr_result inflate_all(const char *path, const char *buf, size_t len, siz
     return SPR_OK;
 }
 
+/* The arrays of an inflated .spz, one after another: positions, alphas,
+ * colours, scales, rotations, SH. */
+typedef struct spz_layout {
+    const unsigned char *P;     /* the first array */
+    size_t n;
+    uint32_t version;
+    int frac;
+    size_t qb, dim;             /* rotation bytes, SH coefficients per channel beyond DC */
+    int sh_k;
+} spz_layout;
+
+static void spz_splat(const void *user, size_t i, spr__gauss *g, float *sh)
+{
+    const spz_layout *L = user;
+    const size_t n = L->n;
+    const unsigned char *P = L->P, *A = P + n * (L->version == 1 ? 6 : 9), *C = A + n, *S = C + 3 * n, *Q = S + 3 * n, *H = Q + L->qb * n;
+    for (int k = 0; k < 3; k++) {
+        if (L->version == 1) { /* half floats */
+            uint16_t h = (uint16_t)(P[6 * i + 2 * (size_t)k] | P[6 * i + 2 * (size_t)k + 1] << 8);
+            int e = h >> 10 & 31, m = h & 1023;
+            double v = e == 0 ? ldexp(m, -24) : e == 31 ? (m ? NAN : INFINITY) : ldexp(m + 1024, e - 25);
+            g->pos[k] = h & 0x8000 ? -v : v;
+        } else { /* 24-bit fixed point */
+            const unsigned char *b = P + 9 * i + 3 * (size_t)k;
+            int32_t f = (int32_t)(b[0] | b[1] << 8 | (uint32_t)b[2] << 16);
+            if (f & 0x800000) f -= 0x1000000;
+            g->pos[k] = ldexp((double)f, -L->frac);
+        }
+        g->sigma[k] = exp(S[3 * i + (size_t)k] / 16.0 - 10.0);
+        g->rgb[k] = 0.5 + 0.28209479177387814 * ((C[3 * i + (size_t)k] / 255.0 - 0.5) / 0.15);
+    }
+    g->alpha = A[i] / 255.0; /* stored after the sigmoid */
+    double q[4]; /* x y z w */
+    if (L->qb == 3) {
+        double s2 = 0.0;
+        for (int k = 0; k < 3; k++) {
+            q[k] = Q[3 * i + (size_t)k] / 127.5 - 1.0;
+            s2 += q[k] * q[k];
+        }
+        q[3] = sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0);
+    } else { /* smallest three: 2 bits the largest component, 3 × (sign, 9-bit magnitude) */
+        const unsigned char *b = Q + 4 * i;
+        uint32_t comp = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+        const int big = (int)(comp >> 30);
+        double s2 = 0.0;
+        for (int k = 3; k >= 0; k--) {
+            if (k == big) continue;
+            double m = 0.7071067811865476 * (double)(comp & 511u) / 511.0;
+            q[k] = (comp >> 9 & 1u) ? -m : m;
+            comp >>= 10;
+            s2 += q[k] * q[k];
+        }
+        q[big] = sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0);
+    }
+    g->q[0] = q[3], g->q[1] = q[0], g->q[2] = q[1], g->q[3] = q[2];
+    if (sh) {
+        for (int ch = 0; ch < 3; ch++) sh[ch] = (float)((C[3 * i + (size_t)ch] / 255.0 - 0.5) / 0.15);
+        for (int k = 1; k < L->sh_k; k++)
+            for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] = (float)((H[i * L->dim * 3 + 3 * (size_t)(k - 1) + ch] - 128.0) / 128.0);
+    }
+}
+
 static int spz_sh_dim(int degree) { return degree == 1 ? 3 : degree == 2 ? 8 : degree == 3 ? 15 : degree == 4 ? 24 : 0; }
 
 spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err)
@@ -234,70 +295,10 @@ spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const s
                       path, dl < need ? dl : need, n, version, need, dl);
     if (!r) r = spr__gauss_alloc(c, n, (int)dim + 1, o, path, err);
     if (r) { free(d); return r; }
-    const unsigned char *P = d + 16, *A = P + (size_t)n * pb, *C = A + n, *S = C + 3 * (size_t)n, *Q = S + 3 * (size_t)n,
-                        *H = Q + qb * (size_t)n;
-    long bad = -1;
-    spr_error first = {0};
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < (long)n; i++) {
-        spr__gauss g;
-        for (int k = 0; k < 3; k++) {
-            if (version == 1) { /* half floats */
-                uint16_t h = (uint16_t)(P[6 * i + 2 * k] | P[6 * i + 2 * k + 1] << 8);
-                int e = h >> 10 & 31, m = h & 1023;
-                double v = e == 0 ? ldexp(m, -24) : e == 31 ? (m ? NAN : INFINITY) : ldexp(m + 1024, e - 25);
-                g.pos[k] = h & 0x8000 ? -v : v;
-            } else { /* 24-bit fixed point */
-                const unsigned char *b = P + 9 * (size_t)i + 3 * (size_t)k;
-                int32_t f = (int32_t)(b[0] | b[1] << 8 | (uint32_t)b[2] << 16);
-                if (f & 0x800000) f -= 0x1000000;
-                g.pos[k] = ldexp((double)f, -frac);
-            }
-            g.sigma[k] = exp(S[3 * i + k] / 16.0 - 10.0);
-            g.rgb[k] = 0.5 + 0.28209479177387814 * ((C[3 * i + k] / 255.0 - 0.5) / 0.15);
-        }
-        g.alpha = A[i] / 255.0; /* stored after the sigmoid */
-        double q[4]; /* x y z w */
-        if (qb == 3) {
-            double s2 = 0.0;
-            for (int k = 0; k < 3; k++) {
-                q[k] = Q[3 * i + k] / 127.5 - 1.0;
-                s2 += q[k] * q[k];
-            }
-            q[3] = sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0);
-        } else { /* smallest three: 2 bits the largest component, 3 × (sign, 9-bit magnitude) */
-            const unsigned char *b = Q + 4 * (size_t)i;
-            uint32_t comp = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-            const int big = (int)(comp >> 30);
-            double s2 = 0.0;
-            for (int k = 3; k >= 0; k--) {
-                if (k == big) continue;
-                double m = 0.7071067811865476 * (double)(comp & 511u) / 511.0;
-                q[k] = (comp >> 9 & 1u) ? -m : m;
-                comp >>= 10;
-                s2 += q[k] * q[k];
-            }
-            q[big] = sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0);
-        }
-        g.q[0] = q[3], g.q[1] = q[0], g.q[2] = q[1], g.q[3] = q[2];
-        if (c->sh) {
-            float *sh = c->sh + (size_t)i * (size_t)c->sh_k * 3;
-            for (int ch = 0; ch < 3; ch++) sh[ch] = (float)((C[3 * i + ch] / 255.0 - 0.5) / 0.15);
-            for (int k = 1; k < c->sh_k; k++)
-                for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] = (float)((H[(size_t)i * dim * 3 + 3 * (size_t)(k - 1) + ch] - 128.0) / 128.0);
-        }
-        spr_error e;
-        if (spr__gauss_put(&g, o, c, (size_t)i, path, (size_t)i, &e)) {
-#pragma omp critical(spr_spz_bad)
-            if (bad < 0 || i < bad) bad = i, first = e;
-        }
-    }
+    const spz_layout L = {d + 16, n, version, frac, qb, dim, c->sh_k};
+    r = spr__gauss_fill(c, o, spz_splat, &L, path, err);
     free(d);
-    if (bad >= 0) {
-        spr_cloud_free(c);
-        return spr__fail(err, SPR_E_VALUE, "%s", first.msg);
-    }
-    return SPR_OK;
+    return r;
 }
 
 /* ---- .glb: glTF 2.0 binary with KHR_gaussian_splatting ---- */
@@ -362,6 +363,31 @@ static spr_result glb_accessor(const char *path, const cJSON *root, int idx, con
         return spr__fail(err, SPR_E_TRUNCATED, "%s: attribute %s: accessor %d reaches past its buffer view or the binary chunk", path, what, idx);
     a->p = bin + voff + off;
     return SPR_OK;
+}
+
+/* The accessors of a splat primitive: position, rotation, scale, opacity, SH degree 0, then degrees 1–3. */
+typedef struct glb_attrs {
+    glb_acc a[5];
+    glb_acc sh[15];
+    int sh_k;
+} glb_attrs;
+
+static void glb_splat(const void *user, size_t i, spr__gauss *g, float *sh)
+{
+    const glb_attrs *at = user;
+    const glb_acc *acc = at->a;
+    for (int k = 0; k < 3; k++) {
+        g->pos[k] = comp_value(&acc[0], i, k);
+        g->sigma[k] = exp(comp_value(&acc[2], i, k)); /* log scale */
+        g->rgb[k] = 0.5 + 0.28209479177387814 * comp_value(&acc[4], i, k);
+    }
+    g->q[0] = comp_value(&acc[1], i, 3), g->q[1] = comp_value(&acc[1], i, 0), g->q[2] = comp_value(&acc[1], i, 1), g->q[3] = comp_value(&acc[1], i, 2);
+    g->alpha = comp_value(&acc[3], i, 0); /* stored after the sigmoid */
+    if (sh) {
+        for (int ch = 0; ch < 3; ch++) sh[ch] = (float)comp_value(&acc[4], i, ch);
+        for (int k = 1; k < at->sh_k; k++)
+            for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] = (float)comp_value(&at->sh[k - 1], i, ch);
+    }
 }
 
 spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err)
@@ -460,25 +486,9 @@ spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const s
     if (n == 0) { r = spr__fail(err, SPR_E_FORMAT, "%s: no points", path); goto done; }
     if (n > SPR_MAX_SPLATS) { r = spr__fail(err, SPR_E_TOO_LARGE, "%s: %zu splats (limit %u)", path, n, SPR_MAX_SPLATS); goto done; }
     if ((r = spr__gauss_alloc(c, n, file_k, o, path, err))) goto done;
-    for (size_t i = 0; i < n && !r; i++) {
-        spr__gauss g;
-        for (int k = 0; k < 3; k++) {
-            g.pos[k] = comp_value(&acc[0], i, k);
-            double s = comp_value(&acc[2], i, k);
-            g.sigma[k] = exp(s); /* log scale */
-            g.rgb[k] = 0.5 + 0.28209479177387814 * comp_value(&acc[4], i, k);
-        }
-        g.q[0] = comp_value(&acc[1], i, 3), g.q[1] = comp_value(&acc[1], i, 0), g.q[2] = comp_value(&acc[1], i, 1), g.q[3] = comp_value(&acc[1], i, 2);
-        g.alpha = comp_value(&acc[3], i, 0); /* stored after the sigmoid */
-        if (c->sh) {
-            float *sh = c->sh + i * (size_t)c->sh_k * 3;
-            for (int ch = 0; ch < 3; ch++) sh[ch] = (float)comp_value(&acc[4], i, ch);
-            for (int k = 1; k < c->sh_k; k++)
-                for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] = (float)comp_value(&shacc[k - 1], i, ch);
-        }
-        r = spr__gauss_put(&g, o, c, i, path, i, err);
-    }
-    if (r) spr_cloud_free(c);
+    glb_attrs at = {{acc[0], acc[1], acc[2], acc[3], acc[4]}, {{0}}, c->sh_k};
+    memcpy(at.sh, shacc, sizeof at.sh);
+    r = spr__gauss_fill(c, o, glb_splat, &at, path, err);
 done:
     cJSON_Delete(root);
     return r;

@@ -501,6 +501,51 @@ static size_t item_bytes(const ply_elem *E)
 static double unorm(uint32_t v, int shift, int bits) { return (double)((v >> shift) & ((1u << bits) - 1u)) / (double)((1u << bits) - 1u); }
 static double lerp(double a, double b, double t) { return a * (1.0 - t) + b * t; }
 
+/* Where a compressed PLY's values are: element starts, item sizes, and
+ * the byte offsets of the properties read in chunk, vertex and sh items. */
+typedef struct cply_layout {
+    const unsigned char *chunk, *vertex, *sh;
+    size_t cb, vb, sb;
+    size_t cofs[18], vofs[4], sofs[45];
+    int have_c[18];
+    int colour_bounds, per, sh_k;  /* colour lerped by the chunk's bounds; f_rest per channel; SH kept */
+} cply_layout;
+
+static void cply_splat(const void *user, size_t i, spr__gauss *g, float *sh)
+{
+    const cply_layout *L = user;
+    const unsigned char *ch = L->chunk + (i / 256) * L->cb, *vx = L->vertex + i * L->vb;
+    float cf[18];
+    uint32_t pv[4];
+    for (int k = 0; k < 18; k++) {
+        if (L->have_c[k]) memcpy(&cf[k], ch + L->cofs[k], 4); else cf[k] = 0.0f;
+    }
+    for (int k = 0; k < 4; k++) memcpy(&pv[k], vx + L->vofs[k], 4);
+    for (int k = 0; k < 3; k++) {
+        const int shift = k == 0 ? 21 : k == 1 ? 11 : 0, bits = k == 1 ? 10 : 11;
+        g->pos[k] = lerp(cf[k], cf[3 + k], unorm(pv[0], shift, bits));
+        g->sigma[k] = exp(lerp(cf[6 + k], cf[9 + k], unorm(pv[2], shift, bits)));
+        const double t = unorm(pv[3], 24 - 8 * k, 8);
+        g->rgb[k] = L->colour_bounds ? lerp(cf[12 + k], cf[15 + k], t) : t;
+    }
+    g->alpha = unorm(pv[3], 0, 8);
+    const int big = (int)(pv[1] >> 30);
+    const double norm = 1.0 / (sqrt(2.0) * 0.5);
+    double o3[3] = {(unorm(pv[1], 20, 10) - 0.5) * norm, (unorm(pv[1], 10, 10) - 0.5) * norm, (unorm(pv[1], 0, 10) - 0.5) * norm};
+    double s2 = o3[0] * o3[0] + o3[1] * o3[1] + o3[2] * o3[2];
+    for (int k = 0, j = 0; k < 4; k++) g->q[k] = k == big ? sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0) : o3[j++]; /* rot_0..3 = w x y z */
+    if (sh) {
+        for (int chn = 0; chn < 3; chn++) sh[chn] = (float)((g->rgb[chn] - 0.5) / 0.28209479177387814);
+        const unsigned char *sv = L->sh + i * L->sb;
+        for (int k = 1; k < L->sh_k; k++)
+            for (int chn = 0; chn < 3; chn++) {
+                const unsigned v = sv[L->sofs[chn * L->per + k - 1]];
+                const double t = v == 0 ? 0.0 : v == 255 ? 1.0 : (v + 0.5) / 256.0;
+                sh[3 * k + chn] = (float)((t - 0.5) * 8.0);
+            }
+    }
+}
+
 /* The compressed PLY of PlayCanvas SuperSplat / splat-transform: `element
  * chunk` (per 256 splats: float bounds of position, log scale and colour),
  * `element vertex` of packed uint32 position (11-10-11 bits), rotation
@@ -555,60 +600,12 @@ static spr_result spr__parse_compressed_ply(const char *path, const char *buf, s
     spr_result r = spr__gauss_alloc(c, n, 1 + nsh / 3, go, path, err);
     if (r) return r;
     const int Ci = (int)(C - el), Vi = (int)(V - el), Si = S ? (int)(S - el) : 0;
-    const size_t cb = item_bytes(C), vb = item_bytes(V), sb = S ? item_bytes(S) : 0;
-    size_t cofs[18], vofs[4], sofs[45];
-    for (int k = 0; k < 18; k++) cofs[k] = ci[k] >= 0 ? prop_offset(C, ci[k]) : 0;
-    for (int k = 0; k < 4; k++) vofs[k] = prop_offset(V, vi[k]);
-    for (int k = 0; k < nsh; k++) sofs[k] = prop_offset(S, si[k]);
-    const unsigned char *B = (const unsigned char *)buf;
-    long bad = -1;
-    spr_error first = {0};
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < (long)n; i++) {
-        const unsigned char *ch = B + off[Ci] + (size_t)(i / 256) * cb, *vx = B + off[Vi] + (size_t)i * vb;
-        float cf[18];
-        uint32_t pv[4];
-        for (int k = 0; k < 18; k++) {
-            if (ci[k] >= 0) memcpy(&cf[k], ch + cofs[k], 4); else cf[k] = 0.0f;
-        }
-        for (int k = 0; k < 4; k++) memcpy(&pv[k], vx + vofs[k], 4);
-        spr__gauss g;
-        for (int k = 0; k < 3; k++) {
-            const int sh = k == 0 ? 21 : k == 1 ? 11 : 0, bits = k == 1 ? 10 : 11;
-            g.pos[k] = lerp(cf[k], cf[3 + k], unorm(pv[0], sh, bits));
-            g.sigma[k] = exp(lerp(cf[6 + k], cf[9 + k], unorm(pv[2], sh, bits)));
-            const double t = unorm(pv[3], 24 - 8 * k, 8);
-            g.rgb[k] = colour_bounds ? lerp(cf[12 + k], cf[15 + k], t) : t;
-        }
-        g.alpha = unorm(pv[3], 0, 8);
-        const int big = (int)(pv[1] >> 30);
-        const double norm = 1.0 / (sqrt(2.0) * 0.5);
-        double o3[3] = {(unorm(pv[1], 20, 10) - 0.5) * norm, (unorm(pv[1], 10, 10) - 0.5) * norm, (unorm(pv[1], 0, 10) - 0.5) * norm};
-        double s2 = o3[0] * o3[0] + o3[1] * o3[1] + o3[2] * o3[2];
-        for (int k = 0, j = 0; k < 4; k++) g.q[k] = k == big ? sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0) : o3[j++]; /* rot_0..3 = w x y z */
-        if (c->sh) {
-            float *shv = c->sh + (size_t)i * (size_t)c->sh_k * 3;
-            const int per = nsh / 3;
-            for (int chn = 0; chn < 3; chn++) shv[chn] = (float)((g.rgb[chn] - 0.5) / 0.28209479177387814);
-            const unsigned char *sv = B + off[Si] + (size_t)i * sb;
-            for (int k = 1; k < c->sh_k; k++)
-                for (int chn = 0; chn < 3; chn++) {
-                    const unsigned v = sv[sofs[chn * per + k - 1]];
-                    const double t = v == 0 ? 0.0 : v == 255 ? 1.0 : (v + 0.5) / 256.0;
-                    shv[3 * k + chn] = (float)((t - 0.5) * 8.0);
-                }
-        }
-        spr_error e;
-        if (spr__gauss_put(&g, go, c, (size_t)i, path, (size_t)i, &e)) {
-#pragma omp critical(spr_cply_bad)
-            if (bad < 0 || i < bad) bad = i, first = e;
-        }
-    }
-    if (bad >= 0) {
-        spr_cloud_free(c);
-        return spr__fail(err, SPR_E_VALUE, "%s", first.msg);
-    }
-    return SPR_OK;
+    cply_layout L = {(const unsigned char *)buf + off[Ci], (const unsigned char *)buf + off[Vi], S ? (const unsigned char *)buf + off[Si] : NULL,
+                     item_bytes(C), item_bytes(V), S ? item_bytes(S) : 0, {0}, {0}, {0}, {0}, colour_bounds, nsh / 3, c->sh_k};
+    for (int k = 0; k < 18; k++) L.cofs[k] = ci[k] >= 0 ? prop_offset(C, ci[k]) : 0, L.have_c[k] = ci[k] >= 0;
+    for (int k = 0; k < 4; k++) L.vofs[k] = prop_offset(V, vi[k]);
+    for (int k = 0; k < nsh; k++) L.sofs[k] = prop_offset(S, si[k]);
+    return spr__gauss_fill(c, go, cply_splat, &L, path, err);
 }
 
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,

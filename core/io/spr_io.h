@@ -106,6 +106,13 @@ spr_result spr__gauss_alloc(spr_cloud *c, size_t n, int file_k, const spr__gauss
  * n = u × v along the smallest, r_u = cut·σ_u, r_v = cut·σ_v. */
 spr_result spr__gauss_put(const spr__gauss *g, const spr__gauss_opts *o, spr_cloud *c, size_t s, const char *path, size_t index,
                           spr_error *err);
+/* Splats 0 … c->n − 1 of c (from spr__gauss_alloc) from a reader's decoder,
+ * in parallel: decode(user, i, g, sh) gives Gaussian i and, when sh is not
+ * NULL, its c->sh_k × 3 coefficients; each is mapped by spr__gauss_put.  On
+ * a bad splat: the lowest one's message (any thread count), c freed. */
+typedef void (*spr__gauss_decode)(const void *user, size_t i, spr__gauss *g, float *sh);
+spr_result spr__gauss_fill(spr_cloud *c, const spr__gauss_opts *o, spr__gauss_decode decode, const void *user, const char *path,
+                           spr_error *err);
 double spr__sigmoid(double x);
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
                           const spr_warn *warn, const spr__gauss_opts *go, spr_error *err);
