@@ -295,6 +295,22 @@ static int numeric(const char *f, size_t l, double *v)
 
 #define MAX_COLS 64
 
+/* The next line of [*p, end): its fields (at most MAX_COLS kept, all
+ * counted) after a leading comment marker (`#`, `//`: *comment set) or up to
+ * a trailing `# comment`; *p moves past the line. */
+static int next_line(const char **p, const char *end, const char **f, size_t *fl, int *comment)
+{
+    const char *e = memchr(*p, '\n', (size_t)(end - *p));
+    if (!e) e = end;
+    const char *q = *p;
+    *p = e < end ? e + 1 : end;
+    while (q < e && is_sep(*q)) q++;
+    *comment = q < e && (*q == '#' || (q + 1 < e && q[0] == '/' && q[1] == '/'));
+    if (*comment) q += *q == '#' ? 1 : 2;
+    else e = cut_comment(q, e);
+    return split_fields(q, e, f, fl, MAX_COLS);
+}
+
 spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const char *columns, spr_cloud *c, spr_error *err)
 {
     spr_result r;
@@ -317,15 +333,9 @@ spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const c
     size_t lines = 0, line = 0;
     double cmax = 0.0;
     for (const char *p = buf, *end = buf + len; p < end;) {
-        const char *e = memchr(p, '\n', (size_t)(end - p));
-        if (!e) e = end;
         line++;
-        const char *q = p;
-        while (q < e && is_sep(*q)) q++;
-        int comment = q < e && (*q == '#' || (q + 1 < e && q[0] == '/' && q[1] == '/'));
-        if (comment) q += *q == '#' ? 1 : 2;
-        else e = cut_comment(q, e);
-        int n = split_fields(q, e, f, fl, MAX_COLS);
+        int comment;
+        const int n = next_line(&p, end, f, fl, &comment);
         double v;
         int names = n > 0 && n <= MAX_COLS && !numeric(f[0], fl[0], &v);
         if (!lines && !header_line && names && !columns) { /* a header line: `//X Y Z …`, `# x y z …` or CSV `x,y,z,…` */
@@ -339,11 +349,10 @@ spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const c
                     return spr__fail(err, SPR_E_FORMAT, "%s:%zu: the header line does not name columns x, y and z", path, line);
                 ncols = n;
                 header_line = (int)line;
-                p = e + 1;
                 continue;
             }
         }
-        if (comment || n == 0) { p = e + 1; continue; } /* comments and blank lines */
+        if (comment || n == 0) continue; /* comments and blank lines */
         if (ncols < 0) { /* no header, no --columns: x y z [nx ny nz] */
             if (n != 3 && n != 6)
                 return spr__fail(err, SPR_E_FORMAT, "%s:%zu: expected 3 or 6 numbers per line (x y z [nx ny nz]), found %d: name the columns with a "
@@ -361,7 +370,6 @@ spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const c
             if (role[k] >= C_R && role[k] <= C_A && v > cmax) cmax = v;
         }
         lines++;
-        p = e + 1;
     }
     if (!lines) return spr__fail(err, SPR_E_FORMAT, "%s: no points", path);
     int have = 0;
@@ -375,16 +383,11 @@ spr_result spr__parse_xyz(const char *path, const char *buf, size_t len, const c
     const double cs = cmax > 1.0 ? 1.0 / 255.0 : 1.0;
     size_t i = 0;
     line = 0;
-    for (const char *p = buf, *end = buf + len; p < end && i < lines; p = p + 1) {
-        const char *e = memchr(p, '\n', (size_t)(end - p));
-        if (!e) e = end;
+    for (const char *p = buf, *end = buf + len; p < end && i < lines;) {
         line++;
-        const char *q = p;
-        while (q < e && is_sep(*q)) q++;
-        const int comment = q < e && (*q == '#' || (q + 1 < e && q[0] == '/' && q[1] == '/'));
-        p = e;
-        int n = comment || (int)line == header_line ? 0 : split_fields(q, cut_comment(q, e), f, fl, MAX_COLS);
-        if (!n) continue;
+        int comment;
+        const int n = next_line(&p, end, f, fl, &comment);
+        if (comment || (int)line == header_line || !n) continue;
         double v[C__N] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0};
         for (int k = 0; k < n; k++) {
             double x = 0.0;
