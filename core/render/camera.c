@@ -328,13 +328,13 @@ int spr_splat_pixel_rect_ell(const spr_view *v, const float p[3], const float n[
     const int ellipse = el[3] != r;
     /* the ellipse's half-extent along axis k: sqrt((r_u·u_k)² + (r_v·v_k)²), v = n × u (a circle: r·sqrt(1 − n_k²));
      * the margin 1.001 covers the float arithmetic of the per-pixel test, u off the plane by up to 1e-4 included */
-    const double vv[3] = {(double)n[1] * el[2] - (double)n[2] * el[1], (double)n[2] * el[0] - (double)n[0] * el[2],
-                          (double)n[0] * el[1] - (double)n[1] * el[0]};
     for (int k = 0; k < 3; k++) {
         double nk = n[k], s = 1.0 - nk * nk;
         double ext = (double)r * sqrt(s > 0.0 ? s : 0.0);
         if (ellipse) {
-            const double a = (double)r * el[k], b = (double)el[3] * vv[k];
+            const int k1 = (k + 1) % 3, k2 = (k + 2) % 3; /* v_k of v = n × u */
+            const double vk = (double)n[k1] * el[k2] - (double)n[k2] * el[k1];
+            const double a = (double)r * el[k], b = (double)el[3] * vk;
             const double ee = sqrt(a * a + b * b);
             ext = ee < ext ? ee : ext;
         }
