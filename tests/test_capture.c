@@ -251,16 +251,16 @@ END_TEST
 
 START_TEST(one_scene_in_every_format)
 {
-    /* The same sheet as 3DGS PLY, 2DGS PLY, compressed PLY, .splat, .spz (v2, v3) and .glb: face-on
+    /* The same sheet as 3DGS PLY, 2DGS PLY, .splat and .spz v2 (the hand-made files of formats no current
+     * writer emits; the formats splat-transform writes are compared in splat_transform_files_agree): face-on
      * the formats cover the same pixels up to their quantisation.  The largest quantisation is the
-     * .spz rotation (9 bits over ±√½: 0.0014 rad) and the compressed PLY position (11 bits over a
-     * chunk: 0.0006): at most 0.1 pixel (0.01 world units here) of a splat's rim moves, so only pixel
-     * centres within 0.1 pixel of the coverage boundary may differ — a band of 0.2 pixel along a rim
-     * of about 4·(1.15 + 2·0.09)/0.01 = 530 pixels: ≤ 110 pixels.  The colour is one byte colour;
-     * the formats store it exactly except .spz, whose DC step is C0/(0.15·255) (±0.0037). */
+     * .spz rotation (9 bits over ±√½: 0.0014 rad): at most 0.1 pixel (0.01 world units here) of a
+     * splat's rim moves, so only pixel centres within 0.1 pixel of the coverage boundary may differ — a
+     * band of 0.2 pixel along a rim of about 4·(1.15 + 2·0.09)/0.01 = 530 pixels: ≤ 110 pixels.  The
+     * colour is one byte colour; the formats store it exactly except .spz, whose DC step is
+     * C0/(0.15·255) (±0.0037). */
     static const struct { const char *file; double colour_tol; } fmt[] = {
-        {"sheet-2dgs.ply", 1e-5}, {"sheet-compressed.ply", 1e-5}, {"sheet.splat", 1e-5},
-        {"sheet-v2.spz", 0.0037 + 1e-5}, {"sheet-v3.spz", 0.0037 + 1e-5}, {"sheet.glb", 1e-5}};
+        {"sheet-2dgs.ply", 1e-5}, {"sheet.splat", 1e-5}, {"sheet-v2.spz", 0.0037 + 1e-5}};
     const int W = 200;
     spr_view v;
     sheet_view(0, W, 2.0, &v);
@@ -386,7 +386,7 @@ START_TEST(capture_parity_every_algorithm)
 {
     /* the GL backend on a Gaussian-splat capture and on elliptical splats: Tier A for every algorithm */
     char err[8192];
-    const char *files[] = {cap("sheet.ply"), cap("sheet-v3.spz"), cap("sheet.glb")};
+    const char *files[] = {cap("sheet.ply"), cap("splat-transform/2.7.1/sheet.spz"), cap("splat-transform/3.7.0/sphere.glb")};
     const char *cut[] = {"3", "3", "2"}; /* the last with the kernel scaled to the file's σ */
     for (int k = 0; k < 3; k++) {
         char *argv[] = {"splatref", "parity", "--model", (char *)files[k], "--gauss-cut", (char *)cut[k], "--algo", "all", "--size", "96x96",
@@ -397,6 +397,140 @@ START_TEST(capture_parity_every_algorithm)
 }
 END_TEST
 
+
+/* ---- files written by a real converter (tests/data/captures/splat-transform/PROVENANCE.md) ---- */
+
+/* Σ = R·S²·Rᵀ of Gaussian i of c, in double (the quantity every format must agree on: it does not
+ * depend on the sign conventions of quaternions or on which local axis is which). */
+static void gauss_sigma(const spr_cloud *c, size_t i, double S[3][3])
+{
+    const float *G = c->gauss + SPR_GAUSS_FLOATS * i;
+    const double w = G[0], x = G[1], y = G[2], z = G[3];
+    const double R[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                            {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                            {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+            S[a][b] = 0.0;
+            for (int k = 0; k < 3; k++) S[a][b] += R[a][k] * R[b][k] * (double)G[4 + k] * G[4 + k];
+        }
+}
+
+/* How far b's Gaussians lie from a's, each measure the worst over all splats; flip[k] = −1 compares b
+ * with a seen with axis k reversed (b ≈ P·a, Σ_b ≈ P·Σ_a·P).  Splats are matched by position (the
+ * compressed PLY writer reorders them into spatial chunks); every one of b must be matched once. */
+typedef struct gauss_diff { double pos, sigma, opacity, dc, rest; } gauss_diff;
+static gauss_diff gauss_compare(const spr_cloud *a, const spr_cloud *b, const double flip[3])
+{
+    gauss_diff d = {0, 0, 0, 0, 0};
+    ck_assert_uint_eq(a->n, b->n);
+    ck_assert(a->gauss && b->gauss && a->sh && b->sh);
+    char *used = calloc(b->n, 1);
+    for (size_t i = 0; i < a->n; i++) {
+        size_t j = 0;
+        double best = INFINITY;
+        for (size_t m = 0; m < b->n; m++) {
+            double e = 0.0;
+            for (int r = 0; r < 3; r++) e = fmax(e, fabs(flip[r] * a->pos[3 * i + r] - b->pos[3 * m + r]));
+            if (e < best) best = e, j = m;
+        }
+        ck_assert_msg(!used[j], "splat %zu of b matched twice", j);
+        used[j] = 1;
+        double Sa[3][3], Sb[3][3], norm = 0.0, diff = 0.0;
+        gauss_sigma(a, i, Sa);
+        gauss_sigma(b, j, Sb);
+        d.pos = fmax(d.pos, best);
+        for (int r = 0; r < 3; r++)
+            for (int k = 0; k < 3; k++) {
+                norm = fmax(norm, fabs(Sa[r][k]));
+                diff = fmax(diff, fabs(flip[r] * flip[k] * Sa[r][k] - Sb[r][k]));
+            }
+        d.sigma = fmax(d.sigma, diff / norm);
+        d.opacity = fmax(d.opacity, fabs(a->alpha[i] - b->alpha[j]));
+        const int K = a->sh_k < b->sh_k ? a->sh_k : b->sh_k;
+        for (int k = 0; k < K; k++)
+            for (int ch = 0; ch < 3; ch++) {
+                const double e = fabs(a->sh[(i * a->sh_k + k) * 3 + ch] - b->sh[(j * b->sh_k + k) * 3 + ch]);
+                if (k == 0) d.dc = fmax(d.dc, e);
+                else d.rest = fmax(d.rest, e);
+            }
+    }
+    free(used);
+    return d;
+}
+
+/* SH coefficient k of splat i after reversing the axes of flip: the sign of its basis function. */
+static void sh_flip(spr_cloud *c, const double f[3])
+{
+    const double x = f[0], y = f[1], z = f[2];
+    /* Y_1..Y_15 ∝ y, z, x, xy, yz, (3z²−1), xz, x²−y², y(3x²−y²), xyz, y(5z²−1), z(5z²−3), x(5z²−1), z(x²−y²), x(x²−3y²) */
+    const double sign[16] = {1, y, z, x, x * y, y * z, 1, x * z, 1, y, x * y * z, y, z, x, z, x};
+    for (size_t i = 0; i < c->n; i++)
+        for (int k = 1; k < c->sh_k; k++)
+            for (int ch = 0; ch < 3; ch++) c->sh[(i * c->sh_k + k) * 3 + ch] *= (float)sign[k];
+}
+
+START_TEST(splat_transform_files_agree)
+{
+    /* For each line of the converter, the scene as 3DGS PLY is the reference; every other format must
+     * hold the same Gaussians up to its quantisation (splat-transform's writers, ../shared/FORMATS.md):
+     *   compressed PLY  position 10–11 bits over a 256-splat chunk, colour and opacity 8 bits, SH 8 bits over ±4;
+     *   .spz            position 12 fractional bits (±2^-13), log σ in steps of 1/16 (Σ within e^(2/32) − 1 = 6.5%),
+     *                   rotation 9 bits, colour 8 bits over ±0.5/0.15, opacity 8 bits, SH rounded to 1/128 and then
+ *                   to 5 bits (degree 1) or 4 bits (a step of 16/128: ±(8 + ½)/128);
+     *   .glb            float, exact.
+     * The quaternion is compared through Σ, which does not depend on its sign or on the local axes' order. */
+    static const struct { const char *ext; double pos, sigma, opacity, dc, rest; } fmt[] = {
+        {"compressed.ply", 0.002, 0.02, 0.5 / 255 + 1e-6, 0.5 / 255 / SPR__SH_C0 + 1e-5, 4.0 / 255 + 1e-5},
+        {"spz", 1.0 / 8192 + 1e-6, 0.07, 0.5 / 255 + 1e-4, 0.5 / 255 / 0.15 + 1e-5, 1.0 / 16 + 0.5 / 128 + 1e-5},
+        {"glb", 1e-6, 1e-6, 0.0, 0.0, 0.0}, /* the converter turned the frame by a rotation: last-bit differences */
+    };
+    static const double same[3] = {1, 1, 1}, yz[3] = {1, -1, -1};
+    const char *line[] = {"2.7.1", "3.7.0"}, *scene[] = {"sheet", "sphere"};
+    char name[128];
+    for (int l = 0; l < 2; l++)
+        for (int s = 0; s < 2; s++) {
+            spr_cloud ref;
+            spr_load_desc ld;
+            spr_load_defaults(&ld);
+            ld.sh_degree = 3;
+            spr_error err = {0};
+            snprintf(name, sizeof name, "splat-transform/%s/%s.ply", line[l], scene[s]);
+            ck_assert_msg(spr_load(cap(name), &ld, &ref, &err) == SPR_OK, "%s", err.msg);
+            ck_assert_uint_eq(ref.n, s ? 600 : 256);
+            ck_assert_int_eq(ref.sh_k, s ? 16 : 1);
+            for (size_t f = 0; f < sizeof fmt / sizeof fmt[0]; f++)
+                for (int raw = 0; raw < 2; raw++) {
+                    if (raw && strcmp(fmt[f].ext, "spz")) continue;
+                    spr_cloud c;
+                    snprintf(name, sizeof name, "splat-transform/%s/%s.%s", line[l], scene[s], fmt[f].ext);
+                    ld.spz_raw = raw;
+                    ck_assert_msg(spr_load(cap(name), &ld, &c, &err) == SPR_OK, "%s", err.msg);
+                    ld.spz_raw = 0;
+                    /* .spz: 2.7.1 writes the format's RUB frame (Niantic's README), 3.7.0 the PLY frame unconverted;
+                     * read as the format says (default), 3.7.0's comes out with y and z reversed; --spz-frame raw undoes it */
+                    if (!strcmp(fmt[f].ext, "spz") && l == 0 && raw) { /* 2.7.1 raw: the stored RUB frame, y and z reversed */
+                        ck_assert_msg(fabs(c.pos[1] + ref.pos[1]) < 1e-3 && fabs(c.pos[2] + ref.pos[2]) < 1e-3, "%s raw: y, z not reversed", name);
+                        spr_cloud_free(&c);
+                        continue;
+                    }
+                    const double *flip = !strcmp(fmt[f].ext, "spz") && l == 1 && !raw ? yz : same;
+                    if (flip == yz) sh_flip(&ref, yz);
+                    gauss_diff d = gauss_compare(&ref, &c, flip);
+                    if (flip == yz) sh_flip(&ref, yz);
+                    fprintf(stderr, "splat-transform %s %s.%s%s: position %.3g, sigma %.3g, opacity %.3g, DC %.3g, SH %.3g\n", line[l], scene[s],
+                            fmt[f].ext, raw ? " (raw)" : "", d.pos, d.sigma, d.opacity, d.dc, d.rest);
+                    ck_assert_msg(d.pos <= fmt[f].pos && d.sigma <= fmt[f].sigma && d.opacity <= fmt[f].opacity && d.dc <= fmt[f].dc &&
+                                      d.rest <= fmt[f].rest,
+                                  "%s%s: position %g, sigma %g, opacity %g, DC %g, SH %g beyond the format's quantisation", name,
+                                  raw ? " (raw)" : "", d.pos, d.sigma, d.opacity, d.dc, d.rest);
+                    spr_cloud_free(&c);
+                }
+            spr_cloud_free(&ref);
+        }
+}
+END_TEST
+
 /* Bad captures: one line naming the file and where, nothing loaded. */
 START_TEST(bad_captures_are_one_clear_error)
 {
@@ -404,7 +538,8 @@ START_TEST(bad_captures_are_one_clear_error)
     tu_tmpdir(dir, "capture");
     struct { const char *name; const char *bytes; size_t len; const char *want; } bad[] = {
         {"short.splat", "0123456789012345678901234567890123456789", 40, "byte 32"},
-        {"notgzip.spz", "NGSP....", 8, "byte 0: not a gzip stream"},
+        {"notgzip.spz", "GSPN....", 8, "byte 0: neither a version 4 .spz (NGSP) nor a gzip stream"},
+        {"shortv4.spz", "NGSP....", 8, "byte 8: the file ends inside the 32-byte header"},
         {"notglb.glb", "glTF\x01\0\0\0\x20\0\0\0", 12, "byte 0"},
         {"v1.glb", "glTF\x01\0\0\0\x20\0\0\0\x0c\0\0\0JSON", 20, "byte 4: glTF version 1"},
     };
@@ -418,9 +553,34 @@ START_TEST(bad_captures_are_one_clear_error)
         ck_assert(spr_load(path, NULL, &c, &err) != SPR_OK);
         ck_assert_msg(strstr(err.msg, bad[k].name) && strstr(err.msg, bad[k].want) && !strchr(err.msg, '\n'), "%s: %s", bad[k].name, err.msg);
     }
-    /* a truncated .spz: the gzip stream of the sheet cut in half */
+    /* a truncated .spz: the gzip stream of version 3 cut in half; version 4 cut in half, with a stream
+     * corrupted (the magic of its first zstd frame, right after the 6-entry table), with another version */
     {
-        FILE *in = fopen(cap("sheet-v3.spz"), "rb");
+        struct { const char *name; int cut, poke, version; const char *want; } v4[] = {
+            {"half4.spz", 1, -1, 4, "ends past the end of the file"},
+            {"corrupt4.spz", 0, 128, 4,  "is not a valid zstd frame"},
+            {"v5.spz", 0, -1, 5, "byte 4: version 5 after a bare NGSP magic"},
+        };
+        for (int k = 0; k < 3; k++) {
+            FILE *in = fopen(cap("splat-transform/2.7.1/sphere.spz"), "rb");
+            static char buf[1 << 16];
+            size_t n = fread(buf, 1, sizeof buf, in);
+            fclose(in);
+            if (v4[k].poke >= 0) buf[v4[k].poke] ^= 0x5a;
+            buf[4] = (char)v4[k].version;
+            const char *path = tu_in(dir, v4[k].name);
+            FILE *f = fopen(path, "wb");
+            const size_t len = v4[k].cut ? n / 2 : n;
+            ck_assert(fwrite(buf, 1, len, f) == len);
+            fclose(f);
+            spr_cloud c;
+            spr_error err = {0};
+            ck_assert(spr_load(path, NULL, &c, &err) != SPR_OK);
+            ck_assert_msg(strstr(err.msg, v4[k].name) && strstr(err.msg, v4[k].want) && !strchr(err.msg, '\n'), "%s", err.msg);
+        }
+    }
+    {
+        FILE *in = fopen(cap("splat-transform/3.7.0/sheet-v3.spz"), "rb");
         char buf[8192];
         size_t n = fread(buf, 1, sizeof buf, in);
         fclose(in);
@@ -478,6 +638,7 @@ Suite *make_capture_suite(void)
     tcase_add_test(tc, sh_colour_by_hand);
     tcase_add_test(tc, exporters_files_load);
     tcase_add_test(tc, bad_captures_are_one_clear_error);
+    tcase_add_test(tc, splat_transform_files_agree);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -7,7 +7,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 
 pkgs="build-essential cmake pkg-config ca-certificates \
   libflann-dev liblz4-dev check libsubunit-dev \
-  libpng-dev zlib1g-dev \
+  libpng-dev zlib1g-dev libzstd-dev python3-numpy \
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
   libqhull-dev libcjson-dev libcgal-demo \
   clang libclang-rt-14-dev \

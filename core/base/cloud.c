@@ -49,6 +49,7 @@ void spr_cloud_free(spr_cloud *c)
 {
     free(c->ell);
     free(c->sh);
+    free(c->gauss);
     free(c->pos);
     free(c->nrm);
     free(c->radius);
@@ -93,6 +94,16 @@ spr_result spr__cloud_validate_from(const spr_cloud *c, const char *what, size_t
                              (double)c->radius[i]);
         if (!(c->alpha[i] >= 0.0f && c->alpha[i] <= 1.0f))
             return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: opacity outside [0,1]", what, first + i);
+        if (c->gauss) {
+            const float *G = c->gauss + SPR_GAUSS_FLOATS * i;
+            double q2 = (double)G[0] * G[0] + (double)G[1] * G[1] + (double)G[2] * G[2] + (double)G[3] * G[3];
+            if (!(fabs(q2 - 1.0) <= 1e-5))
+                return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: Gaussian rotation is not a unit quaternion", what, first + i);
+            for (int k = 0; k < 3; k++)
+                if (!isfinite(G[4 + k]) || !(G[4 + k] > 0.0f || (k == 2 && G[4 + k] == 0.0f)))
+                    return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: Gaussian scale %d (σ = %g) is not positive and finite", what,
+                                     first + i, k, (double)G[4 + k]);
+        }
         if (c->ell && c->ell[4 * i + 3] != c->radius[i]) {
             const float *e = c->ell + 4 * i;
             double u2 = (double)e[0] * e[0] + (double)e[1] * e[1] + (double)e[2] * e[2];
@@ -261,9 +272,10 @@ static void sh_basis(double x, double y, double z, double Y[16])
     Y[15] = -0.5900435899266435 * x * (xx - 3.0 * yy);
 }
 
-void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *view_dir, float *color)
+/* Colour of every splat from its coefficients, seen from eye (or along
+ * view_dir), clamped to [0, hi] (hi < 0: below only). */
+static void sh_eval(const spr_cloud *c, const double eye[3], const double *view_dir, double hi, float *color)
 {
-    if (!c->sh || c->sh_k < 1) return;
     const int K = c->sh_k > 16 ? 16 : c->sh_k;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)c->n; i++) {
@@ -279,7 +291,22 @@ void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *
         for (int ch = 0; ch < 3; ch++) {
             double v = 0.5;
             for (int k = 0; k < K; k++) v += Y[k] * s[3 * k + ch];
-            color[3 * i + ch] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+            color[3 * i + ch] = (float)(v < 0.0 ? 0.0 : hi >= 0.0 && v > hi ? hi : v);
         }
     }
+}
+
+void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *view_dir, float *color)
+{
+    if (!c->sh || c->sh_k < 1) return;
+    sh_eval(c, eye, view_dir, 1.0, color);
+}
+
+void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *color)
+{
+    if (!c->sh || c->sh_k < 1) {
+        memcpy(color, c->color, c->n * 3 * sizeof(float));
+        return;
+    }
+    sh_eval(c, eye, NULL, -1.0, color);
 }

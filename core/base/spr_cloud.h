@@ -35,11 +35,19 @@ typedef struct spr_cloud {
     float *sh;      /* n·sh_k·3 or NULL: a Gaussian capture's spherical-harmonics coefficients per
                      * splat, coefficient-major, r g b each (k = 0 the DC term), for colours that
                      * depend on the view (spr_cloud_sh_colors, --sh-degree) */
-    int sh_k;       /* coefficients per channel: (degree + 1)², 0 without sh */
+    int sh_k;       /* coefficients per channel: (degree + 1)², 0 without sh; a Gaussian capture keeps at
+                     * least its DC term (sh_k ≥ 1), the colour of SPEC §10.3 step 9 before any clamp */
+    float *gauss;   /* SPR_GAUSS_FLOATS·n or NULL: a Gaussian capture's own Gaussians (SPEC §10.1), beside the
+                     * surfel view above — the unit quaternion w x y z (normalised in double, rounded once),
+                     * then σ along the local x, y, z axes (linear; a 2D Gaussian's third σ is 0) */
+    int gauss_aa;   /* the file says its Gaussians were trained antialiased (.spz flag; --gauss-aa) */
     float gauss_cut; /* > 0: a Gaussian-splat capture, its radii gauss_cut × σ (--gauss-cut): the gauss
                       * kernel then weighs by the file's σ (spr_draw_kernel_scale); 0: not a capture */
     unsigned flags; /* spr_source_flags */
 } spr_cloud;
+
+/* Floats per Gaussian of spr_cloud.gauss: q (w x y z), σ (x y z). */
+#define SPR_GAUSS_FLOATS 7
 
 /* Allocate n splats (normals +z, colour 0.8, alpha 1, radius 0); 0 or SPR_E_NOMEM. */
 spr_result spr_cloud_alloc(spr_cloud *c, size_t n);
@@ -52,6 +60,10 @@ spr_result spr_cloud_alloc_ell(spr_cloud *c);
  * splat — in double, clamped to [0,1] and rounded once.  spr_render calls
  * it once per frame, on the host, so every backend gets the same bits. */
 void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *view_dir, float *color);
+/* The same evaluation for the Gaussian algorithms (SPEC §10.3 step 9):
+ * max(0, 0.5 + Σ_k Y_k(dir)·sh_k), not clamped above 1, dir always from the
+ * eye; a cloud without sh gives its colours.  In double, rounded once. */
+void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *color);
 /* Release the arrays; safe on a zeroed cloud. */
 void spr_cloud_free(spr_cloud *c);
 /* Check every invariant above; names `what` (a file) and the first bad splat. */

@@ -181,6 +181,12 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
     int ply = ieq(ext, "ply"), off = ieq(ext, "off"), xyz = ieq(ext, "xyz") || ieq(ext, "pwn"),
         txt = ieq(ext, "txt") || ieq(ext, "asc") || ieq(ext, "csv") || ieq(ext, "pts"), splat = ieq(ext, "splat"), spz = ieq(ext, "spz"),
         glb = ieq(ext, "glb");
+    if (ieq(ext, "sog"))
+        return spr__fail(err, SPR_E_FORMAT, "%s: PlayCanvas SOG (WebP images of quantised attributes in a zip) is not read: convert it to .ply or .spz "
+                         "with splat-transform (docs/formats.md)", path);
+    if (ieq(ext, "ksplat"))
+        return spr__fail(err, SPR_E_FORMAT, "%s: .ksplat (GaussianSplats3D's compressed format) is not read: convert it to .ply or .spz with "
+                         "splat-transform (docs/formats.md)", path);
     if (!ply && !off && !xyz && !txt && !splat && !spz && !glb)
         return spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz, .pwn, .txt, .asc, .csv, .pts, .splat, .spz or .glb)",
                          path, ext);
@@ -189,7 +195,7 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
     spr__gauss_opts go;
     spr__gauss_defaults(&go);
     if (d && d->gauss_cut > 0.0) go.cut = d->gauss_cut;
-    if (d) go.sh_degree = d->sh_degree;
+    if (d) go.sh_degree = d->sh_degree, go.spz_raw = d->spz_raw;
     char *buf;
     size_t len;
     int mapped;

@@ -1,10 +1,11 @@
 /* io_gauss.c — Gaussian-splat captures as elliptical surfels (issue 15):
  * the one mapping from a 3D (or 2D) Gaussian to a splat, and the readers
- * of `.splat`, `.spz` and `.glb` (KHR_gaussian_splatting).  The PLY layouts
+ * of `.splat`, `.spz` (versions 1–4) and `.glb` (KHR_gaussian_splatting).  The PLY layouts
  * (3DGS, 2DGS, compressed) are read in io_ply.c and mapped here.
  *
  * Written here rather than taken from a library: none of these readers is
- * packaged in Debian; zlib inflates `.spz` and cJSON parses the glTF JSON.
+ * packaged in Debian; zlib (versions 1–3) and zstd (version 4) inflate
+ * `.spz`, and cJSON parses the glTF JSON.
  * The layouts were learnt from their sources (../shared/FORMATS.md) and
  * are described, with the mapping and its reasoning, in docs/formats.md.
  */
@@ -15,11 +16,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <zlib.h>
+#include <zstd.h>
 
 void spr__gauss_defaults(spr__gauss_opts *o)
 {
     o->cut = 3.0;
     o->sh_degree = 0;
+    o->spz_raw = 0;
 }
 
 spr_result spr__gauss_alloc(spr_cloud *c, size_t n, int file_k, const spr__gauss_opts *o, const char *path, spr_error *err)
@@ -27,9 +30,10 @@ spr_result spr__gauss_alloc(spr_cloud *c, size_t n, int file_k, const spr__gauss
     spr_result r = spr_cloud_alloc(c, n);
     if (!r) r = spr_cloud_alloc_ell(c);
     const int want = (o->sh_degree + 1) * (o->sh_degree + 1);
-    c->sh_k = o->sh_degree > 0 ? (file_k < want ? file_k : want) : 0;
-    if (c->sh_k <= 1) c->sh_k = 0;
-    if (!r && c->sh_k && !(c->sh = calloc((n ? n : 1) * (size_t)c->sh_k * 3, sizeof(float)))) r = SPR_E_NOMEM;
+    c->sh_k = file_k < want ? file_k : want; /* the DC term at least: the Gaussian algorithms' colour, unclamped */
+    if (c->sh_k < 1) c->sh_k = 1;
+    if (!r && !(c->sh = calloc((n ? n : 1) * (size_t)c->sh_k * 3, sizeof(float)))) r = SPR_E_NOMEM;
+    if (!r && !(c->gauss = malloc((n ? n : 1) * SPR_GAUSS_FLOATS * sizeof(float)))) r = SPR_E_NOMEM;
     if (r) {
         spr_cloud_free(c);
         return spr__fail(err, r, "%s: cannot allocate %zu Gaussian splats", path, n);
@@ -40,6 +44,22 @@ spr_result spr__gauss_alloc(spr_cloud *c, size_t n, int file_k, const spr__gauss
 }
 
 double spr__sigmoid(double x) { return x >= 0.0 ? 1.0 / (1.0 + exp(-x)) : exp(x) / (1.0 + exp(x)); }
+
+/* A Gaussian given in a frame whose axes are the training frame's with some
+ * reversed (f[k] = −1: axis k reversed; a proper rotation, two of them) into
+ * the training frame: the centre's coordinates flipped, the quaternion
+ * conjugated (x, y, z times f_y·f_z, f_x·f_z, f_x·f_y) and every SH
+ * coefficient beyond DC times the sign its basis function takes, the product
+ * of f over its factors x, y, z (sh_k coefficients of 3 channels). */
+static void gauss_flip(spr__gauss *g, float *sh, int sh_k, const double f[3])
+{
+    for (int k = 0; k < 3; k++) g->pos[k] *= f[k];
+    g->q[1] *= f[1] * f[2], g->q[2] *= f[0] * f[2], g->q[3] *= f[0] * f[1];
+    const double x = f[0], y = f[1], z = f[2];
+    const double sign[16] = {1, y, z, x, x * y, y * z, 1, x * z, 1, y, x * y * z, y, z, x, z, x};
+    for (int k = 1; sh && k < sh_k && k < 16; k++)
+        for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] *= (float)sign[k];
+}
 
 spr_result spr__gauss_put(const spr__gauss *g, const spr__gauss_opts *o, spr_cloud *c, size_t s, const char *path, size_t index,
                           spr_error *err)
@@ -73,6 +93,16 @@ spr_result spr__gauss_put(const spr__gauss *g, const spr__gauss_opts *o, spr_clo
         a = ord[0], b = ord[1];
     } else if (g->sigma[1] > g->sigma[0]) {
         a = 1, b = 0;
+    }
+    if (c->gauss) { /* the whole Gaussian (SPEC §10.1), beside the surfel below */
+        float *G = c->gauss + SPR_GAUSS_FLOATS * s;
+        G[0] = (float)w, G[1] = (float)x, G[2] = (float)y, G[3] = (float)z;
+        for (int k = 0; k < 3; k++) {
+            const double sg = k < ns ? g->sigma[k] : 0.0;
+            G[4 + k] = (float)sg;
+            if (k < ns && (!(G[4 + k] > 0.0f) || !isfinite(G[4 + k])))
+                return spr__fail(err, SPR_E_VALUE, "%s: splat %zu: scale %d (σ = %g) does not fit a 32-bit float", path, index, k, sg);
+        }
     }
     const double *u = R[a], *v = R[b];
     double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]}; /* n = u × v */
@@ -129,12 +159,12 @@ static float le_f32(const unsigned char *p)
  * and α as they are), rotation u8×4 (w x y z as (b − 128)/128). */
 static void splat_record(const void *user, size_t i, spr__gauss *g, float *sh)
 {
-    (void)sh; /* colours only */
     const unsigned char *rec = (const unsigned char *)user + 32 * i;
     for (int k = 0; k < 3; k++) {
         g->pos[k] = le_f32(rec + 4 * k);
         g->sigma[k] = le_f32(rec + 12 + 4 * k);
         g->rgb[k] = rec[24 + k] / 255.0;
+        if (sh) sh[k] = (float)((g->rgb[k] - 0.5) / SPR__SH_C0); /* colours only: the DC term that gives them */
     }
     g->alpha = rec[27] / 255.0;
     for (int k = 0; k < 4; k++) g->q[k] = ((double)rec[28 + k] - 128.0) / 128.0;
@@ -206,6 +236,8 @@ typedef struct spz_layout {
     int frac;
     size_t qb, dim;             /* rotation bytes, SH coefficients per channel beyond DC */
     int sh_k;
+    int antialiased;            /* header flag 1 */
+    int raw;                    /* --spz-frame raw: the data taken in the frame it is stored in */
 } spz_layout;
 
 static void spz_splat(const void *user, size_t i, spr__gauss *g, float *sh)
@@ -226,7 +258,7 @@ static void spz_splat(const void *user, size_t i, spr__gauss *g, float *sh)
             g->pos[k] = ldexp((double)f, -L->frac);
         }
         g->sigma[k] = exp(S[3 * i + (size_t)k] / 16.0 - 10.0);
-        g->rgb[k] = 0.5 + 0.28209479177387814 * ((C[3 * i + (size_t)k] / 255.0 - 0.5) / 0.15);
+        g->rgb[k] = 0.5 + SPR__SH_C0 * ((C[3 * i + (size_t)k] / 255.0 - 0.5) / 0.15);
     }
     g->alpha = A[i] / 255.0; /* stored after the sigmoid */
     double q[4]; /* x y z w */
@@ -257,45 +289,118 @@ static void spz_splat(const void *user, size_t i, spr__gauss *g, float *sh)
         for (int k = 1; k < L->sh_k; k++)
             for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] = (float)((H[i * L->dim * 3 + 3 * (size_t)(k - 1) + ch] - 128.0) / 128.0);
     }
+    /* the format's frame is RUB (x right, y up, z back: Niantic's README); the training frame is RDF */
+    static const double rub_to_training[3] = {1.0, -1.0, -1.0};
+    if (!L->raw) gauss_flip(g, sh, L->sh_k, rub_to_training);
 }
 
 static int spz_sh_dim(int degree) { return degree == 1 ? 3 : degree == 2 ? 8 : degree == 3 ? 15 : degree == 4 ? 24 : 0; }
 
+/* The fields of a .spz header (16 bytes in versions 1–3, inside the gzip
+ * stream; 32 bytes in version 4, at the start of the file), checked alike. */
+static spr_result spz_header(const char *path, const char *where, const unsigned char *h, size_t avail, size_t hb, uint32_t *version,
+                             uint32_t *n, int *degree, int *frac, int *flags, spr_error *err)
+{
+    uint32_t magic = 0;
+    if (avail < hb) return spr__fail(err, SPR_E_TRUNCATED, "%s: %sbyte %zu: the file ends inside the %zu-byte header", path, where, avail, hb);
+    memcpy(&magic, h, 4);
+    memcpy(version, h + 4, 4);
+    memcpy(n, h + 8, 4);
+    *degree = h[12], *frac = h[13], *flags = h[14];
+    if (magic != 0x5053474eu) return spr__fail(err, SPR_E_FORMAT, "%s: %sbyte 0: magic is not NGSP", path, where);
+    if (hb == 16 && (*version < 1 || *version > 3))
+        return spr__fail(err, SPR_E_FORMAT, "%s: %sbyte 4: version %u in a gzip stream (versions 1–3 are gzip; 4 is read without it)", path, where,
+                         *version);
+    if (hb == 32 && *version != 4)
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte 4: version %u after a bare NGSP magic (only version 4 is stored without gzip)", path, *version);
+    if (*degree > 4) return spr__fail(err, SPR_E_FORMAT, "%s: %sbyte 12: SH degree %d (at most 4)", path, where, *degree);
+    if (*frac > 23) return spr__fail(err, SPR_E_FORMAT, "%s: %sbyte 13: %d fractional bits (at most 23)", path, where, *frac);
+    if (*flags & 2) return spr__fail(err, SPR_E_FORMAT, "%s: %sbyte 14: the file carries extensions (flag 2), which are not read", path, where);
+    if (*n == 0) return spr__fail(err, SPR_E_FORMAT, "%s: no points", path);
+    if (*n > SPR_MAX_SPLATS) return spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %u splats (limit %u)", path, *n, SPR_MAX_SPLATS);
+    return SPR_OK;
+}
+
+/* Version 4 (Niantic's current writer, splat-transform's default): the
+ * 32-byte header, a table of (compressed, uncompressed) uint64 sizes, then
+ * one zstd stream per attribute in the order positions, alphas, colours,
+ * scales, rotations, SH (SH absent at degree 0) — inflated here into one
+ * buffer laid out as versions 1–3 hold them. */
+static spr_result spz_v4(const char *path, const unsigned char *b, size_t len, unsigned char **out, spz_layout *L, spr_error *err)
+{
+    uint32_t version, n;
+    int degree, frac, flags;
+    spr_result r = spz_header(path, "", b, len, 32, &version, &n, &degree, &frac, &flags, err);
+    if (r) return r;
+    const unsigned streams = b[15];
+    uint32_t toc;
+    memcpy(&toc, b + 16, 4);
+    const size_t dim = (size_t)spz_sh_dim(degree), want[6] = {9 * (size_t)n, n, 3 * (size_t)n, 3 * (size_t)n, 4 * (size_t)n, dim * 3 * n};
+    const unsigned expect = dim ? 6 : 5;
+    if (streams != expect)
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte 15: %u attribute streams, SH degree %d needs %u", path, streams, degree, expect);
+    if (toc < 32 || toc > len || len - toc < 16 * (size_t)streams)
+        return spr__fail(err, SPR_E_TRUNCATED, "%s: byte 16: the stream table at byte %u lies outside the file", path, toc);
+    size_t total = 0;
+    for (unsigned k = 0; k < expect; k++) total += want[k];
+    unsigned char *d = malloc(total ? total : 1);
+    if (!d) return spr__fail(err, SPR_E_NOMEM, "%s: out of memory for %u splats", path, n);
+    size_t at = (size_t)toc + 16 * (size_t)streams, dst = 0;
+    for (unsigned k = 0; k < expect && !r; k++) {
+        uint64_t csize, usize;
+        memcpy(&csize, b + toc + 16 * (size_t)k, 8);
+        memcpy(&usize, b + toc + 16 * (size_t)k + 8, 8);
+        if (usize != want[k])
+            r = spr__fail(err, SPR_E_FORMAT, "%s: byte %zu: stream %u holds %llu bytes, %u splats need %zu", path, (size_t)toc + 16 * k + 8, k,
+                          (unsigned long long)usize, n, want[k]);
+        else if (csize > len - at)
+            r = spr__fail(err, SPR_E_TRUNCATED, "%s: byte %zu: stream %u (%llu bytes) ends past the end of the file", path, at, k,
+                          (unsigned long long)csize);
+        else {
+            size_t got = ZSTD_decompress(d + dst, want[k], b + at, (size_t)csize);
+            if (ZSTD_isError(got) || got != want[k])
+                r = spr__fail(err, SPR_E_FORMAT, "%s: byte %zu: stream %u is not a valid zstd frame of %zu bytes (%s)", path, at, k, want[k],
+                              ZSTD_isError(got) ? ZSTD_getErrorName(got) : "wrong size");
+            at += (size_t)csize, dst += want[k];
+        }
+    }
+    if (!r && at != len) r = spr__fail(err, SPR_E_FORMAT, "%s: byte %zu: %zu bytes follow the last stream", path, at, len - at);
+    if (r) { free(d); return r; }
+    *out = d;
+    *L = (spz_layout){d, n, 4, frac, 4, dim, 0, flags & 1, 0};
+    return SPR_OK;
+}
+
 spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err)
 {
     memset(c, 0, sizeof *c);
-    if (len < 2 || (unsigned char)buf[0] != 0x1f || (unsigned char)buf[1] != 0x8b)
-        return spr__fail(err, SPR_E_FORMAT, "%s: byte 0: not a gzip stream (.spz versions 1–3 are gzip; version 4's zstd container is not read)", path);
-    /* the header first: 16 bytes say how long the rest is */
-    unsigned char *d;
-    size_t dl;
-    const size_t max_bytes = 16 + (size_t)SPR_MAX_SPLATS * (9 + 1 + 3 + 3 + 4 + 24 * 3);
-    spr_result r = inflate_all(path, buf, len, max_bytes, &d, &dl, err);
-    if (r) return r;
-    uint32_t magic = 0, version = 0, n = 0;
-    if (dl >= 16) {
-        memcpy(&magic, d, 4);
-        memcpy(&version, d + 4, 4);
-        memcpy(&n, d + 8, 4);
+    const unsigned char *b = (const unsigned char *)buf;
+    unsigned char *d = NULL;
+    spz_layout L;
+    spr_result r;
+    if (len >= 4 && !memcmp(b, "NGSP", 4)) {
+        r = spz_v4(path, b, len, &d, &L, err);
+    } else if (len < 2 || b[0] != 0x1f || b[1] != 0x8b) {
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte 0: neither a version 4 .spz (NGSP) nor a gzip stream (versions 1–3)", path);
+    } else { /* versions 1–3: the header inside the gzip stream says how long the rest is */
+        size_t dl;
+        const size_t max_bytes = 16 + (size_t)SPR_MAX_SPLATS * (9 + 1 + 3 + 3 + 4 + 24 * 3);
+        if ((r = inflate_all(path, buf, len, max_bytes, &d, &dl, err))) return r;
+        uint32_t version = 0, n = 0;
+        int degree = 0, frac = 0, flags = 0;
+        r = spz_header(path, "inflated ", d, dl, 16, &version, &n, &degree, &frac, &flags, err);
+        const size_t pb = version == 1 ? 6 : 9, qb = version >= 3 ? 4 : 3, dim = (size_t)spz_sh_dim(degree);
+        const size_t need = r ? 0 : 16 + (size_t)n * (pb + 1 + 3 + 3 + qb + dim * 3);
+        if (!r && dl != need)
+            r = spr__fail(err, dl < need ? SPR_E_TRUNCATED : SPR_E_FORMAT, "%s: inflated byte %zu: %u splats of version %u need %zu bytes, the stream has %zu",
+                          path, dl < need ? dl : need, n, version, need, dl);
+        L = (spz_layout){d + 16, n, version, frac, qb, dim, 0, flags & 1, 0};
     }
-    const int degree = dl >= 16 ? d[12] : 0, frac = dl >= 16 ? d[13] : 0, flags = dl >= 16 ? d[14] : 0;
-    if (dl < 16) r = spr__fail(err, SPR_E_TRUNCATED, "%s: inflated byte %zu: the stream ends inside the 16-byte header", path, dl);
-    else if (magic != 0x5053474eu) r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 0: magic is not NGSP", path);
-    else if (version < 1 || version > 3)
-        r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 4: version %u (versions 1–3 are read)", path, version);
-    else if (degree > 4) r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 12: SH degree %d (at most 4)", path, degree);
-    else if (flags & 2) r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 14: the file carries extensions (flag 2), which are not read", path);
-    else if (frac > 23) r = spr__fail(err, SPR_E_FORMAT, "%s: inflated byte 13: %d fractional bits (at most 23)", path, frac);
-    else if (n == 0) r = spr__fail(err, SPR_E_FORMAT, "%s: no points", path);
-    else if (n > SPR_MAX_SPLATS) r = spr__fail(err, SPR_E_TOO_LARGE, "%s: header declares %u splats (limit %u)", path, n, SPR_MAX_SPLATS);
-    const size_t pb = version == 1 ? 6 : 9, qb = version >= 3 ? 4 : 3, dim = (size_t)spz_sh_dim(degree);
-    const size_t need = r ? 0 : 16 + (size_t)n * (pb + 1 + 3 + 3 + qb + dim * 3);
-    if (!r && dl != need)
-        r = spr__fail(err, dl < need ? SPR_E_TRUNCATED : SPR_E_FORMAT, "%s: inflated byte %zu: %u splats of version %u need %zu bytes, the stream has %zu",
-                      path, dl < need ? dl : need, n, version, need, dl);
-    if (!r) r = spr__gauss_alloc(c, n, (int)dim + 1, o, path, err);
+    if (!r) r = spr__gauss_alloc(c, L.n, (int)L.dim + 1, o, path, err);
     if (r) { free(d); return r; }
-    const spz_layout L = {d + 16, n, version, frac, qb, dim, c->sh_k};
+    L.sh_k = c->sh_k;
+    L.raw = o->spz_raw;
+    c->gauss_aa = L.antialiased;
     r = spr__gauss_fill(c, o, spz_splat, &L, path, err);
     free(d);
     return r;
@@ -344,7 +449,7 @@ static spr_result glb_accessor(const char *path, const cJSON *root, int idx, con
     a->normalized = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(acc, "normalized"));
     a->comps = comps;
     int count = json_int(acc, "count", -1), view = json_int(acc, "bufferView", -1), off = json_int(acc, "byteOffset", 0);
-    if (!comp_size(a->ctype) || a->ctype == 5125 || (a->ctype != 5126 && !a->normalized && strcmp(what, "KHR_gaussian_splatting:SCALE")))
+    if (!comp_size(a->ctype) || a->ctype == 5125 || (a->ctype != 5126 && !a->normalized))
         return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: component type %d is not one KHR_gaussian_splatting allows", path, what, a->ctype);
     if (cJSON_GetObjectItemCaseSensitive(acc, "sparse"))
         return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: sparse accessors are not read", path, what);
@@ -372,22 +477,31 @@ typedef struct glb_attrs {
     int sh_k;
 } glb_attrs;
 
+/* One Gaussian of the ratified KHR_gaussian_splatting: scale linear (σ),
+ * opacity linear, rotation (x, y, z, w), SH degree 0 the DC coefficients.
+ * glTF's world (+y up, +z forward, x left) is turned into the training
+ * code's (x right, y down, z forward: the frame of 3DGS PLY files and of
+ * cameras.json) by reversing x and y, a half turn about z, as PlayCanvas's
+ * converter and viewer do (docs/formats.md). */
 static void glb_splat(const void *user, size_t i, spr__gauss *g, float *sh)
 {
     const glb_attrs *at = user;
     const glb_acc *acc = at->a;
     for (int k = 0; k < 3; k++) {
         g->pos[k] = comp_value(&acc[0], i, k);
-        g->sigma[k] = exp(comp_value(&acc[2], i, k)); /* log scale */
-        g->rgb[k] = 0.5 + 0.28209479177387814 * comp_value(&acc[4], i, k);
+        const double sg = comp_value(&acc[2], i, k);
+        g->sigma[k] = sg < 0.0 ? NAN : sg; /* negative scales are invalid (NaN fails the check, never a 2D flag) */
+        g->rgb[k] = 0.5 + SPR__SH_C0 * comp_value(&acc[4], i, k);
     }
     g->q[0] = comp_value(&acc[1], i, 3), g->q[1] = comp_value(&acc[1], i, 0), g->q[2] = comp_value(&acc[1], i, 1), g->q[3] = comp_value(&acc[1], i, 2);
-    g->alpha = comp_value(&acc[3], i, 0); /* stored after the sigmoid */
+    g->alpha = comp_value(&acc[3], i, 0);
     if (sh) {
         for (int ch = 0; ch < 3; ch++) sh[ch] = (float)comp_value(&acc[4], i, ch);
         for (int k = 1; k < at->sh_k; k++)
             for (int ch = 0; ch < 3; ch++) sh[3 * k + ch] = (float)comp_value(&at->sh[k - 1], i, ch);
     }
+    static const double gltf_to_training[3] = {-1.0, -1.0, 1.0};
+    gauss_flip(g, sh, at->sh_k, gltf_to_training);
 }
 
 spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err)

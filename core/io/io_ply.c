@@ -286,7 +286,7 @@ static spr_result gauss_vertex(const char *path, const vertex_layout *L, const d
     for (int k = 0; k < 3; k++) {
         g.pos[k] = val[R_X + k];
         g.sigma[k] = k == 2 && !(have & HAVE(R_SC2)) ? -1.0 : exp(val[R_SC0 + k]);
-        g.rgb[k] = have & HAVE(R_FDC0 + k) ? 0.5 + 0.28209479177387814 * val[R_FDC0 + k]
+        g.rgb[k] = have & HAVE(R_FDC0 + k) ? 0.5 + SPR__SH_C0 * val[R_FDC0 + k]
                    : have & HAVE(R_R + k)  ? val[R_R + k]
                                            : 0.5;
     }
@@ -294,7 +294,7 @@ static spr_result gauss_vertex(const char *path, const vertex_layout *L, const d
     g.alpha = have & HAVE(R_OPAC) ? spr__sigmoid(val[R_OPAC]) : have & HAVE(R_A) ? val[R_A] : 1.0;
     if (c->sh) {
         float *sh = c->sh + s * (size_t)c->sh_k * 3;
-        for (int ch = 0; ch < 3; ch++) sh[ch] = (float)val[R_FDC0 + ch];
+        for (int ch = 0; ch < 3; ch++) sh[ch] = have & HAVE(R_FDC0 + ch) ? (float)val[R_FDC0 + ch] : (float)((g.rgb[ch] - 0.5) / SPR__SH_C0);
     }
     spr_error e;
     if (spr__gauss_put(&g, &L->go, c, s, path, (size_t)i, &e)) return spr__fail(err, SPR_E_VALUE, "%s", e.msg);
@@ -535,7 +535,7 @@ static void cply_splat(const void *user, size_t i, spr__gauss *g, float *sh)
     double s2 = o3[0] * o3[0] + o3[1] * o3[1] + o3[2] * o3[2];
     for (int k = 0, j = 0; k < 4; k++) g->q[k] = k == big ? sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0) : o3[j++]; /* rot_0..3 = w x y z */
     if (sh) {
-        for (int chn = 0; chn < 3; chn++) sh[chn] = (float)((g->rgb[chn] - 0.5) / 0.28209479177387814);
+        for (int chn = 0; chn < 3; chn++) sh[chn] = (float)((g->rgb[chn] - 0.5) / SPR__SH_C0);
         const unsigned char *sv = L->sh + i * L->sb;
         for (int k = 1; k < L->sh_k; k++)
             for (int chn = 0; chn < 3; chn++) {

@@ -31,6 +31,8 @@ typedef struct spr_load_desc {
     double gauss_cut;    /* Gaussian-splat files: the surfel's edge in standard deviations, in (0, 3] (0 = 3) */
     int sh_degree;       /* Gaussian-splat files: spherical-harmonics degree kept for view-dependent colour, 0..3 */
     const char *columns; /* text point files without a header: column names "x,y,z,…" (NULL: 3 or 6 columns) */
+    int spz_raw;         /* .spz: 1 takes the data in the frame it is stored in (--spz-frame raw: splat-transform 3.x
+                          * writes the PLY frame unconverted); 0 turns the format's RUB frame into the training frame */
 } spr_load_desc;
 void spr_load_defaults(spr_load_desc *d);
 
@@ -90,6 +92,7 @@ static inline int spr__finite_float(double v) { return isfinite(v) && isfinite((
 typedef struct spr__gauss_opts {
     double cut;      /* radii = cut × σ */
     int sh_degree;   /* SH coefficients kept: (degree + 1)², capped by the file's */
+    int spz_raw;     /* .spz data taken as stored, not turned from the format's RUB frame (--spz-frame raw) */
 } spr__gauss_opts;
 void spr__gauss_defaults(spr__gauss_opts *o);
 typedef struct spr__gauss {
@@ -114,6 +117,8 @@ typedef void (*spr__gauss_decode)(const void *user, size_t i, spr__gauss *g, flo
 spr_result spr__gauss_fill(spr_cloud *c, const spr__gauss_opts *o, spr__gauss_decode decode, const void *user, const char *path,
                            spr_error *err);
 double spr__sigmoid(double x);
+/* The SH degree-0 constant: colour = 0.5 + C0·f_dc (every capture format). */
+#define SPR__SH_C0 0.28209479177387814
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
                           const spr_warn *warn, const spr__gauss_opts *go, spr_error *err);
 spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);

@@ -159,6 +159,12 @@ int spr__model_opts(spr__args *a, spr_scene *s, spr_load_desc *ld)
         spr__get_int(a, "sh-degree", &ld->sh_degree, 0, 3) < 0)
         return -1;
     ld->columns = spr__get(a, "columns");
+    const char *frame = spr__get(a, "spz-frame");
+    if (frame && strcmp(frame, "rub") && strcmp(frame, "raw")) {
+        spr__error(a, "--spz-frame: \"%s\" is neither rub nor raw", frame);
+        return -1;
+    }
+    ld->spz_raw = frame && !strcmp(frame, "raw");
     ld->threads = s->threads;
     ld->progress = spr__progress(spr__flag(a, "quiet"));
     ld->warn = spr__warn(a);

@@ -15,6 +15,7 @@
     {"balls", "N", "add N small opaque balls inside the closed model, 1..64 (the scenes of [ZP] Fig. 17-19)"}, \
     {"gauss-cut", "C", "Gaussian-splat files: cut each Gaussian at C standard deviations, in (0,3] (default 3: the gauss kernel is then the capture's Gaussian)"}, \
     {"sh-degree", "D", "Gaussian-splat files: spherical-harmonics degree of the view-dependent colour, 0..3 (default 0: the DC colour)"}, \
+    {"spz-frame", "FRAME", ".spz files: rub (the format's frame, turned into the training frame; default) | raw (taken as stored: splat-transform 3.x writes the PLY frame unconverted)"}, \
     {"columns", "LIST", "text point files without a header: the column names, e.g. x,y,z,r,g,b,_,nx,ny,nz (_ skips one)"}, \
     {"quiet", NULL, "no progress on stderr"}
 

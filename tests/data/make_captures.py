@@ -1,8 +1,13 @@
 #!/usr/bin/env python3
 """make_captures.py — writes the small capture files of tests/data/captures/
-(issue 15), each built to its published layout (../shared/FORMATS.md,
-docs/formats.md).  The files are committed; this script documents how they
-were made and remakes them: python3 tests/data/make_captures.py.
+that no current writer makes (issue 15; since issue 23 the formats a real
+converter writes — 3DGS PLY, compressed PLY, .spz 3 and 4, .glb — come from
+splat-transform itself, tests/data/captures/splat-transform/): the hand
+sheet as 3DGS PLY (the reference the others are compared with, and one with
+an unnormalised quaternion), 2DGS PLY, .splat and .spz version 2, each built
+to its published layout (../shared/FORMATS.md, docs/formats.md), plus the
+exporters' text files.  The files are committed; this script documents how
+they were made and remakes them: python3 tests/data/make_captures.py.
 
 One scene, "the sheet": 24 x 24 Gaussians on a plane through (0.25, -0.5,
 0.75), 0.05 apart, all with the rotation q0 (60 degrees about (1, 2, 0.5)),
@@ -10,9 +15,9 @@ log-scales (-3.5, -4.0, -6.25) along the local axes (so the sheet spans
 local x and y and its normal is local z), colour (204, 102, 51)/255 and
 opacity 0.75 (logit ln 3).  The scales are multiples of 1/16 (exact in
 .spz) and the colours exact in bytes, so the formats differ only where
-their layouts quantise: positions (.spz 12 fractional bits, compressed PLY
-11/10/11 bits per chunk), rotations (.splat 8 bits, .spz 9 bits, compressed
-10 bits), colour and opacity (8 bits).
+their layouts quantise: positions (.spz 12 fractional bits), rotations
+(.splat 8 bits, .spz 9 bits), colour and opacity (8 bits).  The .spz holds
+the format's own RUB frame (Niantic's README): y and z reversed.
 """
 import gzip
 import json
@@ -94,13 +99,14 @@ def spz_file(version):
     hdr = struct.pack("<IIIBBBB", 0x5053474E, version, n, 0, frac, 0, 0)
     pos = b""
     for p in pts:
-        for c in p:
+        for c in (p[0], -p[1], -p[2]):  # the format's RUB frame: y and z of the PLY (RDF) frame reversed
             f = int(round(c * (1 << frac))) & 0xFFFFFF
             pos += bytes((f & 255, f >> 8 & 255, f >> 16 & 255))
     alpha = bytes([round(0.75 * 255)] * n)
     col = bytes([max(0, min(255, round(((c - 0.5) / C0) * 0.15 * 255 + 127.5))) for c in COLOUR] * n)
     scale = bytes([round((s + 10) * 16) for s in LOG_SCALE] * n)
     w, x, y, z = Q0
+    y, z = -y, -z  # the same rotation seen in RUB: conjugated by diag(1, -1, -1)
     if version >= 3:  # smallest three, (x y z w) order
         q = [x, y, z, w]
         big = max(range(4), key=lambda k: abs(q[k]))
@@ -116,80 +122,6 @@ def spz_file(version):
         s = -1 if w < 0 else 1
         rot = bytes([max(0, min(255, round(s * c * 127.5 + 127.5))) for c in (x, y, z)]) * n
     write("sheet-v%d.spz" % version, gzip.compress(hdr + pos + alpha + col + scale + rot, mtime=0))
-
-
-def compressed_ply():
-    pts = sheet()
-    n = len(pts)
-    chunks = (n + 255) // 256
-    cprops = ["min_x", "min_y", "min_z", "max_x", "max_y", "max_z", "min_scale_x", "min_scale_y", "min_scale_z",
-              "max_scale_x", "max_scale_y", "max_scale_z", "min_r", "min_g", "min_b", "max_r", "max_g", "max_b"]
-    cbody = b""
-    vbody = b""
-    for ch in range(chunks):
-        part = pts[ch * 256:(ch + 1) * 256]
-        lo = [min(p[k] for p in part) for k in range(3)]
-        hi = [max(p[k] for p in part) for k in range(3)]
-        cbody += struct.pack("<18f", *lo, *hi, *LOG_SCALE, *LOG_SCALE, *COLOUR, *COLOUR)
-        for p in part:
-            def un(v, a, b, bits):
-                t = 0.0 if b == a else (v - a) / (b - a)
-                return max(0, min((1 << bits) - 1, int(round(t * ((1 << bits) - 1)))))
-            pp = un(p[0], lo[0], hi[0], 11) << 21 | un(p[1], lo[1], hi[1], 10) << 11 | un(p[2], lo[2], hi[2], 11)
-            q = list(Q0)  # rot_0..3 = w x y z
-            big = max(range(4), key=lambda k: abs(q[k]))
-            if q[big] < 0:
-                q = [-c for c in q]
-            others = [q[k] for k in range(4) if k != big]
-            rr = big << 30
-            for k, o in enumerate(others):
-                rr |= max(0, min(1023, int(round((o * math.sqrt(2) * 0.5 + 0.5) * 1023)))) << (20 - 10 * k)
-            ss = 0  # min == max: every scale exact
-            cc = 0 << 24 | 0 << 16 | 0 << 8 | round(0.75 * 255)  # min == max colour
-            vbody += struct.pack("<4I", pp, rr, ss, cc)
-    hdr = ("ply\nformat binary_little_endian 1.0\ncomment made by tests/data/make_captures.py\nelement chunk %d\n" % chunks +
-           "".join("property float %s\n" % p for p in cprops) +
-           "element vertex %d\n" % n + "".join("property uint %s\n" % p for p in
-                                               ["packed_position", "packed_rotation", "packed_scale", "packed_color"]) +
-           "end_header\n").encode()
-    write("sheet-compressed.ply", hdr + cbody + vbody)
-
-
-def glb_file():
-    pts = sheet()
-    n = len(pts)
-    bins = []
-    pos = b"".join(struct.pack("<3f", *p) for p in pts)
-    w, x, y, z = Q0
-    rot = struct.pack("<4f", x, y, z, w) * n
-    scale = struct.pack("<3f", *LOG_SCALE) * n
-    opac = struct.pack("<f", 0.75) * n
-    sh0 = struct.pack("<3f", *[(c - 0.5) / C0 for c in COLOUR]) * n
-    views, accessors, off = [], [], 0
-    for data, typ in ((pos, "VEC3"), (rot, "VEC4"), (scale, "VEC3"), (opac, "SCALAR"), (sh0, "VEC3")):
-        views.append({"buffer": 0, "byteOffset": off, "byteLength": len(data)})
-        acc = {"bufferView": len(views) - 1, "componentType": 5126, "count": n, "type": typ}
-        if typ == "VEC3" and data is pos:
-            acc["min"] = [min(p[k] for p in pts) for k in range(3)]
-            acc["max"] = [max(p[k] for p in pts) for k in range(3)]
-        accessors.append(acc)
-        bins.append(data)
-        off += len(data)
-    gltf = {"asset": {"version": "2.0", "generator": "tests/data/make_captures.py"},
-            "extensionsUsed": ["KHR_gaussian_splatting"],
-            "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-            "meshes": [{"primitives": [{"mode": 0, "attributes": {
-                "POSITION": 0, "KHR_gaussian_splatting:ROTATION": 1, "KHR_gaussian_splatting:SCALE": 2,
-                "KHR_gaussian_splatting:OPACITY": 3, "KHR_gaussian_splatting:SH_DEGREE_0_COEF_0": 4},
-                "extensions": {"KHR_gaussian_splatting": {"kernel": "ellipse", "colorSpace": "srgb_rec709_display"}}}]}],
-            "buffers": [{"byteLength": off}], "bufferViews": views, "accessors": accessors}
-    js = json.dumps(gltf, separators=(",", ":")).encode()
-    js += b" " * (-len(js) % 4)
-    bd = b"".join(bins)
-    bd += b"\0" * (-len(bd) % 4)
-    total = 12 + 8 + len(js) + 8 + len(bd)
-    write("sheet.glb", struct.pack("<III", 0x46546C67, 2, total) + struct.pack("<II", len(js), 0x4E4F534A) + js +
-          struct.pack("<II", len(bd), 0x004E4942) + bd)
 
 
 def text_files():
@@ -286,10 +218,7 @@ if __name__ == "__main__":
     gs_ply("sheet.ply")
     gs_ply("sheet-unnormalised.ply", q_scale=1.7)
     gs_ply("sheet-2dgs.ply", two_d=True)
-    compressed_ply()
     splat_file()
     spz_file(2)
-    spz_file(3)
-    glb_file()
     text_files()
     blender247()
