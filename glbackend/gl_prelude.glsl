@@ -1,6 +1,6 @@
 /* gl_prelude.glsl — what GL does differently, ahead of the shared arithmetic.
  *
- * Gives the macros of core/render/spr_arith.h their GLSL meaning (the C
+ * Gives the macros of the shared arithmetic (core/render/arith/base.h) their GLSL meaning (the C
  * meaning is in core/render/spr_arith_c.h) and fetches a pixel's input
  * targets: every target plane is one layer of a per-plane array texture
  * (gl_backend.c), so input k is layer u_in_layer[k].  Reading layers other

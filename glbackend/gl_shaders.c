@@ -5,7 +5,8 @@
  * gauss coefficients as exact bit patterns; for a composite program the
  * function of its row of SPR_COMPOSITE_LIST, one program per op, linked on
  * first use), then glbackend/gl_prelude.glsl, the shared arithmetic
- * core/render/spr_arith.h verbatim, and the stage's main file.  The build
+ * of core/render/arith/ verbatim in the order of its ORDER file, and the
+ * stage's main file.  The build
  * embeds those files as byte arrays (cmake/embed.cmake): no GLSL lives in a
  * C string literal here, only #define lines generated from C values.
  *
@@ -23,7 +24,8 @@
 #include <string.h>
 
 /* The embedded files (generated gl_sources.c). */
-extern const char spr__src_arith[], spr__src_prelude[], spr__src_splat_vert[], spr__src_splat_frag[],
+extern const char *const spr__src_arith_parts[]; /* core/render/arith/, in ORDER (generated gl_arith_parts.c) */
+extern const char spr__src_prelude[], spr__src_splat_vert[], spr__src_splat_frag[],
     spr__src_full_vert[], spr__src_composite_frag[], spr__src_rect_frag[];
 
 typedef struct strbuf { char *s; size_t n, cap; int oom; } strbuf;
@@ -106,7 +108,7 @@ static char *assemble(const char *main_src, int fragment, int op, int probe)
         add_constants(&b);
         if (op >= 0) sb_add(&b, "#define SPR_COMP_ONE %s\n", comp_fn[op]);
         sb_add(&b, "%s", spr__src_prelude);
-        sb_add(&b, "%s", spr__src_arith);
+        for (int k = 0; spr__src_arith_parts[k]; k++) sb_add(&b, "%s", spr__src_arith_parts[k]);
     }
     sb_add(&b, "%s", main_src);
     if (b.oom) { free(b.s); return NULL; }

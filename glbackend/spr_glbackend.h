@@ -2,7 +2,7 @@
  *
  * Implements spr_backend with the real GL pipeline: one instanced screen
  * quad per splat bounding its projected disk, a fragment shader that runs
- * the shared arithmetic of core/render/spr_arith.h (embedded verbatim, with
+ * the shared arithmetic of core/render/arith/ (embedded verbatim, with
  * `precise` on every arithmetic variable: PARITY.md rules 1–5),
  * fixed-function depth test (gl_FragDepth into DEPTH_COMPONENT32F) and
  * blending on RGBA32F.  Composite ops are full-screen passes running the

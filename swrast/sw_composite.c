@@ -1,6 +1,6 @@
 /* sw_composite.c — composite operations on the CPU: the loop over pixels
  * around the per-pixel functions of the composite table (SPR_COMPOSITE_LIST
- * in spr_backend.h, spr_comp_* in spr_arith.h).  Every op of the table
+ * in spr_backend.h, spr_comp_* in arith/composite.h).  Every op of the table
  * writes colour and depth; the output's test plane, when it has one,
  * receives the depth, as gl_FragDepth does in GL.
  */

@@ -11,7 +11,7 @@
  *                 file's order is not spatial: most of the time at 1M+)
  *   3. per tile = for each entry, for each pixel of rect ∩ tile:
  *                 ray–disk test → depth mask → test value → depth test →
- *                 kernel → blend/write  (spr_arith.h, then sw_fixed.h)
+ *                 kernel → blend/write  (core/render/arith/, then sw_fixed.h)
  * Tiles are disjoint, so the result does not depend on which thread runs
  * which tile; statistics are integer sums.
  */

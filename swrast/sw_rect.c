@@ -4,7 +4,7 @@
  *                (spr_rect_pixel_rect, shared with the GL backend)
  *   2. per 32×32 tile, in parallel: for i in submission order, for each
  *      pixel of rect ∩ tile: ray–rectangle hit → texture sample → alpha
- *      test → test value → depth test → blend/write (spr_arith.h, sw_fixed.h)
+ *      test → test value → depth test → blend/write (core/render/arith/, sw_fixed.h)
  * List draws (the prefix method) run step 2 twice: once counting each
  * pixel's fragments, then, after a prefix sum, filling the nodes — each
  * pixel's fragments stay contiguous and in submission order; the prefix

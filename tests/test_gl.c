@@ -556,25 +556,41 @@ START_TEST(two_gl_backends_in_one_process)
 }
 END_TEST
 
-/* The program text GL compiled contains the shared arithmetic file,
- * byte for byte, as it is in the source tree (no copy in a string). */
+/* The program text GL compiled contains every file of the shared arithmetic
+ * (core/render/arith/, listed in its ORDER file), byte for byte as it is in
+ * the source tree (no copy in a string), one after another in that order. */
 START_TEST(programs_embed_the_shared_arithmetic)
 {
-    char *shared = NULL;
-    size_t len = 0;
+    char *order = NULL;
+    size_t olen = 0;
     spr_error err = {0};
-    ck_assert_msg(spr__read_file(SPR_SOURCE_DIR "/core/render/spr_arith.h", &shared, &len, &err) == SPR_OK, "%s", err.msg);
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (size_t i = 0; i < len; i++) { h ^= (unsigned char)shared[i]; h *= 0x100000001b3ull; }
-    static const char *const programs[] = {"splat", "composite"};
-    for (int i = 0; i < 2; i++) {
+    ck_assert_msg(spr__read_file(SPR_SOURCE_DIR "/core/render/arith/ORDER", &order, &olen, &err) == SPR_OK, "%s", err.msg);
+    const char *name[32];
+    int parts = 0;
+    for (char *line = strtok(order, "\n"); line && parts < 32; line = strtok(NULL, "\n"))
+        if (line[0] != '#') name[parts++] = line;
+    ck_assert_int_ge(parts, 7);
+    static const char *const programs[] = {"splat", "composite", "rect"};
+    for (int i = 0; i < 3; i++) {
         char *src = spr_gl_program_source(gl, programs[i]);
         ck_assert_ptr_nonnull(src);
-        ck_assert_msg(strstr(src, shared) != NULL, "program %s lacks spr_arith.h", programs[i]);
-        printf("gl: program %s holds spr_arith.h (%zu bytes, FNV-1a %016llx)\n", programs[i], len, (unsigned long long)h);
+        const char *at = src;
+        for (int k = 0; k < parts; k++) {
+            char path[512], *part = NULL;
+            size_t len = 0;
+            snprintf(path, sizeof path, "%s/core/render/arith/%s", SPR_SOURCE_DIR, name[k]);
+            ck_assert_msg(spr__read_file(path, &part, &len, &err) == SPR_OK, "%s", err.msg);
+            const char *hit = strstr(at, part);
+            ck_assert_msg(hit != NULL, "program %s lacks arith/%s, or holds it out of ORDER", programs[i], name[k]);
+            uint64_t h = 0xcbf29ce484222325ull;
+            for (size_t j = 0; j < len; j++) { h ^= (unsigned char)part[j]; h *= 0x100000001b3ull; }
+            if (i == 0) printf("gl: programs hold arith/%s (%zu bytes, FNV-1a %016llx)\n", name[k], len, (unsigned long long)h);
+            at = hit + len;
+            free(part);
+        }
         free(src);
     }
-    free(shared);
+    free(order);
 }
 END_TEST
 

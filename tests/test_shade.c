@@ -1,7 +1,7 @@
 /* test_shade.c — SPEC §4.3 (deferred shading), §6.3 (environment effects),
  * §6.4 (depth peeling) and [ZP] §6.3's image error, on hand scenes whose
  * expected values are worked out here in double from the formulas of the
- * SPEC, independently of spr_arith.h. */
+ * SPEC, independently of the shared arithmetic. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -177,7 +177,7 @@ spr_result spr__add_balls(spr_cloud *c, int nballs, spr_error *err)
     }
     if (kept < nballs)
         return spr__fail(err, SPR_E_ARG, "--balls %d: found room for only %d balls inside the model (are its normals outward?)", nballs, kept);
-    if (c->sh) return spr__fail(err, SPR_E_ARG, "--balls: not with view-dependent colours (--sh-degree above 0)");
+    if (c->sh && c->sh_k > 1) return spr__fail(err, SPR_E_ARG, "--balls: not with view-dependent colours (--sh-degree above 0)");
     spr_cloud o;
     spr_result r = spr_cloud_alloc(&o, n + (size_t)nballs * PER_BALL);
     if (!r && c->ell && (r = spr_cloud_alloc_ell(&o))) spr_cloud_free(&o);

@@ -1,7 +1,7 @@
-/* spr_arith_c.h — core/render/spr_arith.h compiled as C.
+/* spr_arith_c.h — the shared arithmetic (core/render/arith/) compiled as C.
  *
  * Gives the macros of the shared arithmetic their C meaning (see the table
- * at the top of spr_arith.h), defines how the CPU side fetches a pixel's
+ * at the top of arith/base.h), defines how the CPU side fetches a pixel's
  * input targets, and includes the shared text.  Build with
  * -ffp-contract=off: C then evaluates exactly the written operations.
  */
@@ -86,6 +86,6 @@ static inline int spr_neighbour(const spr_pixel_in *px, int a, int b)
     return spr_rects_neighbours(px->nbr, px->nbr_words, (size_t)a, (size_t)b);
 }
 
-#include "spr_arith.h"
+#include "spr_arith_parts.h" /* core/render/arith/, in the order of its ORDER file */
 
 #endif

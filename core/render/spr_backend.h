@@ -5,7 +5,7 @@
  * full-screen composite operations.  Algorithms (the registry of spr_algo.h)
  * are written once as sequences of these calls; the CPU backend (swrast/)
  * and the GL backend (glbackend/) implement them with the one float
- * sequence of spr_arith.h.
+ * sequence of the shared arithmetic (core/render/arith/).
  *
  * Targets are built from the plane table below: each target holds the set
  * of planes it was created with (a mask of SPR_PLANE_BIT), and a draw or
@@ -192,7 +192,7 @@ typedef struct spr_draw_stats {
 
 /* The composite table: X(ENUM, function, most inputs, planes read from each
  * input, planes written, summary).  Each op is one per-pixel function
- * spr_comp_<function> of spr_arith.h; it reads its inputs through
+ * spr_comp_<function> of arith/composite.h; it reads its inputs through
  * spr_in_color/spr_in_depth/spr_in_opacity/spr_in_normal and gives the
  * output colour, depth and normal (a test plane, when the output has one,
  * receives the depth too, as gl_FragDepth does; a normal plane, when the
@@ -295,7 +295,7 @@ unsigned spr_composite_extra_reads(spr_composite_op op, const float *params, int
 /* ---- textured rectangles: domain primitives (SPEC §7.4, §7.5, §7.7) ----
  * A rectangle is a float record (SPR_RECT_LIST: X(NAME, floats), offsets
  * SPR_RECT_<NAME>) and an integer record of SPR_RECTI_COUNT values; both go
- * unchanged to both backends, and spr_arith.h reads the floats.  The
+ * unchanged to both backends, and arith/rect.h reads the floats.  The
  * rectangle is {c + s·u + w·v : umin ≤ s ≤ umax, vmin ≤ w ≤ vmax} in the
  * plane through c with normal n; its texture has tw × th square texels of
  * side h, texel (x, y) centred at (umin + (x + ½)h, vmin + (y + ½)h), RGBA
@@ -387,7 +387,7 @@ int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int
  * (x, y) — after the coverage test and the depth mask, before the depth
  * test — with the values the backend computed for it, and each composite
  * appends the notes its per-pixel function makes there (SPR_NOTE in
- * spr_arith.h: each step of the §4.2 loop with its ε decision, …).  The
+ * the shared arithmetic: each step of the §4.2 loop with its ε decision, …).  The
  * CPU backend records from its rasterizer; the GL backend from a debug
  * variant of the same programs (spr_gl_desc.probe) that appends to a
  * buffer.  The history backend (spr_history.h) arms it and replays the
@@ -408,7 +408,7 @@ enum {
     SPR_NOTE_PREFIX_NODE      /* §7.7, primitive k: t, 1 summed / 0 not a neighbour of the front-most, rank by (t, id), Σα so far */
 };
 typedef struct spr_probe_note {
-    int32_t tag;         /* SPR_NOTE_* of spr_arith.h */
+    int32_t tag;         /* SPR_NOTE_* of spr_backend.h, made by the shared arithmetic */
     int32_t k;           /* the input, node or layer it is about (−1: none) */
     float v[4];
 } spr_probe_note;

@@ -1,10 +1,10 @@
 /* spr_fixed.h — GL's fixed-function stages as the reference performs them:
  * the depth comparison and blending (SPEC §3.3, §3.4).  These are not
  * shader arithmetic (GL does them in hardware), so they are not part of
- * spr_arith.h; they mirror GL's factor arithmetic src·sf + dst·df, measured
+ * the shared arithmetic; they mirror GL's factor arithmetic src·sf + dst·df, measured
  * identical on llvmpipe (PARITY.md "Fixed-function stages").  The CPU
  * backend (swrast/sw_fixed.h) and the pixel history's replay
- * (core/render/history.c) both use them.
+ * (core/inspect/history.c) both use them.
  */
 #ifndef SPR_FIXED_H
 #define SPR_FIXED_H

@@ -1,4 +1,4 @@
-/* spr_fragment.h — the shared per-pixel arithmetic (spr_arith.h) seen from C.
+/* spr_fragment.h — the shared per-pixel arithmetic (core/render/arith/) seen from C.
  *
  * Convenience wrappers that take the host's structures (spr_view,
  * spr_pass_state) and pass their float bits to the shared functions; they

@@ -26,6 +26,6 @@ extern const float spr_gauss_coef[SPR_GAUSS_DEGREE + 1];
 int spr_kernel_from_name(const char *name);
 const char *spr_kernel_name(spr_kernel k);
 
-/* w(ρ) itself is spr_kernel_weight() of the shared arithmetic (spr_arith.h). */
+/* w(ρ) itself is spr_kernel_weight() of the shared arithmetic (arith/kernel.h). */
 
 #endif

@@ -279,7 +279,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     if (src && (r = spr_stream_check(desc->algo, cloud->n, err))) return r;
     spr_cloud viewed;
     float *sh_color = NULL;
-    if (cloud->sh) { /* view-dependent colours (--sh-degree): this view's, once per frame on the host, drawn by every backend */
+    if (cloud->sh && cloud->sh_k > 1) { /* view-dependent colours (--sh-degree): this view's, once per frame on the host, drawn by every backend */
         if (!(sh_color = malloc((cloud->n ? cloud->n : 1) * 3 * sizeof *sh_color)))
             return spr__fail(err, SPR_E_NOMEM, "render: out of memory for %zu view-dependent colours", cloud->n);
         double eye[3], fwd[3] = {-view->V[8], -view->V[9], -view->V[10]}; /* the camera looks down −z of eye space */
