@@ -34,13 +34,22 @@ static void free_target(gl_target *t)
     memset(t, 0, sizeof *t);
 }
 
+/* An image plane: written by the Gaussian rasterizers with imageStore, never a framebuffer attachment
+ * (GL_MAX_COLOR_ATTACHMENTS is 8 on llvmpipe; the fragment-written planes use 6 of them). */
+static int image_plane(spr_plane p)
+{
+    const spr_plane_info *pi = spr_plane_info_of(p);
+    return pi && (pi->type == SPR_PLANE_F32_IMAGE || pi->type == SPR_PLANE_U32_IMAGE);
+}
+
 int gl__plane_attachment(spr_plane p)
 {
     const spr_plane_info *pi = spr_plane_info_of(p);
     if (!pi || pi->type == SPR_PLANE_ZTEST) return -1;
+    if (image_plane(p)) return GL_NOT_ATTACHED;
     int a = 0;
     for (int q = 0; q < (int)p; q++)
-        if (spr_plane_info_of((spr_plane)q)->type != SPR_PLANE_ZTEST) a++;
+        if (spr_plane_info_of((spr_plane)q)->type != SPR_PLANE_ZTEST && !image_plane((spr_plane)q)) a++;
     return a;
 }
 
@@ -51,9 +60,11 @@ static GLenum plane_format(spr_plane p)
     const spr_plane_info *pi = spr_plane_info_of(p);
     switch (pi->type) {
     case SPR_PLANE_ZTEST: return GL_DEPTH_COMPONENT32F;
-    case SPR_PLANE_U32: return GL_R32UI;
+    case SPR_PLANE_U32:
+    case SPR_PLANE_U32_IMAGE: return GL_R32UI;
     case SPR_PLANE_COUNTER: return GL_R32F;
     case SPR_PLANE_F32:
+    case SPR_PLANE_F32_IMAGE:
     default: return pi->channels == 4 ? GL_RGBA32F : GL_R32F;
     }
 }
@@ -67,6 +78,7 @@ static spr_result attach(gl_context *c, int t)
     int nb = 0;
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         int a = gl__plane_attachment((spr_plane)p), on = (planes & SPR_PLANE_BIT(p)) != 0;
+        if (a == GL_NOT_ATTACHED) continue;
         GLenum at = a < 0 ? GL_DEPTH_ATTACHMENT : GL_COLOR_ATTACHMENT0 + (GLenum)a;
         if (on) glNamedFramebufferTextureLayer(tg->fbo, at, c->pool[p], 0, t);
         else glNamedFramebufferTexture(tg->fbo, at, 0, 0);
@@ -153,7 +165,8 @@ static spr_result gl_clear(spr_backend *b, int t, const float color[4])
     unsigned planes = b->target_planes[t];
     if (t == c->list_target) c->list_target = -1; /* a clear empties the fragment lists too */
     glBindFramebuffer(GL_FRAMEBUFFER, tg->fbo);
-    for (int i = 0; i < SPR_PLANE__COUNT; i++) glColorMaski((GLuint)i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++)
+        if (gl__plane_attachment((spr_plane)p) >= 0) glColorMaski((GLuint)gl__plane_attachment((spr_plane)p), GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         if (!(planes & SPR_PLANE_BIT(p))) continue;
@@ -161,7 +174,12 @@ static spr_result gl_clear(spr_backend *b, int t, const float color[4])
         int a = gl__plane_attachment((spr_plane)p);
         float f = (float)pi->clear, fv[4] = {f, f, f, f};
         GLuint u[4] = {(GLuint)pi->clear, 0, 0, 0};
-        if (a < 0) glClearBufferfv(GL_DEPTH, 0, &f);
+        if (a == GL_NOT_ATTACHED) { /* an image plane: its layer cleared as a texture */
+            const int W = b->view.width, H = b->view.height;
+            if (pi->type == SPR_PLANE_U32_IMAGE) glClearTexSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, u);
+            else glClearTexSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, pi->channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT,
+                                    p == SPR_PLANE_COLOR ? color : fv);
+        } else if (a < 0) glClearBufferfv(GL_DEPTH, 0, &f);
         else if (p == SPR_PLANE_COLOR) glClearBufferfv(GL_COLOR, a, color);
         else if (pi->type == SPR_PLANE_U32) glClearBufferuiv(GL_COLOR, a, u);
         else glClearBufferfv(GL_COLOR, a, fv);
@@ -197,6 +215,7 @@ static void gl_target_destroy(spr_backend *b, int t)
 static void blend_factors(spr_blend mode, GLenum *sf, GLenum *df)
 {
     switch (mode) {
+    case SPR_BLEND_PREMUL: *sf = GL_ONE; *df = GL_ONE_MINUS_SRC_ALPHA; break;
     case SPR_BLEND_ADD:
     case SPR_BLEND_SUB: *sf = GL_ONE; *df = GL_ONE; break;
     case SPR_BLEND_OVER: *sf = GL_SRC_ALPHA; *df = GL_ONE_MINUS_SRC_ALPHA; break;
@@ -305,7 +324,7 @@ void gl__pass_state(const spr_pass_state *s)
     glDepthMask(s->depth_write ? GL_TRUE : GL_FALSE);
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         int a = gl__plane_attachment((spr_plane)p);
-        if (a < 0) continue;
+        if (a < 0) continue; /* the depth attachment, or an image plane */
         GLboolean on = (s->write_mask & SPR_PLANE_BIT(p)) != 0;
         glColorMaski((GLuint)a, on, on, on, on);
         const spr_plane_type type = spr_plane_info_of((spr_plane)p)->type;
@@ -458,6 +477,7 @@ static spr_result gl_read_plane(spr_backend *b, int t, spr_plane p, void *out)
         glGetTextureSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)bytes, out);
         break;
     case SPR_PLANE_U32:
+    case SPR_PLANE_U32_IMAGE:
         glGetTextureSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, (GLsizei)bytes, out);
         break;
     case SPR_PLANE_COUNTER: {
@@ -468,6 +488,7 @@ static spr_result gl_read_plane(spr_backend *b, int t, spr_plane p, void *out)
         break;
     }
     case SPR_PLANE_F32:
+    case SPR_PLANE_F32_IMAGE:
     default:
         glGetTextureSubImage(c->pool[p], 0, 0, 0, t, W, H, 1, pi->channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT, (GLsizei)bytes, out);
         break;
@@ -484,6 +505,7 @@ static void gl_destroy(spr_backend *b)
         drop_pool(c);
         if (c->env) glDeleteTextures(1, &c->env);
         gl__rects_free(c);
+        gl__gauss_free(c);
         glDeleteBuffers(1, &c->instances);
         glDeleteBuffers(1, &c->counters);
         if (c->probe_buf) glDeleteBuffers(1, &c->probe_buf);
@@ -546,6 +568,9 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     b->draw_splats = gl_draw;
     b->composite = gl_composite;
     b->draw_rects = gl__draw_rects;
+    b->gauss_preprocess = gl__gauss_preprocess;
+    b->gauss_raster = gl__gauss_raster;
+    b->gauss_draw = gl__gauss_draw;
     b->read_plane = gl_read_plane;
     b->destroy = gl_destroy;
     if (gl__egl_open(c, d->device, err) || gl__build_programs(c, err)) {

@@ -48,6 +48,12 @@ enum {
     GL_CU__COUNT
 };
 
+/* The Gaussian programs (gl_gauss.c), linked on first use, and their buffers. */
+enum { GL_GPROG_PRE = 0, GL_GPROG_RASTER, GL_GPROG_BLEND, GL_GPROG__COUNT };
+enum { GL_GBUF_IN = 0, GL_GBUF_REC, GL_GBUF_RECTEX, GL_GBUF_RANGE, GL_GBUF_LIST, GL_GBUF_COUNT, GL_GBUF__COUNT };
+/* gl__plane_attachment of a plane that is no attachment: the image planes (SPR_PLANE_*_IMAGE). */
+#define GL_NOT_ATTACHED (-2)
+
 typedef struct gl_context {
     spr_backend base; /* first: a gl_context is an spr_backend */
     EGLDisplay dpy;
@@ -73,6 +79,10 @@ typedef struct gl_context {
     gl_target *targets;
     int cap;
     GLuint env;  /* the cube map of the last composite with environment effects: six layers */
+    GLuint gprog[GL_GPROG__COUNT];
+    GLuint gbuf[GL_GBUF__COUNT];
+    size_t gcap[GL_GBUF__COUNT];
+    GLuint gtex[3];     /* records, tile ranges, tile lists as buffer textures (units 10, 11, 12) */
     int probe_programs; /* programs built with SPR_PROBE (spr_gl_desc.probe) */
     GLuint probe_buf;   /* their records (gl_prelude.glsl) */
 } gl_context;
@@ -114,13 +124,20 @@ void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st);
 spr_result gl__probe_refused(gl_context *c);
 void gl__probe_begin(gl_context *c);
 spr_result gl__probe_end(gl_context *c, int keep);
+/* gl_gauss.c; the program of GL_GPROG_* (gl_shaders.c) */
+spr_result gl__gauss_program(gl_context *c, int which, spr_error *err);
+spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec);
+spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
+spr_result gl__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
+void gl__gauss_free(gl_context *c);
 /* gl_rect.c */
 spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
 /* Bind the fragment lists and neighbours of cd for the prefix op. */
 spr_result gl__bind_lists(gl_context *c, const spr_composite_desc *cd);
 void gl__rects_free(gl_context *c);
 /* Colour attachment (= fragment output location) of plane p; −1 for the
- * depth-test plane, which is the depth attachment. */
+ * depth-test plane, which is the depth attachment; GL_NOT_ATTACHED for an
+ * image plane. */
 int gl__plane_attachment(spr_plane p);
 
 #endif

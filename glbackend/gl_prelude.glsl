@@ -21,7 +21,9 @@
 #define SPR_INT(x) int(x)
 #define SPR_PIXEL ivec2
 #define spr_floor floor
+#define spr_ceil ceil
 #define spr_sqrt sqrt
+#define spr_ldexp ldexp
 
 layout(binding = 0) uniform sampler2DArray u_in_color;
 layout(binding = 1) uniform sampler2DArray u_in_depth;
@@ -43,6 +45,10 @@ layout(binding = 8) uniform usamplerBuffer u_list_head;  /* first node per pixel
 layout(binding = 9) uniform usamplerBuffer u_nbr;        /* neighbour bits */
 uniform int u_list_width;
 uniform int u_nbr_words;
+/* Gaussian records and tile lists (SPEC 10), through buffer textures for the same reason */
+layout(binding = 10) uniform samplerBuffer u_grec;     /* SPR_GREC_FLOATS per Gaussian */
+layout(binding = 11) uniform usamplerBuffer u_granges; /* first list entry per tile, GX·GY + 1 */
+layout(binding = 12) uniform usamplerBuffer u_glist;   /* the tiles' sorted lists */
 
 #ifdef SPR_PROBE
 /* The pixel probe (pixel history, SPEC §8): the debug variant of every
@@ -51,7 +57,12 @@ uniform int u_nbr_words;
  * 16 words a record: kind, two integers, then float bits. */
 layout(std430, binding = 6) coherent buffer SprProbe { uint spr_probe_n; uint spr_probe_pad0; uint spr_probe_pad1; uint spr_probe_pad2; uint spr_probe_rec[]; };
 uniform ivec2 u_probe;
+#ifdef SPR_COMPUTE
+ivec2 spr_probe_xy; /* compute programs: the invocation's pixel, set by main */
+bool spr_probe_here() { return spr_probe_xy == u_probe; }
+#else
 bool spr_probe_here() { return ivec2(gl_FragCoord.xy) == u_probe; }
+#endif
 uint spr_probe_slot()
 {
     uint i = atomicAdd(spr_probe_n, 1u);
@@ -95,6 +106,12 @@ float spr_in_opacity(ivec2 px, int k) { return texelFetch(u_in_opacity, ivec3(px
 float spr_in_normal(ivec2 px, int k, int ch) { return texelFetch(u_in_normal, ivec3(px, u_in_layer[k]), 0)[ch]; }
 float spr_px_cx(ivec2 px) { return float(px.x) + 0.5; }
 float spr_px_cy(ivec2 px) { return float(px.y) + 0.5; }
+int spr_px_x(ivec2 px) { return px.x; }
+int spr_px_y(ivec2 px) { return px.y; }
+int spr_gtile_first(ivec2 px, int tile) { return int(texelFetch(u_granges, tile).r); }
+int spr_gtile_end(ivec2 px, int tile) { return int(texelFetch(u_granges, tile + 1).r); }
+int spr_glist(ivec2 px, int e) { return int(texelFetch(u_glist, e).r); }
+float spr_grec(ivec2 px, int G, int f) { return texelFetch(u_grec, G * SPR_GREC_FLOATS + f).r; }
 float spr_in_env(ivec2 px, int face, int i, int j, int ch) { return texelFetch(u_env, ivec3(i, j, face), 0)[ch]; }
 float spr_in_texel(ivec2 px, int k, int ch) { return spr_texels[k][ch]; }
 /* A list node: meta (t bits, rectangle, next, 0) and its colour; next 0xffffffff ends the list. */

@@ -25,6 +25,7 @@
 
 /* The embedded files (generated gl_sources.c). */
 extern const char *const spr__src_arith_parts[]; /* core/render/arith/, in ORDER (generated gl_arith_parts.c) */
+extern const char spr__src_gauss_pre_comp[], spr__src_gauss_raster_comp[], spr__src_gauss_blend_frag[];
 extern const char spr__src_prelude[], spr__src_splat_vert[], spr__src_splat_frag[],
     spr__src_full_vert[], spr__src_composite_frag[], spr__src_rect_frag[];
 
@@ -65,6 +66,11 @@ static void add_constants(strbuf *b)
         {"SPR_RECTI_DOMAIN", SPR_RECTI_DOMAIN}, {"SPR_RECTI_COUNT", SPR_RECTI_COUNT},
         {"SPR_NOTE_EPS_NEAREST", SPR_NOTE_EPS_NEAREST}, {"SPR_NOTE_EPS_INPUT", SPR_NOTE_EPS_INPUT},
         {"SPR_NOTE_PREFIX_NODE", SPR_NOTE_PREFIX_NODE}, {"SPR_PROBE_MAX", SPR_PROBE_MAX},
+        {"SPR_NOTE_GAUSS_TILE", SPR_NOTE_GAUSS_TILE}, {"SPR_NOTE_GAUSS_BLEND", SPR_NOTE_GAUSS_BLEND},
+        {"SPR_NOTE_GAUSS_POWER", SPR_NOTE_GAUSS_POWER}, {"SPR_NOTE_GAUSS_FAINT", SPR_NOTE_GAUSS_FAINT},
+        {"SPR_NOTE_GAUSS_STOP", SPR_NOTE_GAUSS_STOP}, {"SPR_NOTE_GAUSS_PARALLEL", SPR_NOTE_GAUSS_PARALLEL},
+        {"SPR_NOTE_GAUSS_BEHIND", SPR_NOTE_GAUSS_BEHIND}, {"SPR_NOTE_GAUSS_END", SPR_NOTE_GAUSS_END},
+        {"SPR_GPRM_COUNT", SPR_GPRM_COUNT}, {"SPR_GREC_FLOATS", SPR_GREC_FLOATS}, {"SPR_EXP_COEFS", SPR_EXP_COEFS},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) sb_add(b, "#define %s %d\n", k[i].name, k[i].value);
     /* fragment output location of each plane = its colour attachment */
@@ -72,6 +78,25 @@ static void add_constants(strbuf *b)
     if (gl__plane_attachment(SPR_PLANE_##e) >= 0) sb_add(b, "#define SPR_LOC_%s %d\n", #e, gl__plane_attachment(SPR_PLANE_##e));
     SPR_PLANE_LIST(GL__LOC)
 #undef GL__LOC
+    /* the Gaussian references' constants: cull reasons and modes (floats), offsets, the exponential's coefficients */
+    static const struct { const char *name; float value; } kf[] = {
+        {"SPR_GCULL_NONE", SPR_GCULL_NONE}, {"SPR_GCULL_NEAR", SPR_GCULL_NEAR}, {"SPR_GCULL_DET", SPR_GCULL_DET},
+        {"SPR_GMODE_3D", SPR_GMODE_3D}, {"SPR_GMODE_2D", SPR_GMODE_2D},
+    };
+    for (size_t i = 0; i < sizeof kf / sizeof kf[0]; i++) sb_add(b, "#define %s %d.0\n", kf[i].name, (int)kf[i].value);
+#define GL__GPRM(name, n) sb_add(b, "#define SPR_GPRM_%s %d\n", #name, SPR_GPRM_##name);
+    SPR_GPRM_LIST(GL__GPRM)
+#undef GL__GPRM
+#define GL__GREC(name, n) sb_add(b, "#define SPR_GREC_%s %d\n", #name, SPR_GREC_##name);
+    SPR_GREC_LIST(GL__GREC)
+#undef GL__GREC
+    sb_add(b, "const float spr_exp_coef[%d] = float[](", SPR_EXP_COEFS);
+    for (int i = 0; i < SPR_EXP_COEFS; i++) {
+        uint32_t u;
+        memcpy(&u, &spr_exp_coef[i], 4);
+        sb_add(b, "%suintBitsToFloat(0x%08xu)", i ? ", " : "", u);
+    }
+    sb_add(b, ");\n");
     sb_add(b, "const float spr_gauss_coef[%d] = float[](", SPR_GAUSS_DEGREE + 1);
     for (int i = 0; i <= SPR_GAUSS_DEGREE; i++) {
         uint32_t u;
@@ -98,11 +123,12 @@ static const char *const comp_fn[SPR_COMP__COUNT] = {
 #undef GL__FN
 };
 
-/* op ≥ 0: a composite program for that op. */
+/* op ≥ 0: a composite program for that op; fragment 2: a compute program. */
 static char *assemble(const char *main_src, int fragment, int op, int probe)
 {
     strbuf b = {0};
     sb_add(&b, "#version 450 core\n");
+    if (fragment == 2) sb_add(&b, "#define SPR_COMPUTE 1\n");
     if (fragment) {
         if (probe) sb_add(&b, "#define SPR_PROBE 1\n");
         add_constants(&b);
@@ -203,6 +229,54 @@ spr_result gl__build_programs(gl_context *c, spr_error *err)
     return SPR_OK;
 }
 
+/* A compute program of one main file, the shared text before it. */
+static GLuint link_compute(const char *main_src, int probe, const char *name, spr_error *err)
+{
+    char *cs = assemble(main_src, 2, -1, probe);
+    if (!cs) {
+        spr__fail(err, SPR_E_NOMEM, "gl: out of memory assembling %s", name);
+        return 0;
+    }
+    GLuint sh = compile(GL_COMPUTE_SHADER, cs, name, err);
+    free(cs);
+    if (!sh) return 0;
+    GLuint p = glCreateProgram();
+    glAttachShader(p, sh);
+    glLinkProgram(p);
+    glDeleteShader(sh);
+    GLint ok = 0;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = "";
+        glGetProgramInfoLog(p, sizeof log, NULL, log);
+        for (char *q = log; *q; q++)
+            if (*q == '\n') *q = ' ';
+        spr__fail(err, SPR_E_BACKEND, "gl: program %s does not link: %s", name, log);
+        glDeleteProgram(p);
+        return 0;
+    }
+    return p;
+}
+
+spr_result gl__gauss_program(gl_context *c, int which, spr_error *err)
+{
+    if (c->gprog[which]) return SPR_OK;
+    static const char *const names[GL_GPROG__COUNT] = {"gauss preprocess", "gauss raster", "gauss blend"};
+    static const char *const need[GL_GPROG__COUNT][5] = {{"u_g", "u_n", "u_base", NULL}, {"u_g", "u_bg", "u_layer", "u_has", NULL},
+                                                          {"u_g", "u_size", NULL}};
+    GLuint p = which == GL_GPROG_PRE      ? link_compute(spr__src_gauss_pre_comp, 0, names[which], err)
+               : which == GL_GPROG_RASTER ? link_compute(spr__src_gauss_raster_comp, c->probe_programs, names[which], err)
+                                          : link(spr__src_splat_vert, spr__src_gauss_blend_frag, -1, c->probe_programs, names[which], err);
+    if (!p) return err->code;
+    for (int k = 0; need[which][k]; k++)
+        if (glGetUniformLocation(p, need[which][k]) < 0) {
+            glDeleteProgram(p);
+            return spr__fail(err, SPR_E_BACKEND, "gl: program %s has no active uniform %s", names[which], need[which][k]);
+        }
+    c->gprog[which] = p;
+    return SPR_OK;
+}
+
 spr_result gl__comp_program(gl_context *c, spr_composite_op op, spr_error *err)
 {
     if (c->prog_comp[op]) return SPR_OK;
@@ -219,7 +293,13 @@ char *spr_gl_program_source(spr_backend *b, const char *program)
     gl__make_current(c);
     spr_error err = {0};
     if (!strcmp(program, "composite") && gl__comp_program(c, (spr_composite_op)0, &err)) return NULL;
-    GLuint p = !strcmp(program, "splat") ? c->prog_splat : !strcmp(program, "composite") ? c->prog_comp[0] : !strcmp(program, "rect") ? c->prog_rect : 0;
+    for (int k = 0; k < GL_GPROG__COUNT; k++) {
+        static const char *const gname[GL_GPROG__COUNT] = {"gauss-preprocess", "gauss-raster", "gauss-blend"};
+        if (!strcmp(program, gname[k]) && gl__gauss_program(c, k, &err)) return NULL;
+    }
+    GLuint p = !strcmp(program, "splat") ? c->prog_splat : !strcmp(program, "composite") ? c->prog_comp[0] : !strcmp(program, "rect") ? c->prog_rect
+               : !strcmp(program, "gauss-preprocess") ? c->gprog[GL_GPROG_PRE] : !strcmp(program, "gauss-raster") ? c->gprog[GL_GPROG_RASTER]
+               : !strcmp(program, "gauss-blend") ? c->gprog[GL_GPROG_BLEND] : 0;
     if (!p) return NULL;
     GLuint sh[4];
     GLsizei n = 0;
@@ -227,7 +307,7 @@ char *spr_gl_program_source(spr_backend *b, const char *program)
     for (GLsizei i = 0; i < n; i++) {
         GLint type = 0, len = 0;
         glGetShaderiv(sh[i], GL_SHADER_TYPE, &type);
-        if (type != GL_FRAGMENT_SHADER) continue;
+        if (type != GL_FRAGMENT_SHADER && type != GL_COMPUTE_SHADER) continue;
         glGetShaderiv(sh[i], GL_SHADER_SOURCE_LENGTH, &len);
         char *s = malloc((size_t)len + 1);
         if (!s) return NULL;

@@ -76,7 +76,7 @@ static spr_result sw_clear(spr_backend *b, int t, const float color[4])
         uint32_t v[4];
         for (int k = 0; k < ch; k++) {
             if (p == SPR_PLANE_COLOR) memcpy(&v[k], &color[k], 4);
-            else if (pi->type == SPR_PLANE_U32 || pi->type == SPR_PLANE_COUNTER) v[k] = (uint32_t)pi->clear;
+            else if (spr_plane_type_uint(pi->type)) v[k] = (uint32_t)pi->clear;
             else { float f = (float)pi->clear; memcpy(&v[k], &f, 4); }
         }
         uint32_t *dst = tg->plane[p];
@@ -136,6 +136,9 @@ spr_backend *spr_swrast_create(int threads, spr_error *err)
     b->draw_splats = sw__draw_splats;
     b->composite = sw__composite;
     b->draw_rects = sw__draw_rects;
+    b->gauss_preprocess = sw__gauss_preprocess;
+    b->gauss_raster = sw__gauss_raster;
+    b->gauss_draw = sw__gauss_draw;
     b->read_plane = sw_read_plane;
     b->destroy = sw_destroy;
     return b;

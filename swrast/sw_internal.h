@@ -76,5 +76,8 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
 spr_result sw__composite(spr_backend *b, const spr_composite_desc *c);
 spr_result sw__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
 void sw__lists_free(spr_frag_lists *l);
+spr_result sw__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec);
+spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
+spr_result sw__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
 
 #endif

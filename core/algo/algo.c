@@ -8,8 +8,8 @@
 #include <string.h>
 #include <time.h>
 
-static spr_result record(spr__run *run, const char *name, int group, const spr_pass_state *state, int target,
-                         const spr_draw_stats *st, double ms)
+static spr_result record_ex(spr__run *run, const char *name, int group, const spr_pass_state *state, int target,
+                            const spr_draw_stats *st, double ms, const float *records, size_t n_records)
 {
     spr_render_result *o = run->out;
     if (o->n_passes == run->pass_cap) {
@@ -25,7 +25,7 @@ static spr_result record(spr__run *run, const char *name, int group, const spr_p
     rec->stats = *st;
     rec->ms = ms;
     if (run->desc->hook) {
-        spr_pass_info info = {o->n_passes, name, group, state, target, *st, ms};
+        spr_pass_info info = {o->n_passes, name, group, state, target, *st, ms, records, n_records};
         run->desc->hook(run->desc->hook_user, run->b, &info);
     }
     if (run->desc->progress.fn) {
@@ -36,6 +36,12 @@ static spr_result record(spr__run *run, const char *name, int group, const spr_p
     }
     o->n_passes++;
     return SPR_OK;
+}
+
+static spr_result record(spr__run *run, const char *name, int group, const spr_pass_state *state, int target,
+                         const spr_draw_stats *st, double ms)
+{
+    return record_ex(run, name, group, state, target, st, ms, NULL, 0);
 }
 
 static spr_result backend_failed(spr__run *run, spr_result r)
@@ -151,6 +157,39 @@ spr_result spr__run_rects(spr__run *run, const char *name, int group, int target
     return record(run, name, group, &d->state, target, &st, spr_now_ms() - t0);
 }
 
+spr_result spr__run_gauss_preprocess(spr__run *run, const spr_gauss_desc *d, float *rec)
+{
+    spr_draw_stats st = {d->n, 0, 0};
+    double t0 = spr_now_ms();
+    spr_result r = spr_backend_gauss_preprocess(run->b, d, rec);
+    if (r) return backend_failed(run, r);
+    for (size_t i = 0; i < d->n; i++) st.generated += rec[i * SPR_GREC_FLOATS + SPR_GREC_CULL] == SPR_GCULL_NONE;
+    return record_ex(run, "preprocess", -1, NULL, -1, &st, spr_now_ms() - t0, rec, d->n);
+}
+
+spr_result spr__run_host_pass(spr__run *run, const char *name, const spr_draw_stats *st, double ms)
+{
+    return record(run, name, -1, NULL, -1, st, ms);
+}
+
+spr_result spr__run_gauss_raster(spr__run *run, const char *name, int target, const spr_gauss_raster_desc *d)
+{
+    spr_draw_stats st;
+    double t0 = spr_now_ms();
+    spr_result r = spr_backend_gauss_raster(run->b, target, d, &st);
+    if (r) return backend_failed(run, r);
+    return record(run, name, -1, NULL, target, &st, spr_now_ms() - t0);
+}
+
+spr_result spr__run_gauss_draw(spr__run *run, const char *name, int target, const spr_gauss_draw_desc *d)
+{
+    spr_draw_stats st;
+    double t0 = spr_now_ms();
+    spr_result r = spr_backend_gauss_draw(run->b, target, d, &st);
+    if (r) return backend_failed(run, r);
+    return record(run, name, -1, &d->state, target, &st, spr_now_ms() - t0);
+}
+
 float spr__group_radius_scale(const spr_groups *g, int k) { return g && g->radius_scale ? g->radius_scale[k] : 0.0f; }
 
 spr_composite_desc spr__run_comp(const spr__run *run, spr_composite_op op, const int *inputs, int n, int output)
@@ -252,6 +291,8 @@ spr_result spr__run_target(spr__run *run, unsigned planes, int *target)
 spr_result spr_stream_check(spr_algo algo, size_t n, spr_error *err)
 {
     const spr_algo_info *ai = spr_algo_info_of(algo);
+    if (ai->uses & SPR_USES_GAUSS)
+        return spr__fail(err, SPR_E_ARG, "render: %s sorts every Gaussian of the frame, --stream cannot draw it: leave out --stream", ai->name);
     if (ai->uses & (SPR_USES_ORDER | SPR_USES_RECTS)) {
         char size[96] = "";
         const double mb = (double)spr_cloud_bytes(n) / 1e6;
@@ -279,7 +320,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     if (src && (r = spr_stream_check(desc->algo, cloud->n, err))) return r;
     spr_cloud viewed;
     float *sh_color = NULL;
-    if (cloud->sh && cloud->sh_k > 1) { /* view-dependent colours (--sh-degree): this view's, once per frame on the host, drawn by every backend */
+    if (cloud->sh && cloud->sh_k > 1 && !(ai->uses & SPR_USES_GAUSS)) { /* view-dependent colours (--sh-degree): this view's, once per frame on the host, drawn by every backend */
         if (!(sh_color = malloc((cloud->n ? cloud->n : 1) * 3 * sizeof *sh_color)))
             return spr__fail(err, SPR_E_NOMEM, "render: out of memory for %zu view-dependent colours", cloud->n);
         double eye[3], fwd[3] = {-view->V[8], -view->V[9], -view->V[10]}; /* the camera looks down −z of eye space */

@@ -27,8 +27,15 @@ enum {
     SPR_USES_ENV     = 1u << 8,  /* shade.env: environment effects (SPEC 6.3) */
     SPR_USES_LAYERS  = 1u << 9,  /* layers: depth-peeling layers (SPEC 6.4) */
     SPR_USES_RECTS   = 1u << 10, /* rects, sampling: domain primitives (SPEC 7.7) */
-    SPR_USES_ALPHAREF = 1u << 11 /* alpha_ref: the overlap method's lock threshold (SPEC 7.7) */
+    SPR_USES_ALPHAREF = 1u << 11, /* alpha_ref: the overlap method's lock threshold (SPEC 7.7) */
+    SPR_USES_GAUSS   = 1u << 12  /* gauss_aa, gauss_flavor: the Gaussian splatting references (SPEC 10) */
 };
+
+/* Which training code's constants the Gaussian rasterizers take (SPEC §10.4, docs/gaussians.md). */
+typedef enum spr_gauss_flavor {
+    SPR_FLAVOR_INRIA = 0,  /* graphdeco-inria's diff-gaussian-rasterization (the default) */
+    SPR_FLAVOR_GSPLAT      /* nerfstudio's gsplat 1.x: α cap 0.999, near plane 0.01, stop at T ≤ 1e-4, det ≤ 0 culled */
+} spr_gauss_flavor;
 
 /* Back-to-front order of the transparent algorithms (SPEC §6.1). */
 typedef enum spr_order {
@@ -65,7 +72,13 @@ typedef enum spr_order {
     X(DOMAIN_OVERLAP, domain_overlap, "domain-overlap", SPR_USES_RECTS | SPR_USES_ALPHAREF, "7.7",                        \
       "domain primitives front to back with their neighbours, pixels locked by depth where alpha >= ref ([R] 4.4.4)")    \
     X(DOMAIN_PREFIX, domain_prefix, "domain-prefix", SPR_USES_RECTS, "7.7",                                               \
-      "domain primitives: per-pixel fragment lists sorted, the front-most and its neighbours summed (the exact [R] 4.4)")
+      "domain primitives: per-pixel fragment lists sorted, the front-most and its neighbours summed (the exact [R] 4.4)") \
+    X(GAUSS3D, gauss3d, "gauss3d", SPR_USES_GAUSS, "10.4",                                                                 \
+      "3D Gaussian splatting's training rasterizer: 16x16 tiles, depth-sorted lists, front to back (0.99 cap, 1/255 skip, 1e-4 stop)") \
+    X(GAUSS2D, gauss2d, "gauss2d", SPR_USES_GAUSS, "10.5",                                                                 \
+      "2D Gaussian splatting's surfel rasterizer: each tile's list, ray-disk hits with the screen low-pass, front to back") \
+    X(GAUSS_BLEND, gauss_blend, "gauss-blend", SPR_USES_GAUSS, "10.7",                                                     \
+      "the viewers' image: every Gaussian once as a screen-space ellipse, farthest first, premultiplied over")
 
 typedef enum spr_algo {
 #define SPR__ALGO_ENUM(e, fn, name, uses, spec, summary) SPR_ALGO_##e,
@@ -98,6 +111,8 @@ typedef struct spr_pass_info {
     int target;                   /* the target the pass wrote */
     spr_draw_stats stats;
     double ms;
+    const float *records;         /* a Gaussian preprocessing pass: its records (SPR_GREC_FLOATS each), else NULL */
+    size_t n_records;
 } spr_pass_info;
 typedef void (*spr_pass_hook)(void *user, spr_backend *b, const spr_pass_info *info);
 
@@ -114,6 +129,8 @@ typedef struct spr_captured_pass {
     double ms;
     unsigned planes;             /* the planes the pass's target has */
     void *plane[SPR_PLANE__COUNT];
+    float *records;              /* a copy of the pass's records (spr_pass_info.records), or NULL */
+    size_t n_records;
 } spr_captured_pass;
 typedef struct spr_capture {
     int as_float;
@@ -158,6 +175,8 @@ typedef struct spr_render_desc {
     const spr_rects *rects;      /* domain-*: the domain primitives (SPEC 7.7) */
     spr_sampling sampling;       /* domain-*: texture sampling (nearest, linear = explicit bilinear) */
     float alpha_ref;             /* domain-overlap: pixels locked where alpha >= alpha_ref (0 = 0.1) */
+    int gauss_aa;                /* gauss*: the antialiased opacity of SPEC 10.3 step 5 (--gauss-aa) */
+    spr_gauss_flavor gauss_flavor; /* gauss*: whose constants (--gauss-flavor) */
     spr_pass_hook hook;
     void *hook_user;
     spr_progress progress;       /* one report per finished pass ("frame: pass 3 geometry"), cleared at the end */
@@ -231,6 +250,20 @@ spr_result spr__run_target(spr__run *run, unsigned planes, int *target);
  * O[0 … K−1] (mask ≥ 0: drop fragments within that target's nearest layer). */
 spr_result spr__deferred_geometry(spr__run *run, const int *I, unsigned extra);
 spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask);
+/* The Gaussian algorithms' passes (core/algo/gauss.c): "preprocess" (the
+ * backend's records, recorded with them), "sort" (host: the tiles' lists,
+ * or gauss-blend's order), then the rasterization. */
+spr_result spr__gauss_run(spr__run *run, int mode, int *final_target);
+/* mode: 0 gauss3d, 1 gauss2d, 2 gauss-blend.  The cloud's Gaussians (its own, or each surfel flat with σ a third of
+ * its radii), n·4 quaternions and n·3 scales; the tiles' sorted lists (range GX·GY + 1, list); gauss-blend's order. */
+spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s);
+spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int threads, uint32_t **range, uint32_t **list, spr_error *err);
+spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], uint32_t **order, size_t *count, spr_error *err);
+/* The Gaussian passes, recorded: preprocessing (with its records), a host pass (no target), rasterization, a draw. */
+spr_result spr__run_gauss_preprocess(spr__run *run, const spr_gauss_desc *d, float *rec);
+spr_result spr__run_host_pass(spr__run *run, const char *name, const spr_draw_stats *st, double ms);
+spr_result spr__run_gauss_raster(spr__run *run, const char *name, int target, const spr_gauss_raster_desc *d);
+spr_result spr__run_gauss_draw(spr__run *run, const char *name, int target, const spr_gauss_draw_desc *d);
 /* The algorithms of the registry, one file each. */
 #define SPR__ALGO_DECL(e, fn, name, uses, spec, summary) spr_result spr__algo_##fn(spr__run *run, int *final_target);
 SPR_ALGO_LIST(SPR__ALGO_DECL)

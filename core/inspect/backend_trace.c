@@ -54,7 +54,7 @@ static spr_result t_clear(spr_backend *b, int target, const float c[4])
 
 static const char *const depth_names[SPR_DEPTH__COUNT] = {"d_f", "d_f+eps_t", "z_lowres", "voronoi"};
 static const char *const func_names[SPR_FUNC__COUNT] = {"LESS", "LEQUAL", "ALWAYS"};
-static const char *const blend_names[SPR_BLEND__COUNT] = {"replace", "add", "over", "sub"};
+static const char *const blend_names[SPR_BLEND__COUNT] = {"replace", "add", "over", "sub", "premultiplied over"};
 
 /* The depth test, write and blends of a pass state, then the planes written. */
 static void print_state(FILE *f, const spr_pass_state *s)
@@ -113,6 +113,39 @@ static spr_result t_composite(spr_backend *b, const spr_composite_desc *c)
     return pass_on(b, spr_backend_composite(tr(b)->w.inner, c));
 }
 
+static spr_result t_gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec)
+{
+    spr_result r = pass_on(b, spr_backend_gauss_preprocess(tr(b)->w.inner, d, rec));
+    size_t kept = 0;
+    for (size_t i = 0; !r && i < d->n; i++) kept += rec[i * SPR_GREC_FLOATS + SPR_GREC_CULL] == SPR_GCULL_NONE;
+    fprintf(tr(b)->out, "gauss_preprocess %zu Gaussians, %s, %gx%g, fx %.9g fy %.9g, near %.9g", d->n,
+            d->prm[SPR_GPRM_MODE] == SPR_GMODE_2D ? "2D surfels" : "3D", d->prm[SPR_GPRM_W], d->prm[SPR_GPRM_H], d->prm[SPR_GPRM_FX],
+            d->prm[SPR_GPRM_FY], d->prm[SPR_GPRM_NEAR]);
+    if (!r) fprintf(tr(b)->out, " -> %zu kept\n", kept);
+    else fprintf(tr(b)->out, " -> failed: %s\n", b->err.msg);
+    return r;
+}
+
+static spr_result t_gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st)
+{
+    spr_result r = pass_on(b, spr_backend_gauss_raster(tr(b)->w.inner, target, d, st));
+    const size_t tiles = (size_t)d->prm[SPR_GPRM_GX] * (size_t)d->prm[SPR_GPRM_GY];
+    fprintf(tr(b)->out, "gauss_raster t%d: %zu tiles, %u list entries, alpha cap %.9g, stop below T %.9g%s, background (%.9g, %.9g, %.9g)", target,
+            tiles, d->range[tiles], d->prm[SPR_GPRM_CAP], d->prm[SPR_GPRM_T_MIN], d->prm[SPR_GPRM_STOP_LE] != 0.0f ? " (and at it)" : "",
+            d->background[0], d->background[1], d->background[2]);
+    print_result(tr(b), r, st);
+    return r;
+}
+
+static spr_result t_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st)
+{
+    spr_result r = pass_on(b, spr_backend_gauss_draw(tr(b)->w.inner, target, d, st));
+    fprintf(tr(b)->out, "gauss_draw t%d: %zu ellipses farthest first, ", target, d->count);
+    print_state(tr(b)->out, &d->state);
+    print_result(tr(b), r, st);
+    return r;
+}
+
 static spr_result t_read(spr_backend *b, int target, spr_plane p, void *out)
 {
     fprintf(tr(b)->out, "read t%d %s\n", target, spr_plane_name(p));
@@ -142,6 +175,9 @@ spr_backend *spr_trace_create(spr_backend *inner, FILE *out, spr_error *err)
     b->draw_splats = t_draw;
     b->draw_rects = t_draw_rects;
     b->composite = t_composite;
+    b->gauss_preprocess = t_gauss_preprocess;
+    b->gauss_raster = t_gauss_raster;
+    b->gauss_draw = t_gauss_draw;
     b->read_plane = t_read;
     return b;
 }

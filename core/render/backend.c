@@ -293,6 +293,65 @@ spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c)
     return b->composite(b, c);
 }
 
+/* A Gaussian frame's parameters fit the view (SPEC §10). */
+static spr_result gauss_prm_check(spr_backend *b, const char *what, const float *g)
+{
+    const int W = b->view.width, H = b->view.height;
+    if (g[SPR_GPRM_W] != (float)W || g[SPR_GPRM_H] != (float)H)
+        return spr__fail(&b->err, SPR_E_ARG, "%s: parameters for %gx%g, the view is %dx%d", what, g[SPR_GPRM_W], g[SPR_GPRM_H], W, H);
+    if (g[SPR_GPRM_GX] != (float)((W + 15) / 16) || g[SPR_GPRM_GY] != (float)((H + 15) / 16))
+        return spr__fail(&b->err, SPR_E_ARG, "%s: a tile grid of %gx%g is not ceil(W/16) x ceil(H/16)", what, g[SPR_GPRM_GX], g[SPR_GPRM_GY]);
+    if (g[SPR_GPRM_MODE] != SPR_GMODE_3D && g[SPR_GPRM_MODE] != SPR_GMODE_2D) return spr__fail(&b->err, SPR_E_ARG, "%s: mode %g unknown", what, g[SPR_GPRM_MODE]);
+    for (int i = 0; i < SPR_GPRM_COUNT; i++)
+        if (!isfinite(g[i])) return spr__fail(&b->err, SPR_E_ARG, "%s: parameter %d is not finite", what, i);
+    if (!(g[SPR_GPRM_FX] > 0.0f) || !(g[SPR_GPRM_FY] > 0.0f)) return spr__fail(&b->err, SPR_E_ARG, "%s: focal lengths must be positive", what);
+    return SPR_OK;
+}
+
+spr_result spr_backend_gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec)
+{
+    if (!b->gauss_preprocess) return spr__fail(&b->err, SPR_E_BACKEND, "gauss: backend %s has no Gaussian rasterizer", b->name);
+    if (b->view.width < 1) return bad(b, "gauss: no view set (%d)", 0);
+    if (d->n && (!d->mu || !d->q || !d->s || !d->opacity || !d->color || !rec)) return bad(b, "gauss: preprocessing without its arrays (%d)", 0);
+    spr_result r = gauss_prm_check(b, "gauss preprocess", d->prm);
+    return r ? r : b->gauss_preprocess(b, d, rec);
+}
+
+spr_result spr_backend_gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st)
+{
+    if (!b->gauss_raster) return spr__fail(&b->err, SPR_E_BACKEND, "gauss: backend %s has no Gaussian rasterizer", b->name);
+    if (!live(b, target)) return bad(b, "gauss raster: no target %d", target);
+    if (!has(b, target, SPR_PLANE_COLOR)) return bad(b, "gauss raster: target %d has no colour plane", target);
+    spr_result r = gauss_prm_check(b, "gauss raster", d->prm);
+    if (r) return r;
+    const size_t tiles = (size_t)d->prm[SPR_GPRM_GX] * (size_t)d->prm[SPR_GPRM_GY];
+    if (!d->range || (d->range[tiles] && (!d->list || !d->rec)) || d->range[0] != 0) return bad(b, "gauss raster: no tile lists (%d)", 0);
+    for (size_t t = 0; t < tiles; t++)
+        if (d->range[t + 1] < d->range[t]) return bad(b, "gauss raster: tile %d's range runs backwards", (int)t);
+    for (uint32_t e = 0; e < d->range[tiles]; e++)
+        if (d->list[e] >= d->n) return bad(b, "gauss raster: list entry names Gaussian %d beyond the records", (int)d->list[e]);
+    spr_draw_stats dummy;
+    memset(st ? st : &dummy, 0, sizeof dummy);
+    return b->gauss_raster(b, target, d, st ? st : &dummy);
+}
+
+spr_result spr_backend_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st)
+{
+    if (!b->gauss_draw) return spr__fail(&b->err, SPR_E_BACKEND, "gauss: backend %s has no Gaussian rasterizer", b->name);
+    if (!live(b, target)) return bad(b, "gauss draw: no target %d", target);
+    const spr_pass_state *s = &d->state;
+    if ((unsigned)s->blend >= SPR_BLEND__COUNT || (unsigned)s->blend_alpha >= SPR_BLEND__COUNT) return bad(b, "gauss draw: blend %d unknown", (int)s->blend);
+    if ((s->write_mask & ~SPR_WRITE_COLOR) || !has(b, target, SPR_PLANE_COLOR)) return bad(b, "gauss draw: writes the colour plane alone (%d)", 0);
+    spr_result r = gauss_prm_check(b, "gauss draw", d->prm);
+    if (r) return r;
+    if (d->count && (!d->order || !d->rec)) return bad(b, "gauss draw: no order (%d)", 0);
+    for (size_t i = 0; i < d->count; i++)
+        if (d->order[i] >= d->n) return bad(b, "gauss draw: order names Gaussian %d beyond the records", (int)d->order[i]);
+    spr_draw_stats dummy;
+    memset(st ? st : &dummy, 0, sizeof dummy);
+    return b->gauss_draw(b, target, d, st ? st : &dummy);
+}
+
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out)
 {
     if (!live(b, target)) return bad(b, "read: no target %d", target);
@@ -305,7 +364,7 @@ spr_result spr_backend_read_plane_f(spr_backend *b, int target, spr_plane p, flo
 {
     spr_result r = spr_backend_read_plane(b, target, p, out);
     const spr_plane_type type = r ? SPR_PLANE_F32 : spr_plane_info_of(p)->type;
-    if (type == SPR_PLANE_U32 || type == SPR_PLANE_COUNTER) {
+    if (spr_plane_type_uint(type)) {
         const size_t n = (size_t)b->view.width * b->view.height;
         for (size_t i = 0; i < n; i++) {
             uint32_t u;

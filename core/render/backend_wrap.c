@@ -40,6 +40,18 @@ static spr_result w_draw_rects(spr_backend *b, int target, const spr_rect_draw_d
 {
     return spr__wrap_pass_on(b, spr_backend_draw_rects(wr(b)->inner, target, d, st));
 }
+static spr_result w_gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec)
+{
+    return spr__wrap_pass_on(b, spr_backend_gauss_preprocess(wr(b)->inner, d, rec));
+}
+static spr_result w_gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st)
+{
+    return spr__wrap_pass_on(b, spr_backend_gauss_raster(wr(b)->inner, target, d, st));
+}
+static spr_result w_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st)
+{
+    return spr__wrap_pass_on(b, spr_backend_gauss_draw(wr(b)->inner, target, d, st));
+}
 static spr_result w_composite(spr_backend *b, const spr_composite_desc *c) { return spr__wrap_pass_on(b, spr_backend_composite(wr(b)->inner, c)); }
 static spr_result w_read(spr_backend *b, int target, spr_plane p, void *out)
 {
@@ -58,6 +70,9 @@ void spr__wrap_init(spr__wrap *w, spr_backend *inner, void (*destroy)(spr_backen
     b->draw_splats = w_draw;
     b->draw_rects = w_draw_rects;
     b->composite = w_composite;
+    b->gauss_preprocess = w_gauss_preprocess;
+    b->gauss_raster = w_gauss_raster;
+    b->gauss_draw = w_gauss_draw;
     b->read_plane = w_read;
     b->destroy = destroy;
 }

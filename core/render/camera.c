@@ -35,6 +35,11 @@ static void planes_of_projection(const double P[16], double *n, double *f)
 
 void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b)
 {
+    if (c->have_pinhole) { /* the camera is placed: its eye −Rᵀt, and near/far framed below */
+        const double *R = c->pinhole.R, *t = c->pinhole.t;
+        for (int k = 0; k < 3; k++) c->eye[k] = -(R[k] * t[0] + R[3 + k] * t[1] + R[6 + k] * t[2]);
+        c->have_eye = 1;
+    }
     if (c->have_matrices) { /* the matrices place the camera: only the eye (hash mode 3) and missing planes */
         spr_view_matrix_eye(c->V, c->eye);
         c->have_eye = 1;
@@ -51,7 +56,7 @@ void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b)
     if (!(radius > 0.0)) radius = 1.0;
     int have_eye = c->have_eye || c->eye[0] != 0.0 || c->eye[1] != 0.0 || c->eye[2] != 0.0;
     int have_target = c->have_target || c->target[0] != 0.0 || c->target[1] != 0.0 || c->target[2] != 0.0;
-    if (!have_target) memcpy(c->target, center, sizeof center);
+    if (!have_target && !c->have_pinhole) memcpy(c->target, center, sizeof center);
     if (!have_eye) {
         double half = c->ortho_height > 0.0 ? 0.0 : 0.5 * c->fov_deg * M_PI / 180.0;
         double dist = half > 0.0 ? 1.05 * radius / sin(half) : 3.0 * radius;
@@ -130,6 +135,71 @@ static spr_result view_finish(const spr_camera_desc *c, const double V[16], cons
     return SPR_OK;
 }
 
+spr_result spr_pinhole_check(const spr_pinhole *p, const char *what, spr_error *err)
+{
+    for (int i = 0; i < 9; i++)
+        if (!isfinite(p->R[i])) return spr__fail(err, SPR_E_ARG, "%s: rotation element %d is not finite", what, i + 1);
+    double worst = 0.0;
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+            double d = p->R[a] * p->R[b] + p->R[3 + a] * p->R[3 + b] + p->R[6 + a] * p->R[6 + b] - (a == b ? 1.0 : 0.0);
+            if (fabs(d) > worst) worst = fabs(d);
+        }
+    const double *R = p->R;
+    const double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) + R[2] * (R[3] * R[7] - R[4] * R[6]);
+    if (!(worst <= 1e-6) || !(det > 0.0))
+        return spr__fail(err, SPR_E_ARG, "%s: the rotation is not rigid (|RᵀR − I| reaches %.3g, det %.6g; a rotation has 0 and +1)", what, worst, det);
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(p->t[k])) return spr__fail(err, SPR_E_ARG, "%s: translation %c is not finite", what, "xyz"[k]);
+    if (!(p->fx > 0.0) || !isfinite(p->fx) || !(p->fy > 0.0) || !isfinite(p->fy))
+        return spr__fail(err, SPR_E_ARG, "%s: focal lengths fx %g, fy %g must be positive and finite (pixels)", what, p->fx, p->fy);
+    if (!isfinite(p->cx) || !isfinite(p->cy)) return spr__fail(err, SPR_E_ARG, "%s: principal point %g, %g is not finite", what, p->cx, p->cy);
+    return SPR_OK;
+}
+
+/* The pinhole of a perspective V and P (SPEC §10.2): y and z negated. */
+static void pinhole_of(const double V[16], const double P[16], int W, int H, spr_pinhole *p)
+{
+    for (int j = 0; j < 3; j++) {
+        p->R[j] = V[j];
+        p->R[3 + j] = -V[4 + j];
+        p->R[6 + j] = -V[8 + j];
+    }
+    p->t[0] = V[3], p->t[1] = -V[7], p->t[2] = -V[11];
+    p->fx = 0.5 * W * P[0];
+    p->cx = 0.5 * W * (1.0 - P[2]);
+    p->fy = 0.5 * H * P[5];
+    p->cy = 0.5 * H * (1.0 + P[6]);
+}
+
+static spr_result view_from_pinhole(const spr_camera_desc *c, spr_view *v, spr_error *err)
+{
+    const spr_pinhole *p = &c->pinhole;
+    spr_result r = spr_pinhole_check(p, "camera", err);
+    if (r) return r;
+    const double n = c->near_plane, fa = c->far_plane;
+    if (!(n > 0.0) || !(fa > n) || !isfinite(fa))
+        return spr__fail(err, SPR_E_ARG, "camera: near %g, far %g are not 0 < near < far", n, fa);
+    const double W = c->width, H = c->height;
+    double V[16] = {0}, P[16] = {0};
+    for (int j = 0; j < 3; j++) { /* OpenCV to GL's eye space: y and z negated */
+        V[j] = p->R[j];
+        V[4 + j] = -p->R[3 + j];
+        V[8 + j] = -p->R[6 + j];
+    }
+    V[3] = p->t[0], V[7] = -p->t[1], V[11] = -p->t[2], V[15] = 1.0;
+    P[0] = 2.0 * p->fx / W;
+    P[2] = 1.0 - 2.0 * p->cx / W;
+    P[5] = 2.0 * p->fy / H;
+    P[6] = 2.0 * p->cy / H - 1.0;
+    P[10] = (fa + n) / (n - fa);
+    P[11] = 2.0 * fa * n / (n - fa);
+    P[14] = -1.0;
+    if ((r = view_finish(c, V, P, n, fa, v, err))) return r;
+    v->cv = *p;
+    return SPR_OK;
+}
+
 static spr_result view_from_matrices(const spr_camera_desc *c, spr_view *v, spr_error *err)
 {
     for (int i = 0; i < 16; i++)
@@ -148,7 +218,9 @@ static spr_result view_from_matrices(const spr_camera_desc *c, spr_view *v, spr_
     if (!(fa > n) || !isfinite(n) || !isfinite(fa) || (persp && !(n > 0.0)))
         return spr__fail(err, SPR_E_ARG, "camera: the projection's planes near %g, far %g are not 0 < near < far", n, fa);
     v->ortho = ortho;
-    return view_finish(c, c->V, c->P, n, fa, v, err);
+    spr_result r = view_finish(c, c->V, c->P, n, fa, v, err);
+    if (!r && !ortho) pinhole_of(v->V, v->P, v->width, v->height, &v->cv);
+    return r;
 }
 
 spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err)
@@ -157,6 +229,7 @@ spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err)
     if (c->width < 1 || c->height < 1 || c->width > SPR_MAX_IMAGE_SIDE || c->height > SPR_MAX_IMAGE_SIDE)
         return spr__fail(err, SPR_E_ARG, "camera: image size %dx%d outside 1..%d", c->width, c->height,
                          SPR_MAX_IMAGE_SIDE);
+    if (c->have_pinhole) return view_from_pinhole(c, v, err);
     if (c->have_matrices) return view_from_matrices(c, v, err);
     if (!(c->near_plane > 0.0) && c->ortho_height <= 0.0)
         return spr__fail(err, SPR_E_ARG, "camera: --near must be > 0 for a perspective camera (got %g)", c->near_plane);
@@ -202,7 +275,9 @@ spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err)
         P[11] = 2.0 * fa * n / (n - fa);
         P[14] = -1.0;
     }
-    return view_finish(c, V, P, n, fa, v, err);
+    spr_result r = view_finish(c, V, P, n, fa, v, err);
+    if (!r && !v->ortho) pinhole_of(v->V, v->P, v->width, v->height, &v->cv);
+    return r;
 }
 
 float spr_view_eps_t(const spr_view *v, double eps_world)

@@ -14,6 +14,13 @@ const float spr_gauss_coef[SPR_GAUSS_DEGREE + 1] = {
     0x1.1131ep-2f,   -0x1.e5ae1cp-3f,  0x1.afb718p-4f,
 };
 
+/* log2 e and ln 2 = hi + lo rounded from the exact values; the Taylor
+ * coefficients 1/k! rounded to float (checked in tests/test_gauss.c). */
+const float spr_exp_coef[SPR_EXP_COEFS] = {
+    0x1.715476p+0f, 0x1.62e4p-1f, 0x1.7f7d1cp-20f,
+    0x1.a01a02p-13f, 0x1.6c16c2p-10f, 0x1.111112p-7f, 0x1.555556p-5f, 0x1.555556p-3f, 0x1p-1f,
+};
+
 static const char *const kernel_names[SPR_KERNEL__COUNT] = {
     [SPR_KERNEL_GAUSS] = "gauss",
     [SPR_KERNEL_CONSTANT] = "constant",

@@ -26,7 +26,9 @@
 #define SPR_INT(x) ((int)(x))
 #define SPR_PIXEL const spr_pixel_in *
 #define spr_floor floorf
+#define spr_ceil ceilf
 #define spr_sqrt sqrtf
+#define spr_ldexp ldexpf   /* exact: x·2^n for a normal result */
 
 /* A pixel's inputs on the CPU: plane arrays of the input targets, pixel i. */
 typedef struct spr_pixel_in {
@@ -39,6 +41,9 @@ typedef struct spr_pixel_in {
     const struct spr_frag_lists *lists; /* input 0's fragment lists (the prefix op) */
     const uint32_t *nbr;       /* neighbour bits of the rectangles (spr_rects.nbr) */
     size_t nbr_words;
+    const float *grec;         /* Gaussian records, SPR_GREC_FLOATS each (SPEC 10) */
+    const uint32_t *granges;   /* first list entry of each tile, GX·GY + 1 */
+    const uint32_t *glist;     /* the tiles' sorted lists */
     size_t i;
     int x, y;                  /* the pixel: i = y·W + x */
     spr_probe *probe;          /* set at the probed pixel only (pixel history) */
@@ -53,6 +58,12 @@ static inline float spr_in_color(const spr_pixel_in *px, int k, int ch) { return
 static inline float spr_in_opacity(const spr_pixel_in *px, int k) { return px->opacity[k][px->i]; }
 static inline float spr_in_normal(const spr_pixel_in *px, int k, int ch) { return px->normal[k][4 * px->i + (size_t)ch]; }
 static inline float spr_px_cx(const spr_pixel_in *px) { return (float)px->x + 0.5f; }
+static inline int spr_px_x(const spr_pixel_in *px) { return px->x; }
+static inline int spr_px_y(const spr_pixel_in *px) { return px->y; }
+static inline int spr_gtile_first(const spr_pixel_in *px, int tile) { return (int)px->granges[tile]; }
+static inline int spr_gtile_end(const spr_pixel_in *px, int tile) { return (int)px->granges[tile + 1]; }
+static inline int spr_glist(const spr_pixel_in *px, int e) { return (int)px->glist[e]; }
+static inline float spr_grec(const spr_pixel_in *px, int G, int f) { return px->grec[(size_t)G * SPR_GREC_FLOATS + (size_t)f]; }
 static inline float spr_px_cy(const spr_pixel_in *px) { return (float)px->y + 0.5f; }
 static inline float spr_in_env(const spr_pixel_in *px, int face, int i, int j, int ch)
 {

@@ -29,8 +29,12 @@ typedef enum spr_plane_type {
     SPR_PLANE_F32 = 0,  /* float per channel, blended as the pass says (colour) or replaced */
     SPR_PLANE_ZTEST,    /* float: the value the depth test compares and writes */
     SPR_PLANE_U32,      /* uint32, replaced, never blended */
-    SPR_PLANE_COUNTER   /* uint32, +1 per fragment that passes the depth test */
+    SPR_PLANE_COUNTER,  /* uint32, +1 per fragment that passes the depth test */
+    SPR_PLANE_F32_IMAGE, /* float written per pixel by the Gaussian rasterizers, never by a fragment (GL: an image) */
+    SPR_PLANE_U32_IMAGE  /* the same, uint32 */
 } spr_plane_type;
+/* Planes of unsigned integers (ids, counts, contributors). */
+static inline int spr_plane_type_uint(spr_plane_type t) { return t == SPR_PLANE_U32 || t == SPR_PLANE_COUNTER || t == SPR_PLANE_U32_IMAGE; }
 
 /* The plane table (SPEC §3.2): X(ENUM, name, channels, type, clear value).
  * A new plane is one row here; draws and composites that produce it say so
@@ -42,7 +46,11 @@ typedef enum spr_plane_type {
     X(ID, "id", 1, SPR_PLANE_U32, 4294967295.0)   /* splat id of the last write, ~0 = none */    \
     X(COUNT, "count", 1, SPR_PLANE_COUNTER, 0.0)  /* fragments that passed the depth test */   \
     X(OPACITY, "opacity", 1, SPR_PLANE_F32, 0.0)  /* w·α or α (SPEC 6.2): replace or add */     \
-    X(NORMAL, "normal", 4, SPR_PLANE_F32, 0.0)    /* Σ w·n and Σ w (SPEC 4.3): under the rgb blend */
+    X(NORMAL, "normal", 4, SPR_PLANE_F32, 0.0)    /* Σ w·n and Σ w (SPEC 4.3): under the rgb blend; gauss2d: Σ n·α·T, 1 − T */ \
+    X(TRANS, "transmittance", 1, SPR_PLANE_F32_IMAGE, 1.0) /* T when the front-to-back loop ends (SPEC 10.4) */ \
+    X(CONTRIB, "contrib", 1, SPR_PLANE_U32_IMAGE, 0.0)     /* the last contributor: the training code's n_contrib */ \
+    X(INVDEPTH, "invdepth", 1, SPR_PLANE_F32_IMAGE, 0.0)   /* gauss3d: Σ (1/t.z)·α·T */ \
+    X(SURFDEPTH, "surfdepth", 1, SPR_PLANE_F32_IMAGE, 0.0) /* gauss2d: Σ depth·α·T (SPEC 10.5) */
 
 typedef enum spr_plane {
 #define SPR__PLANE_ENUM(e, name, ch, type, clear) SPR_PLANE_##e,
@@ -55,6 +63,11 @@ typedef enum spr_plane {
 /* The planes of an opaque geometry target: colour, depth, test, id, count. */
 #define SPR_PLANES_OPAQUE (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_TEST) | \
                            SPR_PLANE_BIT(SPR_PLANE_ID) | SPR_PLANE_BIT(SPR_PLANE_COUNT))
+/* The planes of a Gaussian rasterizer's target (SPEC §10.4, §10.5). */
+#define SPR_PLANES_GAUSS3D (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_TRANS) | SPR_PLANE_BIT(SPR_PLANE_CONTRIB) | \
+                            SPR_PLANE_BIT(SPR_PLANE_INVDEPTH))
+#define SPR_PLANES_GAUSS2D (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_TRANS) | SPR_PLANE_BIT(SPR_PLANE_CONTRIB) | \
+                            SPR_PLANE_BIT(SPR_PLANE_SURFDEPTH) | SPR_PLANE_BIT(SPR_PLANE_NORMAL))
 /* The planes of a composite output: colour, depth, test. */
 #define SPR_PLANES_IMAGE (SPR_PLANE_BIT(SPR_PLANE_COLOR) | SPR_PLANE_BIT(SPR_PLANE_DEPTH) | SPR_PLANE_BIT(SPR_PLANE_TEST))
 
@@ -91,6 +104,7 @@ typedef enum spr_blend {
     SPR_BLEND_ADD,         /* dst = src + dst */
     SPR_BLEND_OVER,        /* dst = src·a + dst·(1 − a), a = the source's 4th channel */
     SPR_BLEND_SUB,         /* dst = dst − src (colour of rectangle draws only: soft dark back faces, SPEC 7.7) */
+    SPR_BLEND_PREMUL,      /* dst = src + dst·(1 − a), a = the source's 4th channel: premultiplied `over` (SPEC 10.7) */
     SPR_BLEND__COUNT
 } spr_blend;
 
@@ -382,6 +396,100 @@ typedef struct spr_rect_draw_desc {
  * per pixel by the shared arithmetic alone. */
 int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int *x1, int *y1);
 
+/* ---- Gaussian splatting references (SPEC §10) ----
+ * A frame's parameters are one float array (SPR_GPRM_LIST: X(NAME, floats),
+ * offsets SPR_GPRM_<NAME>), filled on the host from the view and the
+ * algorithm's options (core/algo/gauss.c) and given unchanged to both
+ * backends; a Gaussian's preprocessed values are one float record
+ * (SPR_GREC_LIST), made by the backend's preprocessing (arith/gauss.h) and
+ * read by its rasterizer. */
+#define SPR_GPRM_LIST(X)                                                                                          \
+    X(R, 9) X(T, 3)          /* world-to-camera, OpenCV axes (SPEC 10.2) */                                     \
+    X(FX, 1) X(FY, 1)        /* focal lengths, pixels */                                                        \
+    X(CX, 1) X(CY, 1)        /* principal point in pixel-index coordinates: cx − 0.5, cy − 0.5 */             \
+    X(LX, 1) X(LY, 1)        /* 1.3·tan(fov/2): the Jacobian's tangent clamp (SPEC 10.3 step 3) */              \
+    X(W, 1) X(H, 1)          /* image size */                                                                   \
+    X(GX, 1) X(GY, 1)        /* 16×16 tiles across and down */                                                  \
+    X(NEAR, 1)               /* the near test (0.2; gsplat 0.01) */                                             \
+    X(NEAR_LT, 1)            /* 1: culled when t.z < NEAR (gsplat); 0: when t.z ≤ NEAR */                       \
+    X(EPS2D, 1)              /* the dilation, 0.3 */                                                            \
+    X(DET_LE, 1)             /* 1: culled when det ≤ 0 (gsplat); 0: when det == 0 */                            \
+    X(AA, 1) X(AA_MIN, 1)    /* --gauss-aa: o·sqrt(max(AA_MIN, det₀/det)) */                                    \
+    X(EXT_MIN, 1)            /* the extent's floor under the sqrt, 0.1 */                                       \
+    X(EXT2D_MIN, 1)          /* gauss2d: the box's floor under the sqrt, 1e-4 */                                \
+    X(R2D_MIN, 1)            /* gauss2d: the radius's floor, 3·FilterSize */                                    \
+    X(CAP, 1)                /* α cap (0.99; gsplat 0.999) */                                                   \
+    X(ALPHA_MIN, 1)          /* skipped below, the float 1/255 */                                               \
+    X(T_MIN, 1)              /* stop when T·(1 − α) falls below, 1e-4 */                                        \
+    X(STOP_LE, 1)            /* 1: stop at T·(1 − α) ≤ T_MIN too (gsplat) */                                    \
+    X(MODE, 1)               /* SPR_GMODE_3D (gauss3d, gauss-blend) or SPR_GMODE_2D (gauss2d) */
+enum {
+#define SPR__GPRM_OFF(name, n) SPR_GPRM_##name, SPR_GPRM__END_##name = SPR_GPRM_##name + (n) - 1,
+    SPR_GPRM_LIST(SPR__GPRM_OFF)
+#undef SPR__GPRM_OFF
+    SPR_GPRM_COUNT
+};
+#define SPR_GREC_LIST(X)                                                                                          \
+    X(M, 2)          /* centre, pixel-index coordinates (2D: the centre of the disk's screen box) */            \
+    X(CONIC, 3)      /* A, B, C of the dilated inverse covariance (3D) */                                       \
+    X(OPACITY, 1)    /* o, after --gauss-aa */                                                                  \
+    X(DEPTH, 1)      /* t.z: the sort key */                                                                    \
+    X(INVZ, 1)       /* 1/t.z */                                                                                \
+    X(RADIUS, 1)     /* r (0: culled) */                                                                        \
+    X(RECT, 4)       /* tiles x0, y0, x1, y1 (x1, y1 exclusive; empty: not in any tile) */                      \
+    X(BOX, 4)        /* gauss-blend's pixels i0, j0, i1, j1 (inclusive; empty when i1 < i0 or j1 < j0) */        \
+    X(COLOR, 3)      /* SPEC 10.3 step 9 (host) */                                                              \
+    X(TU, 3) X(TV, 3) X(TW, 3) /* 2D: the rows of H = K·[σ_u u | σ_v v | t] */                                 \
+    X(NORMAL, 3)     /* 2D: the disk's normal in camera space, facing the camera */                             \
+    X(CULL, 1)       /* SPR_GCULL_* */
+enum {
+#define SPR__GREC_OFF(name, n) SPR_GREC_##name, SPR_GREC__END_##name = SPR_GREC_##name + (n) - 1,
+    SPR_GREC_LIST(SPR__GREC_OFF)
+#undef SPR__GREC_OFF
+    SPR_GREC_FLOATS
+};
+/* Why a record was culled, and the modes (floats: compared with record and parameter values). */
+#define SPR_GCULL_NONE 0.0f
+#define SPR_GCULL_NEAR 1.0f   /* t.z at or before the near plane */
+#define SPR_GCULL_DET 2.0f    /* a degenerate footprint: det of the dilated covariance 0 (3D), or edge-on (2D) */
+#define SPR_GMODE_3D 0.0f
+#define SPR_GMODE_2D 1.0f
+
+/* The Gaussians of a frame, per Gaussian: mean, unit quaternion (w x y z),
+ * σ (linear; a 2D Gaussian's third 0), opacity, colour (SPEC §10.3 step 9:
+ * evaluated on the host); prm the frame's parameters. */
+typedef struct spr_gauss_desc {
+    size_t n;
+    const float *mu, *q, *s, *opacity, *color;
+    float prm[SPR_GPRM_COUNT];
+} spr_gauss_desc;
+
+/* One rasterization of sorted tile lists (SPEC §10.4, §10.5): tile t
+ * (row-major from the top-left, prm's GX × GY) holds the Gaussians
+ * list[range[t]] … list[range[t + 1] − 1], front to back; rec the records
+ * (SPR_GREC_FLOATS per Gaussian) the preprocessing made; the target gets
+ * colour (C + T·bg, 1 − T) and the planes of SPR_PLANES_GAUSS3D/2D it has. */
+typedef struct spr_gauss_raster_desc {
+    const float *rec;
+    size_t n;
+    const uint32_t *range;     /* GX·GY + 1 */
+    const uint32_t *list;      /* range[GX·GY] */
+    float background[3];
+    float prm[SPR_GPRM_COUNT];
+} spr_gauss_raster_desc;
+
+/* One draw of gauss-blend (SPEC §10.7): the Gaussians order[0 … count−1]
+ * (farthest first) as screen-space ellipses over their BOX, each fragment
+ * (c·α, α) under state (blend SPR_BLEND_PREMUL). */
+typedef struct spr_gauss_draw_desc {
+    const float *rec;
+    size_t n;
+    const uint32_t *order;
+    size_t count;
+    spr_pass_state state;
+    float prm[SPR_GPRM_COUNT];
+} spr_gauss_draw_desc;
+
 /* ---- the pixel probe: the raw material of pixel history (SPEC §8) ----
  * While b->probe is set, each draw appends every fragment that covers pixel
  * (x, y) — after the coverage test and the depth mask, before the depth
@@ -405,7 +513,16 @@ typedef struct spr_probe_frag {
 enum {
     SPR_NOTE_EPS_NEAREST = 1, /* §4.2: d = min_k d_f(k), the limit d + ε_t, ε_t, K */
     SPR_NOTE_EPS_INPUT,       /* §4.2, input k: d_f(k), the limit, 1 included / 0 left out, Σw so far */
-    SPR_NOTE_PREFIX_NODE      /* §7.7, primitive k: t, 1 summed / 0 not a neighbour of the front-most, rank by (t, id), Σα so far */
+    SPR_NOTE_PREFIX_NODE,     /* §7.7, primitive k: t, 1 summed / 0 not a neighbour of the front-most, rank by (t, id), Σα so far */
+    /* §10.4, §10.5, one per Gaussian k of the pixel's tile list, in order: power, α, T before, T after */
+    SPR_NOTE_GAUSS_TILE,      /* the pixel: tile k, pixel-index i, j, its list's first entry, its length */
+    SPR_NOTE_GAUSS_BLEND,     /* blended: power, α, T, T·(1 − α) */
+    SPR_NOTE_GAUSS_POWER,     /* skipped, power > 0: power, 0, T, T */
+    SPR_NOTE_GAUSS_FAINT,     /* skipped, α below 1/255: power, α, T, T */
+    SPR_NOTE_GAUSS_STOP,      /* the loop stops here, T·(1 − α) below the threshold: power, α, T, T·(1 − α) (not blended) */
+    SPR_NOTE_GAUSS_PARALLEL,  /* gauss2d, skipped: the ray is parallel to the disk: 0, 0, T, T */
+    SPR_NOTE_GAUSS_BEHIND,    /* gauss2d, skipped: the hit lies before the near plane: power, depth, T, T */
+    SPR_NOTE_GAUSS_END        /* the loop's end: k = the last contributor; T, D, Gaussians visited, Gaussians blended */
 };
 typedef struct spr_probe_note {
     int32_t tag;         /* SPR_NOTE_* of spr_backend.h, made by the shared arithmetic */
@@ -443,6 +560,10 @@ struct spr_backend {
     spr_result (*draw_splats)(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st);
     spr_result (*composite)(spr_backend *b, const spr_composite_desc *c);
     spr_result (*draw_rects)(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
+    /* SPEC §10: d->n records (SPR_GREC_FLOATS each) into rec; the tile lists composited; the ellipses drawn */
+    spr_result (*gauss_preprocess)(spr_backend *b, const spr_gauss_desc *d, float *rec);
+    spr_result (*gauss_raster)(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
+    spr_result (*gauss_draw)(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
     /* float planes into float*, id/count planes into uint32_t*; W·H·channels values,
      * row 0 = bottom. */
     spr_result (*read_plane)(spr_backend *b, int target, spr_plane p, void *out);
@@ -464,6 +585,9 @@ spr_result spr_backend_clear(spr_backend *b, int target, const float color[4]);
 spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st);
 spr_result spr_backend_composite(spr_backend *b, const spr_composite_desc *c);
 spr_result spr_backend_draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st);
+spr_result spr_backend_gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec);
+spr_result spr_backend_gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
+spr_result spr_backend_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out);
 /* The same, every plane as floats: id and count planes as their integer
  * values, "none" ids as −1 (what --dump, check and step show). */

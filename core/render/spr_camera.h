@@ -11,6 +11,16 @@
 #include "spr_cloud.h"
 #include "spr_result.h"
 
+/* The pinhole camera of the Gaussian algorithms and of the training code
+ * (SPEC §10.2): world-to-camera rotation R (row-major) and translation t in
+ * OpenCV's axes (x right, y down, z forward), focal lengths and principal
+ * point in pixels, continuous coordinates (pixel centres at i + 0.5, row 0
+ * at the top). */
+typedef struct spr_pinhole {
+    double R[9], t[3];
+    double fx, fy, cx, cy;
+} spr_pinhole;
+
 /* Camera descriptor; zero fields take the defaults of spr_camera_defaults(). */
 typedef struct spr_camera_desc {
     double eye[3], target[3], up[3];
@@ -25,6 +35,11 @@ typedef struct spr_camera_desc {
      * when zero, are the planes P maps to NDC z = −1 and +1. */
     int have_matrices;
     double V[16], P[16];
+    /* A pinhole camera (--intrinsics with --world-to-camera, or an entry of
+     * the training code's cameras.json) replaces eye/target/up/fov and the
+     * matrices; V and P are made from it, near/far framed as ever. */
+    int have_pinhole;
+    spr_pinhole pinhole;
 } spr_camera_desc;
 
 /* What every backend gets: float bits computed once on the host. */
@@ -38,6 +53,9 @@ typedef struct spr_view {
     double P[16];         /* projection matrix in double */
     double near_plane, far_plane;
     int ortho;
+    spr_pinhole cv;       /* perspective views: the same camera as a pinhole (SPEC §10.2), in double — the desc's own
+                             numbers for a pinhole camera, else from V (y and z negated) and P (fx = W/2·P00,
+                             cx = W/2·(1 − P02), fy = H/2·P11, cy = H/2·(1 + P12)) */
 } spr_view;
 
 /* Defaults: 512×512, fov 30°, up +y; eye/target/near/far 0 = "frame the model". */
@@ -50,6 +68,17 @@ void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b);
 void spr_view_matrix_eye(const double V[16], double eye[3]);
 /* Build the view; SPR_E_ARG for a degenerate camera (names the field). */
 spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err);
+/* A pinhole camera a renderer can use: R a rotation (RᵀR = I within 1e-6,
+ * det +1), t finite, fx, fy positive and finite, cx, cy finite; `what`
+ * names the camera in the one-line error. */
+spr_result spr_pinhole_check(const spr_pinhole *p, const char *what, spr_error *err);
+/* The entry whose "id" is `id` of the training code's cameras.json
+ * (graphdeco-inria/gaussian-splatting, utils/camera_utils.py: width, height,
+ * position, rotation = camera-to-world 3×3 rows, fx, fy; the principal
+ * point at the image centre) as a pinhole camera and its image size; an
+ * error naming the file and the entry when it is not there or not valid. */
+spr_result spr_cameras_json(const char *path, long id, spr_pinhole *p, int *width, int *height, spr_error *err);
+
 /* World tolerance → ray-parameter tolerance: ε/(far − near) in double → float. */
 float spr_view_eps_t(const spr_view *v, double eps_world);
 

@@ -22,12 +22,18 @@ static inline int spr_depth_passes(spr_depth_func f, float z, float zbuf)
 }
 
 /* One channel: replace dst = src; add dst = src + dst; over with a = the
- * source's fourth channel: t1 = src·a, t2 = dst·(1 − a), dst = t1 + t2. */
+ * source's fourth channel: t1 = src·a, t2 = dst·(1 − a), dst = t1 + t2;
+ * premultiplied over: dst = src + dst·(1 − a). */
 static inline float spr_blend1(spr_blend b, float src, float dst, float a)
 {
     switch (b) {
     case SPR_BLEND_ADD: return src + dst;
     case SPR_BLEND_SUB: return dst - src; /* GL_FUNC_REVERSE_SUBTRACT with (ONE, ONE) */
+    case SPR_BLEND_PREMUL: { /* (ONE, ONE_MINUS_SRC_ALPHA): src·1 is src, t2 = dst·(1 − a), dst = src + t2 */
+        float oma = 1.0f - a;
+        float t2 = dst * oma;
+        return src + t2;
+    }
     case SPR_BLEND_OVER: {
         float oma = 1.0f - a;
         float t1 = src * a, t2 = dst * oma;

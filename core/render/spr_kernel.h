@@ -22,6 +22,12 @@ typedef enum spr_kernel {
  * exp(−(9/4)(v + 1)) on v ∈ [−1, 1] (i.e. exp(−4.5ρ²) with v = 2ρ² − 1). */
 extern const float spr_gauss_coef[SPR_GAUSS_DEGREE + 1];
 
+/* The shared exponential's constants (SPEC §10.6, arith/gauss.h): log2 e,
+ * ln 2 split into a high part of 17 significant bits and the rest, then
+ * the Taylor coefficients 1/7! … 1/2!, highest degree first. */
+#define SPR_EXP_COEFS 9
+extern const float spr_exp_coef[SPR_EXP_COEFS];
+
 /* Name ↔ enum ("gauss", "constant", "linear", "epanechnikov"); −1 if unknown. */
 int spr_kernel_from_name(const char *name);
 const char *spr_kernel_name(spr_kernel k);

@@ -241,6 +241,63 @@ static int camera_matrices(spr__args *a, spr_camera_desc *c)
     return 0;
 }
 
+/* Parse n comma-separated finite numbers of option `name` into out; −1 after an error. */
+static int numbers(spr__args *a, const char *name, const char *v, int n, double *out, const char *what)
+{
+    const char *p = v;
+    for (int i = 0; i < n; i++) {
+        char *e;
+        errno = 0;
+        out[i] = strtod(p, &e);
+        if (e == p || errno || !isfinite(out[i]) || (i < n - 1 && *e != ',') || (i == n - 1 && *e)) {
+            spr__error(a, "--%s: '%s': give %s, %d finite numbers separated by commas", name, v, what, n);
+            return -1;
+        }
+        p = e + (i < n - 1);
+    }
+    return 0;
+}
+
+/* The pinhole camera (SPEC §10.2): --intrinsics with --world-to-camera, or
+ * --cameras F.json with --camera ID; not with another form of camera. */
+static int camera_pinhole(spr__args *a, spr_camera_desc *c)
+{
+    const char *in = spr__get(a, "intrinsics"), *wc = spr__get(a, "world-to-camera"), *file = spr__get(a, "cameras"), *id = spr__get(a, "camera");
+    if (!in && !wc && !file && !id) return 0;
+    if ((in || wc) && (file || id)) { spr__error(a, "--intrinsics/--world-to-camera and --cameras both place the camera: give one form"); return -1; }
+    if ((in || wc) && !(in && wc)) { spr__error(a, "--intrinsics and --world-to-camera go together"); return -1; }
+    if ((file || id) && !(file && id)) { spr__error(a, "--cameras and --camera go together"); return -1; }
+    static const char *const other[] = {"eye", "target", "up", "fov", "ortho", "view-matrix", "projection-matrix", NULL};
+    for (int i = 0; other[i]; i++)
+        if (spr__get(a, other[i])) { spr__error(a, "--%s and the pinhole camera both place the camera: give one form", other[i]); return -1; }
+    spr_pinhole *p = &c->pinhole;
+    spr_error err = {0};
+    if (in) {
+        double k[4], m[12];
+        if (numbers(a, "intrinsics", in, 4, k, "fx,fy,cx,cy") || numbers(a, "world-to-camera", wc, 12, m, "[R|t] row by row")) return -1;
+        for (int r = 0; r < 3; r++) {
+            for (int j = 0; j < 3; j++) p->R[3 * r + j] = m[4 * r + j];
+            p->t[r] = m[4 * r + 3];
+        }
+        p->fx = k[0], p->fy = k[1], p->cx = k[2], p->cy = k[3];
+        if (spr_pinhole_check(p, "--intrinsics/--world-to-camera", &err)) { spr__error(a, "%s", err.msg); return -1; }
+    } else {
+        char *e;
+        errno = 0;
+        long n = strtol(id, &e, 10);
+        if (e == id || *e || errno) { spr__error(a, "--camera: '%s' is not a whole-number id", id); return -1; }
+        int w, h;
+        if (spr_cameras_json(file, n, p, &w, &h, &err)) { spr__error(a, "%s", err.msg); return -1; }
+        if (!spr__get(a, "size")) c->width = w, c->height = h;
+        else { /* another size: the same field of view, as the training code's --resolution scales its cameras */
+            const double sx = (double)c->width / w, sy = (double)c->height / h;
+            p->fx *= sx, p->cx *= sx, p->fy *= sy, p->cy *= sy;
+        }
+    }
+    c->have_pinhole = 1;
+    return 0;
+}
+
 int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_all)
 {
     memset(s, 0, sizeof *s);
@@ -260,7 +317,7 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
         return -1;
     s->cam.have_eye = spr__get(a, "eye") != NULL;
     s->cam.have_target = spr__get(a, "target") != NULL;
-    if (camera_matrices(a, &s->cam)) return -1;
+    if (camera_matrices(a, &s->cam) || camera_pinhole(a, &s->cam)) return -1;
     const char *save = spr__get(a, "save-scene"), *save_form = save ? spr__get(a, "scene-camera") : NULL;
     if (save_form && strcmp(save_form, "lookat") && strcmp(save_form, "matrices")) {
         spr__error(a, "--scene-camera: '%s' is not lookat or matrices", save_form);
@@ -307,6 +364,12 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     double aref = 0.1;
     if ((uses & SPR_USES_ALPHAREF) && spr__get_double(a, "alpha-ref", &aref, 0.0, 1.0) < 0) return -1;
     rd->alpha_ref = (float)aref;
+    if (uses & SPR_USES_GAUSS) {
+        rd->gauss_aa = spr__flag(a, "gauss-aa");
+        const char *fl = spr__get(a, "gauss-flavor");
+        if (fl && strcmp(fl, "inria") && strcmp(fl, "gsplat")) { spr__error(a, "--gauss-flavor: '%s' is not inria or gsplat", fl); return -1; }
+        rd->gauss_flavor = fl && !strcmp(fl, "gsplat") ? SPR_FLAVOR_GSPLAT : SPR_FLAVOR_INRIA;
+    }
     rd->progress = spr__progress(quiet);
     spr_grouping_desc gd;
     const char *hash_near = NULL;

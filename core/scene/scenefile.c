@@ -59,15 +59,20 @@ static int opt_index(const spr__args *a, const char *name)
 
 /* Scene values given by the command line replace these too: options that
  * choose the same thing another way.  A moved camera is framed again. */
-static const char *const camera_place[] = {"eye", "target", "up", "fov", "ortho", "view-matrix", "projection-matrix", NULL};
+static const char *const camera_place[] = {"eye", "target", "up", "fov", "ortho", "view-matrix", "projection-matrix", "intrinsics",
+                                           "world-to-camera", "cameras", "camera", NULL};
 static const struct { const char *key; const char *const by[8]; } displaced[] = {
-    {"eye", {"view-matrix", "projection-matrix"}},
-    {"target", {"view-matrix", "projection-matrix"}},
-    {"up", {"view-matrix", "projection-matrix"}},
-    {"fov", {"ortho", "view-matrix", "projection-matrix"}},
-    {"ortho", {"fov", "view-matrix", "projection-matrix"}},
-    {"view-matrix", {"eye", "target", "up", "fov", "ortho"}},
-    {"projection-matrix", {"eye", "target", "up", "fov", "ortho"}},
+    {"eye", {"view-matrix", "projection-matrix", "intrinsics", "world-to-camera", "cameras", "camera"}},
+    {"target", {"view-matrix", "projection-matrix", "intrinsics", "world-to-camera", "cameras", "camera"}},
+    {"up", {"view-matrix", "projection-matrix", "intrinsics", "world-to-camera", "cameras", "camera"}},
+    {"fov", {"ortho", "view-matrix", "projection-matrix", "intrinsics", "world-to-camera", "cameras", "camera"}},
+    {"ortho", {"fov", "view-matrix", "projection-matrix", "intrinsics", "world-to-camera", "cameras", "camera"}},
+    {"view-matrix", {"eye", "target", "up", "fov", "ortho", "intrinsics", "world-to-camera", "cameras"}},
+    {"projection-matrix", {"eye", "target", "up", "fov", "ortho", "intrinsics", "world-to-camera", "cameras"}},
+    {"intrinsics", {"eye", "target", "up", "fov", "ortho", "view-matrix", "projection-matrix", "cameras"}},
+    {"world-to-camera", {"eye", "target", "up", "fov", "ortho", "view-matrix", "projection-matrix", "cameras"}},
+    {"cameras", {"eye", "target", "up", "fov", "ortho", "view-matrix", "projection-matrix", "intrinsics"}},
+    {"camera", {"eye", "target", "up", "fov", "ortho", "view-matrix", "projection-matrix", "intrinsics"}},
     {"groups", {"groups-file"}},
     {"groups-file", {"groups"}},
 };
@@ -110,7 +115,7 @@ static char *fmt_number(double v)
 static int is_path_option(const char *name, const char *v)
 {
     if (!strcmp(name, "model")) return strncmp(v, "builtin:", 8) != 0;
-    if (!strcmp(name, "groups-file")) return 1;
+    if (!strcmp(name, "groups-file") || !strcmp(name, "cameras")) return 1;
     if (!strcmp(name, "env")) return strcmp(v, "sky") && strcmp(v, "checker") && strcmp(v, "none");
     return 0;
 }
@@ -127,7 +132,8 @@ static char *value_text(spr__args *a, const char *file, const char *sec, const c
     if (cJSON_IsString(v)) return strdup(v->valuestring);
     if (cJSON_IsNumber(v)) return fmt_number(v->valuedouble);
     if (cJSON_IsArray(v)) {
-        const int matrix = !strcmp(key, "view-matrix") || !strcmp(key, "projection-matrix");
+        const int rows = !strcmp(key, "view-matrix") || !strcmp(key, "projection-matrix") ? 4 : !strcmp(key, "world-to-camera") ? 3 : 0;
+        const int matrix = rows > 0;
         const int size = !strcmp(key, "size");
         double x[16];
         int n = 0, ok = 1;
@@ -156,14 +162,14 @@ static char *value_text(spr__args *a, const char *file, const char *sec, const c
             if (s) snprintf(s, 48, "%.0fx%.0f", x[0], x[1]);
             return s;
         }
-        if (ok && (matrix ? n == 16 : !size && n >= 1 && n <= 4)) { /* the numbers, comma-separated, exact */
+        if (ok && (matrix ? n == 4 * rows : !size && n >= 1 && n <= 4)) { /* the numbers, comma-separated, exact */
             char *s = malloc(16 * 26);
             size_t at = 0;
             for (int i = 0; s && i < n; i++) at += (size_t)snprintf(s + at, 16 * 26 - at, "%s%.17g", i ? "," : "", x[i]);
             return s;
         }
         spr__error(a, "%s: %s.%s: expected %s", file, sec, key,
-                  matrix ? "4 rows of 4 numbers" : size ? "[width, height]" : "a number, a string or up to 4 numbers");
+                  matrix ? (rows == 4 ? "4 rows of 4 numbers" : "3 rows of 4 numbers") : size ? "[width, height]" : "a number, a string or up to 4 numbers");
         return NULL;
     }
     spr__error(a, "%s: %s.%s: expected %s", file, sec, key, "a number, a string or an array of numbers");
@@ -312,10 +318,10 @@ static cJSON *add_section(cJSON *root, const char *name)
     return s ? s : cJSON_AddObjectToObject(root, name);
 }
 
-static cJSON *matrix_json(const double m[16])
+static cJSON *matrix_json(const double *m, int n_rows)
 {
     cJSON *rows = cJSON_CreateArray();
-    for (int r = 0; rows && r < 4; r++) cJSON_AddItemToArray(rows, cJSON_CreateDoubleArray(m + 4 * r, 4));
+    for (int r = 0; rows && r < n_rows; r++) cJSON_AddItemToArray(rows, cJSON_CreateDoubleArray(m + 4 * r, 4));
     return rows;
 }
 
@@ -337,8 +343,18 @@ int spr__scene_save(spr__args *a, const spr_scene *s, const spr_render_desc *rd,
     /* the camera as resolved by framing */
     cJSON *cam = add_section(root, "camera");
     if (matrices) {
-        cJSON_AddItemToObject(cam, "view-matrix", matrix_json(s->view.V));
-        cJSON_AddItemToObject(cam, "projection-matrix", matrix_json(s->view.P));
+        cJSON_AddItemToObject(cam, "view-matrix", matrix_json(s->view.V, 4));
+        cJSON_AddItemToObject(cam, "projection-matrix", matrix_json(s->view.P, 4));
+    } else if (s->cam.have_pinhole) { /* the pinhole as given or as read from cameras.json, resolved */
+        const spr_pinhole *p = &s->cam.pinhole;
+        const double k[4] = {p->fx, p->fy, p->cx, p->cy};
+        double m[12];
+        for (int r = 0; r < 3; r++) {
+            for (int j = 0; j < 3; j++) m[4 * r + j] = p->R[3 * r + j];
+            m[4 * r + 3] = p->t[r];
+        }
+        cJSON_AddItemToObject(cam, "intrinsics", cJSON_CreateDoubleArray(k, 4));
+        cJSON_AddItemToObject(cam, "world-to-camera", matrix_json(m, 3));
     } else {
         cJSON_AddItemToObject(cam, "eye", cJSON_CreateDoubleArray(s->cam.eye, 3));
         cJSON_AddItemToObject(cam, "target", cJSON_CreateDoubleArray(s->cam.target, 3));

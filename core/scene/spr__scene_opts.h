@@ -31,6 +31,10 @@
     {"size", "WxH", "image size (default 512x512)"}, \
     {"view-matrix", "M16", "raw 4x4 view matrix, 16 numbers row by row (with --projection-matrix; replaces eye/target/up)"}, \
     {"projection-matrix", "M16", "raw 4x4 projection matrix, row by row, bottom row 0,0,-1,0 or 0,0,0,1 (replaces fov/ortho)"}, \
+    {"intrinsics", "FX,FY,CX,CY", "pinhole camera of the training code: focal lengths and principal point in pixels, continuous (pixel centres at i+0.5, row 0 at the top); with --world-to-camera"}, \
+    {"world-to-camera", "M12", "pinhole camera: OpenCV world-to-camera [R|t], 12 numbers row by row (x right, y down, z forward); with --intrinsics"}, \
+    {"cameras", "F.json", "the training code's cameras.json; with --camera ID (its size unless --size, which scales the intrinsics)"}, \
+    {"camera", "ID", "--cameras: the entry whose id is ID"}, \
     {"background", "R,G,B", "background colour in [0,1] (default 0,0,0)"}
 
 /* The algorithm and its parameters (which ones an algorithm reads: the registry). */
@@ -51,7 +55,9 @@
     {"env-layers", "HOW", "env: multi (sin T = eta^(l+1) sin I, default) | single (one interface)"}, \
     {"layers", "L", "depthpeel: layers peeled, 1..64 (default 8; 3 = the front-three variant)"}, \
     {"sampling", "HOW", "domain-*: texture sampling nearest | linear (explicit bilinear, default) | hardware (GL texture(), Tier B)"}, \
-    {"alpha-ref", "A", "domain-overlap: lock pixels where alpha >= A (default 0.1)"}
+    {"alpha-ref", "A", "domain-overlap: lock pixels where alpha >= A (default 0.1)"}, \
+    {"gauss-aa", NULL, "gauss*: the antialiased opacity o*sqrt(max(0.000025, det0/det)) of the training code's antialiased mode (SPEC 10.3)"}, \
+    {"gauss-flavor", "WHOSE", "gauss*: inria (graphdeco-inria's constants, default) | gsplat (gsplat 1.x: alpha cap 0.999, near 0.01, docs/gaussians.md)"}
 
 /* Grouping parameters; the method itself is render's --groups or group's --method. */
 #define SPR__GROUP_OPTS \

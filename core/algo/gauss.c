@@ -1,0 +1,319 @@
+/* gauss.c — what the Gaussian splatting references share (SPEC §10): the
+ * frame's parameters from the view and the options, the Gaussians of the
+ * cloud (a capture's own, or each surfel seen as a flat Gaussian), their
+ * colours, and the host's sorting — per-tile lists for gauss3d and gauss2d,
+ * the back-to-front order of gauss-blend — then the passes:
+ *
+ *   "preprocess"  the backend: one record per Gaussian (SPEC 10.3; 10.5)
+ *   "sort"        the host: every kept Gaussian into each 16×16 tile its
+ *                 rectangle covers, in file order, then each tile's list
+ *                 sorted by t.z (a stable radix sort: ties keep file order);
+ *                 gauss-blend: the kept Gaussians by |μ − eye|, farthest
+ *                 first, ties in file order
+ *   "raster"      the backend: every pixel's front-to-back loop (SPEC 10.4)
+ *   "blend"       gauss-blend: the ellipses drawn in that order (SPEC 10.7)
+ *
+ * Sorting is host code shared by both backends, as SPEC §10 allows; every
+ * float operation that reaches a plane runs in the backend, in the shared
+ * arithmetic (core/render/arith/gauss.h).
+ */
+#include "spr_algo.h"
+#include "spr_util.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* SPEC §10.2: the view's pinhole rounded to float once; the flavour's constants. */
+static void frame_params(const spr_view *v, int mode, const spr_render_desc *desc, float *g)
+{
+    const spr_pinhole *p = &v->cv;
+    memset(g, 0, SPR_GPRM_COUNT * sizeof *g);
+    for (int i = 0; i < 9; i++) g[SPR_GPRM_R + i] = (float)p->R[i];
+    for (int i = 0; i < 3; i++) g[SPR_GPRM_T + i] = (float)p->t[i];
+    g[SPR_GPRM_FX] = (float)p->fx;
+    g[SPR_GPRM_FY] = (float)p->fy;
+    g[SPR_GPRM_CX] = (float)(p->cx - 0.5); /* pixel-index coordinates: pixel i's centre at i */
+    g[SPR_GPRM_CY] = (float)(p->cy - 0.5);
+    /* the training code: tan(fov/2) in double, rounded to float, then 1.3f times it in float */
+    const float tanx = (float)(0.5 * v->width / p->fx), tany = (float)(0.5 * v->height / p->fy);
+    g[SPR_GPRM_LX] = 1.3f * tanx;
+    g[SPR_GPRM_LY] = 1.3f * tany;
+    g[SPR_GPRM_W] = (float)v->width;
+    g[SPR_GPRM_H] = (float)v->height;
+    g[SPR_GPRM_GX] = (float)((v->width + 15) / 16);
+    g[SPR_GPRM_GY] = (float)((v->height + 15) / 16);
+    const int gsplat = desc->gauss_flavor == SPR_FLAVOR_GSPLAT;
+    g[SPR_GPRM_NEAR] = gsplat ? 0.01f : 0.2f;
+    g[SPR_GPRM_NEAR_LT] = gsplat ? 1.0f : 0.0f;
+    g[SPR_GPRM_EPS2D] = 0.3f;
+    g[SPR_GPRM_DET_LE] = gsplat ? 1.0f : 0.0f;
+    g[SPR_GPRM_AA] = desc->gauss_aa ? 1.0f : 0.0f;
+    g[SPR_GPRM_AA_MIN] = gsplat ? 0.0f : 0.000025f;
+    g[SPR_GPRM_EXT_MIN] = 0.1f;
+    g[SPR_GPRM_EXT2D_MIN] = 1e-4f;
+    g[SPR_GPRM_R2D_MIN] = 3.0f * 0.707106f; /* hbb1: cutoff · FilterSize, in float */
+    g[SPR_GPRM_CAP] = gsplat ? 0.999f : 0.99f;
+    g[SPR_GPRM_ALPHA_MIN] = 1.0f / 255.0f;
+    g[SPR_GPRM_T_MIN] = 0.0001f;
+    g[SPR_GPRM_STOP_LE] = gsplat ? 1.0f : 0.0f;
+    g[SPR_GPRM_MODE] = mode == 1 ? SPR_GMODE_2D : SPR_GMODE_3D;
+}
+
+/* The unit quaternion (w x y z) of the rotation whose columns are a, b, c (double). */
+static void quat_of_columns(const double a[3], const double b[3], const double c[3], double q[4])
+{
+    const double m00 = a[0], m11 = b[1], m22 = c[2], tr = m00 + m11 + m22;
+    if (tr > 0.0) {
+        double s = 2.0 * sqrt(tr + 1.0);
+        q[0] = 0.25 * s, q[1] = (b[2] - c[1]) / s, q[2] = (c[0] - a[2]) / s, q[3] = (a[1] - b[0]) / s;
+    } else if (m00 > m11 && m00 > m22) {
+        double s = 2.0 * sqrt(1.0 + m00 - m11 - m22);
+        q[0] = (b[2] - c[1]) / s, q[1] = 0.25 * s, q[2] = (b[0] + a[1]) / s, q[3] = (c[0] + a[2]) / s;
+    } else if (m11 > m22) {
+        double s = 2.0 * sqrt(1.0 + m11 - m00 - m22);
+        q[0] = (c[0] - a[2]) / s, q[1] = (b[0] + a[1]) / s, q[2] = 0.25 * s, q[3] = (c[1] + b[2]) / s;
+    } else {
+        double s = 2.0 * sqrt(1.0 + m22 - m00 - m11);
+        q[0] = (a[1] - b[0]) / s, q[1] = (c[0] + a[2]) / s, q[2] = (c[1] + b[2]) / s, q[3] = 0.25 * s;
+    }
+    const double l = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int k = 0; k < 4; k++) q[k] /= l;
+}
+
+spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s)
+{
+    for (size_t i = 0; i < c->n; i++) {
+        if (c->gauss) {
+            const float *G = c->gauss + SPR_GAUSS_FLOATS * i;
+            memcpy(q + 4 * i, G, 4 * sizeof *q);
+            memcpy(s + 3 * i, G + 4, 3 * sizeof *s);
+            continue;
+        }
+        /* a surfel as a flat Gaussian: σ a third of its radii along (u, v), 0 along n (the gauss kernel's σ, SPEC 3.1) */
+        const float *nf = c->nrm + 3 * i;
+        double n[3] = {nf[0], nf[1], nf[2]}, u[3], v[3];
+        double ru = c->radius[i], rv = ru;
+        if (c->ell && c->ell[4 * i + 3] != c->radius[i]) {
+            for (int k = 0; k < 3; k++) u[k] = c->ell[4 * i + k];
+            rv = c->ell[4 * i + 3];
+        } else { /* any tangent, fixed: n × the axis of n's smallest component */
+            int ax = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
+            double e[3] = {ax == 0, ax == 1, ax == 2};
+            u[0] = n[1] * e[2] - n[2] * e[1], u[1] = n[2] * e[0] - n[0] * e[2], u[2] = n[0] * e[1] - n[1] * e[0];
+        }
+        double lu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        for (int k = 0; k < 3; k++) u[k] /= lu;
+        v[0] = n[1] * u[2] - n[2] * u[1], v[1] = n[2] * u[0] - n[0] * u[2], v[2] = n[0] * u[1] - n[1] * u[0];
+        double qd[4];
+        quat_of_columns(u, v, n, qd);
+        for (int k = 0; k < 4; k++) q[4 * i + k] = (float)qd[k];
+        s[3 * i] = (float)(ru / 3.0), s[3 * i + 1] = (float)(rv / 3.0), s[3 * i + 2] = 0.0f;
+    }
+    return SPR_OK;
+}
+
+/* ---- the host's sorting ---- */
+
+static uint32_t depth_key(const float *rec, uint32_t G)
+{
+    uint32_t k;
+    memcpy(&k, rec + (size_t)G * SPR_GREC_FLOATS + SPR_GREC_DEPTH, 4); /* t.z > 0: the bits order as the values */
+    return k;
+}
+
+/* Sort a[0 … m−1] (Gaussian ids in file order) by t.z, stably (LSD radix
+ * on the float's bits, 8 bits a pass; insertion sort for short lists). */
+static void sort_tile(const float *rec, uint32_t *a, uint32_t m, uint32_t *tmp)
+{
+    if (m < 48) {
+        for (uint32_t i = 1; i < m; i++) {
+            uint32_t x = a[i], kx = depth_key(rec, x), j = i;
+            while (j > 0 && depth_key(rec, a[j - 1]) > kx) a[j] = a[j - 1], j--;
+            a[j] = x;
+        }
+        return;
+    }
+    for (int shift = 0; shift < 32; shift += 8) {
+        uint32_t cnt[257] = {0};
+        for (uint32_t i = 0; i < m; i++) cnt[(depth_key(rec, a[i]) >> shift & 255u) + 1]++;
+        for (int b = 0; b < 256; b++) cnt[b + 1] += cnt[b];
+        for (uint32_t i = 0; i < m; i++) tmp[cnt[depth_key(rec, a[i]) >> shift & 255u]++] = a[i];
+        memcpy(a, tmp, m * sizeof *a);
+    }
+}
+
+spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int threads, uint32_t **range_out, uint32_t **list_out, spr_error *err)
+{
+    const size_t nt = (size_t)gx * gy;
+    if (threads <= 0) threads = omp_get_max_threads();
+    const int nchunks = threads * 4; /* any count: the chunks are concatenated in order */
+    uint32_t *cnt = calloc(nt * (size_t)nchunks, sizeof *cnt), *range = calloc(nt + 1, sizeof *range), *list = NULL;
+    if (!cnt || !range) {
+        free(cnt), free(range);
+        return spr__fail(err, SPR_E_NOMEM, "gauss: out of memory for %zu tiles", nt);
+    }
+    const size_t chunk = (n + (size_t)nchunks - 1) / (size_t)nchunks;
+#define RECT(G, k) ((int)rec[(size_t)(G) * SPR_GREC_FLOATS + SPR_GREC_RECT + (k)])
+#define KEPT(G) (rec[(size_t)(G) * SPR_GREC_FLOATS + SPR_GREC_CULL] == SPR_GCULL_NONE)
+#pragma omp parallel for num_threads(threads) schedule(static, 1)
+    for (int ch = 0; ch < nchunks; ch++) {
+        uint32_t *c = cnt + (size_t)ch * nt;
+        for (size_t G = (size_t)ch * chunk; G < n && G < (size_t)(ch + 1) * chunk; G++) {
+            if (!KEPT(G)) continue;
+            for (int ty = RECT(G, 1); ty < RECT(G, 3); ty++)
+                for (int tx = RECT(G, 0); tx < RECT(G, 2); tx++) c[(size_t)ty * gx + tx]++;
+        }
+    }
+    uint64_t total = 0;
+    for (size_t t = 0; t < nt; t++) { /* (tile, chunk) order: each tile's entries in file order */
+        range[t] = (uint32_t)total;
+        for (int ch = 0; ch < nchunks; ch++) {
+            uint32_t k = cnt[(size_t)ch * nt + t];
+            cnt[(size_t)ch * nt + t] = (uint32_t)total;
+            total += k;
+        }
+        if (total > UINT32_MAX || total - range[t] > (1u << 24)) {
+            free(cnt), free(range);
+            return spr__fail(err, SPR_E_TOO_LARGE, "gauss: tile %zu lists more than 2^24 Gaussians (or all tiles more than 2^32)", t);
+        }
+    }
+    range[nt] = (uint32_t)total;
+    if (!(list = malloc((total ? total : 1) * sizeof *list))) {
+        free(cnt), free(range);
+        return spr__fail(err, SPR_E_NOMEM, "gauss: out of memory for %llu tile entries", (unsigned long long)total);
+    }
+#pragma omp parallel for num_threads(threads) schedule(static, 1)
+    for (int ch = 0; ch < nchunks; ch++) {
+        uint32_t *off = cnt + (size_t)ch * nt;
+        for (size_t G = (size_t)ch * chunk; G < n && G < (size_t)(ch + 1) * chunk; G++) {
+            if (!KEPT(G)) continue;
+            for (int ty = RECT(G, 1); ty < RECT(G, 3); ty++)
+                for (int tx = RECT(G, 0); tx < RECT(G, 2); tx++) list[off[(size_t)ty * gx + tx]++] = (uint32_t)G;
+        }
+    }
+#undef RECT
+#undef KEPT
+    free(cnt);
+    int failed = 0;
+#pragma omp parallel num_threads(threads) reduction(| : failed)
+    {
+        uint32_t *tmp = NULL;
+        size_t cap = 0;
+#pragma omp for schedule(dynamic, 8)
+        for (long t = 0; t < (long)nt; t++) {
+            const uint32_t m = range[t + 1] - range[t];
+            if (m > cap) {
+                free(tmp);
+                cap = m;
+                if (!(tmp = malloc(cap * sizeof *tmp))) cap = 0, failed = 1;
+            }
+            if (cap >= m) sort_tile(rec, list + range[t], m, tmp);
+        }
+        free(tmp);
+    }
+    if (failed) {
+        free(range), free(list);
+        return spr__fail(err, SPR_E_NOMEM, "gauss: out of memory sorting the tiles");
+    }
+    *range_out = range;
+    *list_out = list;
+    return SPR_OK;
+}
+
+typedef struct by_distance { double d; uint32_t G; } by_distance;
+static int farthest_first(const void *a, const void *b)
+{
+    const by_distance *x = a, *y = b;
+    if (x->d != y->d) return x->d > y->d ? -1 : 1;
+    return x->G < y->G ? -1 : x->G > y->G;
+}
+
+spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], uint32_t **order_out, size_t *count, spr_error *err)
+{
+    by_distance *k = malloc((c->n ? c->n : 1) * sizeof *k);
+    uint32_t *order = malloc((c->n ? c->n : 1) * sizeof *order);
+    if (!k || !order) {
+        free(k), free(order);
+        return spr__fail(err, SPR_E_NOMEM, "gauss-blend: out of memory ordering %zu Gaussians", c->n);
+    }
+    size_t m = 0;
+    for (size_t G = 0; G < c->n; G++) {
+        const float *R = rec + G * SPR_GREC_FLOATS;
+        if (R[SPR_GREC_CULL] != SPR_GCULL_NONE || R[SPR_GREC_BOX + 2] < R[SPR_GREC_BOX] || R[SPR_GREC_BOX + 3] < R[SPR_GREC_BOX + 1]) continue;
+        double d2 = 0.0;
+        for (int a = 0; a < 3; a++) d2 += ((double)c->pos[3 * G + a] - eye[a]) * ((double)c->pos[3 * G + a] - eye[a]);
+        k[m].d = sqrt(d2), k[m].G = (uint32_t)G, m++;
+    }
+    qsort(k, m, sizeof *k, farthest_first); /* the order is total: distance, then index */
+    for (size_t i = 0; i < m; i++) order[i] = k[i].G;
+    free(k);
+    *order_out = order;
+    *count = m;
+    return SPR_OK;
+}
+
+/* ---- the passes ---- */
+
+spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
+{
+    const spr_cloud *c = run->cloud;
+    const spr_view *v = &run->b->view;
+    const char *name = spr_algo_name(run->desc->algo);
+    if (v->ortho)
+        return spr__fail(run->err, SPR_E_ARG, "%s: orthographic cameras are refused (SPEC 10.2): the training code's camera is a pinhole", name);
+    const size_t n = c->n;
+    spr_gauss_desc gd = {.n = n, .mu = c->pos, .opacity = c->alpha};
+    frame_params(v, mode, run->desc, gd.prm);
+    float *q = malloc((n ? n : 1) * 4 * sizeof *q), *s = malloc((n ? n : 1) * 3 * sizeof *s), *col = malloc((n ? n : 1) * 3 * sizeof *col);
+    float *rec = malloc((n ? n : 1) * SPR_GREC_FLOATS * sizeof *rec);
+    uint32_t *range = NULL, *list = NULL, *order = NULL;
+    int target = -1;
+    spr_result r = q && s && col && rec ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
+    double eye[3];
+    const spr_pinhole *p = &v->cv;
+    for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
+    if (!r) {
+        spr__gauss_of_cloud(c, q, s);
+        spr_cloud_gauss_colors(c, eye, col); /* SPEC 10.3 step 9: on the host, in double, rounded once */
+        gd.q = q, gd.s = s, gd.color = col;
+        r = spr__run_gauss_preprocess(run, &gd, rec);
+    }
+    const int threads = 0; /* the lists do not depend on it */
+    double t0 = spr_now_ms();
+    if (!r && mode != 2) r = spr__gauss_tiles(rec, n, (int)gd.prm[SPR_GPRM_GX], (int)gd.prm[SPR_GPRM_GY], threads, &range, &list, run->err);
+    size_t count = 0;
+    if (!r && mode == 2) r = spr__gauss_order(rec, c, eye, &order, &count, run->err);
+    if (!r) {
+        const size_t tiles = (size_t)gd.prm[SPR_GPRM_GX] * (size_t)gd.prm[SPR_GPRM_GY];
+        spr_draw_stats st = {n, mode == 2 ? count : range[tiles], 0};
+        r = spr__run_host_pass(run, "sort", &st, spr_now_ms() - t0);
+    }
+    if (!r && mode != 2) {
+        if (!(r = spr__run_target(run, mode == 1 ? SPR_PLANES_GAUSS2D : SPR_PLANES_GAUSS3D, &target))) {
+            spr_gauss_raster_desc rd = {rec, n, range, list, {0, 0, 0}, {0}};
+            memcpy(rd.background, run->desc->background, sizeof rd.background);
+            memcpy(rd.prm, gd.prm, sizeof rd.prm);
+            r = spr__run_gauss_raster(run, "raster", target, &rd);
+        }
+    } else if (!r) {
+        if (!(r = spr__run_target(run, SPR_PLANE_BIT(SPR_PLANE_COLOR), &target))) {
+            const float *bg = run->desc->background;
+            const float clear[4] = {bg[0], bg[1], bg[2], 0.0f};
+            if ((r = spr_backend_clear(run->b, target, clear))) r = spr__fail(run->err, r, "%s backend: %s", run->b->name, run->b->err.msg);
+        }
+        if (!r) {
+            spr_gauss_draw_desc dd = {rec, n, order, count, {0}, {0}};
+            spr_pass_state_defaults(&dd.state);
+            dd.state.depth_func = SPR_FUNC_ALWAYS;
+            spr_pass_state_blend(&dd.state, SPR_BLEND_PREMUL);
+            dd.state.write_mask = SPR_WRITE_COLOR;
+            memcpy(dd.prm, gd.prm, sizeof dd.prm);
+            r = spr__run_gauss_draw(run, "blend", target, &dd);
+        }
+    }
+    free(q), free(s), free(col), free(rec), free(range), free(list), free(order);
+    if (!r) *final_target = target;
+    return r;
+}

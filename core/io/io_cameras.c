@@ -1,0 +1,117 @@
+/* io_cameras.c — the training code's cameras.json (SPEC §10.8): one entry
+ * per training image, written by graphdeco-inria/gaussian-splatting
+ * (utils/camera_utils.py, camera_to_JSON): id, img_name, width, height,
+ * position (the camera centre), rotation (camera-to-world, three rows of
+ * three), fy, fx.  The principal point is the image centre (the training
+ * code's projection matrix is symmetric).  Parsed with cJSON. */
+#include "spr_camera.h"
+#include "spr_io.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int number_of(const cJSON *e, const char *key, double *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(e, key);
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble)) return 0;
+    *out = v->valuedouble;
+    return 1;
+}
+
+/* Line of byte offset `at`, for a parse error. */
+static int line_of(const char *text, size_t at)
+{
+    int line = 1;
+    for (size_t i = 0; i < at && text[i]; i++) line += text[i] == '\n';
+    return line;
+}
+
+static spr_result entry_camera(const char *path, const cJSON *e, long id, spr_pinhole *p, int *width, int *height, spr_error *err)
+{
+    double w, h, fx, fy;
+    if (!number_of(e, "width", &w) || !number_of(e, "height", &h) || w != floor(w) || h != floor(h) || w < 1 || h < 1 ||
+        w > SPR_MAX_IMAGE_SIDE || h > SPR_MAX_IMAGE_SIDE)
+        return spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: width and height must be whole numbers in 1..%d", path, id, SPR_MAX_IMAGE_SIDE);
+    if (!number_of(e, "fx", &fx) || !number_of(e, "fy", &fy))
+        return spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: no numeric fx and fy", path, id);
+    if (!(fx > 0.0) || !(fy > 0.0))
+        return spr__fail(err, SPR_E_ARG, "%s: camera %ld: focal lengths fx %g, fy %g must be positive (pixels)", path, id, fx, fy);
+    const cJSON *pos = cJSON_GetObjectItemCaseSensitive(e, "position"), *rot = cJSON_GetObjectItemCaseSensitive(e, "rotation");
+    double c[3], C2W[9];
+    if (cJSON_GetArraySize(pos) != 3) return spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"position\" is not three numbers", path, id);
+    for (int k = 0; k < 3; k++) {
+        const cJSON *v = cJSON_GetArrayItem(pos, k);
+        if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+            return spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"position\" is not three numbers", path, id);
+        c[k] = v->valuedouble;
+    }
+    if (cJSON_GetArraySize(rot) != 3) return spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"rotation\" is not three rows of three numbers", path, id);
+    for (int r = 0; r < 3; r++) {
+        const cJSON *row = cJSON_GetArrayItem(rot, r);
+        if (cJSON_GetArraySize(row) != 3)
+            return spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"rotation\" is not three rows of three numbers", path, id);
+        for (int k = 0; k < 3; k++) {
+            const cJSON *v = cJSON_GetArrayItem(row, k);
+            if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+                return spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"rotation\" is not three rows of three numbers", path, id);
+            C2W[3 * r + k] = v->valuedouble;
+        }
+    }
+    /* world-to-camera: R = C2Wᵀ, t = −R·position */
+    for (int r = 0; r < 3; r++)
+        for (int k = 0; k < 3; k++) p->R[3 * r + k] = C2W[3 * k + r];
+    for (int r = 0; r < 3; r++) p->t[r] = -(p->R[3 * r] * c[0] + p->R[3 * r + 1] * c[1] + p->R[3 * r + 2] * c[2]);
+    p->fx = fx, p->fy = fy, p->cx = 0.5 * w, p->cy = 0.5 * h;
+    *width = (int)w, *height = (int)h;
+    char what[1100];
+    snprintf(what, sizeof what, "%s: camera %ld", path, id);
+    return spr_pinhole_check(p, what, err);
+}
+
+spr_result spr_cameras_json(const char *path, long id, spr_pinhole *p, int *width, int *height, spr_error *err)
+{
+    char *text = NULL;
+    size_t len = 0;
+    spr_result r = spr__read_file(path, &text, &len, err);
+    if (r) return r;
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
+    if (!root) {
+        const char *at = cJSON_GetErrorPtr();
+        size_t off = at && at >= text && at <= text + len ? (size_t)(at - text) : len;
+        r = spr__fail(err, SPR_E_FORMAT, "%s:%d: not valid JSON (byte %zu)", path, line_of(text, off), off);
+        free(text);
+        return r;
+    }
+    if (!cJSON_IsArray(root)) {
+        r = spr__fail(err, SPR_E_FORMAT, "%s: not a cameras.json (an array of camera entries)", path);
+        goto done;
+    }
+    long lo = 0, hi = -1, n = 0;
+    const cJSON *e;
+    cJSON_ArrayForEach(e, root)
+    {
+        double v;
+        if (!cJSON_IsObject(e) || !number_of(e, "id", &v) || v != floor(v) || fabs(v) > 2e9) {
+            r = spr__fail(err, SPR_E_FORMAT, "%s: entry %ld has no whole-number \"id\"", path, n);
+            goto done;
+        }
+        const long eid = (long)v;
+        if (n == 0 || eid < lo) lo = eid;
+        if (n == 0 || eid > hi) hi = eid;
+        n++;
+        if (eid == id) {
+            r = entry_camera(path, e, id, p, width, height, err);
+            goto done;
+        }
+    }
+    r = n ? spr__fail(err, SPR_E_ARG, "%s: no camera with id %ld (%ld entries, ids %ld … %ld)", path, id, n, lo, hi)
+          : spr__fail(err, SPR_E_FORMAT, "%s: no camera entries", path);
+done:
+    cJSON_Delete(root);
+    free(text);
+    return r;
+}

@@ -1,0 +1,688 @@
+/* gauss.h — the Gaussian splatting references (SPEC §10; restated operation
+ * by operation in docs/gaussians.md): the shared exponential (§10.6),
+ * per-Gaussian preprocessing of 3D Gaussians (§10.3) and of 2D surfels
+ * (§10.5), the per-pixel front-to-back loop of gauss3d and gauss2d over a
+ * tile's sorted list (§10.4, §10.5) and the fragment of the viewers' blend
+ * (§10.7).  g is a frame's parameter array (SPR_GPRM_LIST, spr_backend.h,
+ * filled once on the host); a record is one Gaussian's preprocessed values
+ * (SPR_GREC_LIST).  Pixels are in pixel-index coordinates: pixel (i, j),
+ * j = 0 the top row, has its centre at (i, j); plane row y is j = H − 1 − y.
+ * The rules of base.h; literals are exact (other constants are parameters
+ * or come from C as bit patterns: spr_exp_coef). */
+
+/* e^x for x ≤ 0 (SPEC §10.6): n = floor(x·log2 e + ½), r = (x − n·ln2_hi) − n·ln2_lo
+ * (ln2_hi has 17 significant bits, so n·ln2_hi is exact for |n| ≤ 126), e^r by
+ * its Taylor polynomial to degree 7 written 1 + (r + r²·p(r)), then · 2^n
+ * exactly; 0 below −87 (where 2^n would leave the normal range).  Within 1 ulp
+ * of the correctly rounded e^x on [−10, 0] (tests/test_gauss.c). */
+SPR_FN float spr_exp(float x)
+{
+    if (!(x >= -87.0f)) return 0.0f;
+    SPR_PRECISE float t = x * spr_exp_coef[0];
+    SPR_PRECISE float th = t + 0.5f;
+    SPR_PRECISE float n = spr_floor(th);
+    SPR_PRECISE float nh = n * spr_exp_coef[1];
+    SPR_PRECISE float a = x - nh;
+    SPR_PRECISE float nl = n * spr_exp_coef[2];
+    SPR_PRECISE float r = a - nl;
+    SPR_PRECISE float p = spr_exp_coef[3];
+    for (int k = 4; k < SPR_EXP_COEFS; k++) p = p * r + spr_exp_coef[k];
+    SPR_PRECISE float pr = p * r;
+    SPR_PRECISE float q = pr * r;
+    SPR_PRECISE float s = r + q;
+    SPR_PRECISE float e = 1.0f + s;
+    SPR_PRECISE float v = spr_ldexp(e, SPR_INT(n));
+    return v;
+}
+
+/* The rotation matrix (row-major) of the unit quaternion q = (w, x, y, z)
+ * (SPEC §10.3 step 2), in float: first row 1 − 2(y² + z²), 2(xy − wz), 2(xz + wy). */
+SPR_FN void spr_quat_matrix(SPR_CARR q[4], SPR_OARR M[9])
+{
+    SPR_PRECISE float xx = q[1] * q[1];
+    SPR_PRECISE float yy = q[2] * q[2];
+    SPR_PRECISE float zz = q[3] * q[3];
+    SPR_PRECISE float xy = q[1] * q[2];
+    SPR_PRECISE float xz = q[1] * q[3];
+    SPR_PRECISE float yz = q[2] * q[3];
+    SPR_PRECISE float wx = q[0] * q[1];
+    SPR_PRECISE float wy = q[0] * q[2];
+    SPR_PRECISE float wz = q[0] * q[3];
+    SPR_PRECISE float s0 = yy + zz;
+    SPR_PRECISE float s1 = xx + zz;
+    SPR_PRECISE float s2 = xx + yy;
+    SPR_PRECISE float d01 = xy - wz;
+    SPR_PRECISE float d02 = xz + wy;
+    SPR_PRECISE float d10 = xy + wz;
+    SPR_PRECISE float d12 = yz - wx;
+    SPR_PRECISE float d20 = xz - wy;
+    SPR_PRECISE float d21 = yz + wx;
+    SPR_PRECISE float m0 = 2.0f * s0;
+    SPR_PRECISE float m4 = 2.0f * s1;
+    SPR_PRECISE float m8 = 2.0f * s2;
+    SPR_PRECISE float r0 = 1.0f - m0;
+    SPR_PRECISE float r1 = 2.0f * d01;
+    SPR_PRECISE float r2 = 2.0f * d02;
+    SPR_PRECISE float r3 = 2.0f * d10;
+    SPR_PRECISE float r4 = 1.0f - m4;
+    SPR_PRECISE float r5 = 2.0f * d12;
+    SPR_PRECISE float r6 = 2.0f * d20;
+    SPR_PRECISE float r7 = 2.0f * d21;
+    SPR_PRECISE float r8 = 1.0f - m8;
+    M[0] = r0;
+    M[1] = r1;
+    M[2] = r2;
+    M[3] = r3;
+    M[4] = r4;
+    M[5] = r5;
+    M[6] = r6;
+    M[7] = r7;
+    M[8] = r8;
+}
+
+/* t = R·μ + T, each component an explicit left-to-right sum (SPEC §10.3 step 1). */
+SPR_FN void spr_gauss_to_camera(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_OARR t[3])
+{
+    for (int i = 0; i < 3; i++) {
+        SPR_PRECISE float a = g[SPR_GPRM_R + 3 * i] * mu[0];
+        SPR_PRECISE float b = g[SPR_GPRM_R + 3 * i + 1] * mu[1];
+        SPR_PRECISE float c = g[SPR_GPRM_R + 3 * i + 2] * mu[2];
+        SPR_PRECISE float ab = a + b;
+        SPR_PRECISE float abc = ab + c;
+        SPR_PRECISE float v = abc + g[SPR_GPRM_T + i];
+        t[i] = v;
+    }
+}
+
+/* Clear a record: culled for `why` (SPR_GCULL_*), no radius, empty rectangles. */
+SPR_FN void spr_gauss_cull(float why, SPR_IOARR rec[SPR_GREC_FLOATS])
+{
+    for (int f = 0; f < SPR_GREC_FLOATS; f++) rec[f] = 0.0f;
+    rec[SPR_GREC_CULL] = why;
+}
+
+/* The tile rectangle of a centre m and radius r (SPEC §10.3 step 8), and the
+ * pixel box of gauss-blend (§10.7: pixels (i, j) with |i − m.x| ≤ r and
+ * |j − m.y| ≤ r, clamped to the image; empty when i1 < i0). */
+SPR_FN void spr_gauss_rects(SPR_CARR g[SPR_GPRM_COUNT], float mx, float my, float r, SPR_IOARR rec[SPR_GREC_FLOATS])
+{
+    float m[2];
+    m[0] = mx;
+    m[1] = my;
+    for (int a = 0; a < 2; a++) {
+        float gn = g[SPR_GPRM_GX + a];
+        SPR_PRECISE float lo = m[a] - r;
+        SPR_PRECISE float lo16 = lo / 16.0f;
+        SPR_PRECISE float hr = m[a] + r;
+        SPR_PRECISE float hi = hr + 15.0f;
+        SPR_PRECISE float hi16 = hi / 16.0f;
+        /* min(n, max(0, trunc(v))): for v ≥ 0 trunc is floor, for v in (−1, 0) it is 0 */
+        if (!(lo16 >= 0.0f)) lo16 = 0.0f;
+        if (lo16 > gn) lo16 = gn;
+        if (!(hi16 >= 0.0f)) hi16 = 0.0f;
+        if (hi16 > gn) hi16 = gn;
+        SPR_PRECISE float t0 = spr_floor(lo16);
+        SPR_PRECISE float t1 = spr_floor(hi16);
+        rec[SPR_GREC_RECT + a] = t0;
+        rec[SPR_GREC_RECT + 2 + a] = t1;
+        float wn = g[SPR_GPRM_W + a];
+        SPR_PRECISE float last = wn - 1.0f;
+        SPR_PRECISE float b0 = spr_ceil(lo);
+        SPR_PRECISE float b1 = spr_floor(hr);
+        if (!(b0 >= 0.0f)) b0 = 0.0f;
+        if (b0 > wn) b0 = wn;
+        if (!(b1 <= last)) b1 = last;
+        if (b1 < -1.0f) b1 = -1.0f;
+        rec[SPR_GREC_BOX + a] = b0;
+        rec[SPR_GREC_BOX + 2 + a] = b1;
+    }
+}
+
+/* SPEC §10.3 steps 1–8 for the 3D Gaussian (μ, q, s, o) of colour c (step 9,
+ * on the host): the record of gauss3d and gauss-blend. */
+SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_CARR q[4], SPR_CARR s[3], float o,
+                                   SPR_CARR c[3], SPR_OARR rec[SPR_GREC_FLOATS])
+{
+    float t[3];
+    spr_gauss_to_camera(g, mu, t);
+    for (int f = 0; f < SPR_GREC_FLOATS; f++) rec[f] = 0.0f;
+    if (g[SPR_GPRM_NEAR_LT] != 0.0f) { /* gsplat: culled below the near plane */
+        if (t[2] < g[SPR_GPRM_NEAR]) {
+            spr_gauss_cull(SPR_GCULL_NEAR, rec);
+            return;
+        }
+    } else if (!(t[2] > g[SPR_GPRM_NEAR])) { /* the training code: culled at or below it */
+        spr_gauss_cull(SPR_GCULL_NEAR, rec);
+        return;
+    }
+    /* step 2: Σ = (Rq·S)(Rq·S)ᵀ, L = Rq·S */
+    float Rq[9];
+    spr_quat_matrix(q, Rq);
+    float L[9];
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) {
+            SPR_PRECISE float v = Rq[3 * i + k] * s[k];
+            L[3 * i + k] = v;
+        }
+    float S[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            SPR_PRECISE float a = L[3 * i] * L[3 * j];
+            SPR_PRECISE float b = L[3 * i + 1] * L[3 * j + 1];
+            SPR_PRECISE float e = L[3 * i + 2] * L[3 * j + 2];
+            SPR_PRECISE float ab = a + b;
+            SPR_PRECISE float v = ab + e;
+            S[3 * i + j] = v;
+        }
+    /* step 3: the Jacobian with clamped tangents */
+    SPR_PRECISE float txz = t[0] / t[2];
+    SPR_PRECISE float tyz = t[1] / t[2];
+    SPR_PRECISE float cx = txz;
+    SPR_PRECISE float cy = tyz;
+    float lx = g[SPR_GPRM_LX];
+    float ly = g[SPR_GPRM_LY];
+    SPR_PRECISE float nlx = -lx;
+    SPR_PRECISE float nly = -ly;
+    if (cx < nlx) cx = nlx;
+    if (cx > lx) cx = lx;
+    if (cy < nly) cy = nly;
+    if (cy > ly) cy = ly;
+    SPR_PRECISE float u = cx * t[2];
+    SPR_PRECISE float v = cy * t[2];
+    SPR_PRECISE float zz = t[2] * t[2];
+    SPR_PRECISE float fu = g[SPR_GPRM_FX] * u;
+    SPR_PRECISE float fv = g[SPR_GPRM_FY] * v;
+    SPR_PRECISE float qu = fu / zz;
+    SPR_PRECISE float qv = fv / zz;
+    float J[6];
+    SPR_PRECISE float j00 = g[SPR_GPRM_FX] / t[2];
+    SPR_PRECISE float j02 = -qu;
+    SPR_PRECISE float j11 = g[SPR_GPRM_FY] / t[2];
+    SPR_PRECISE float j12 = -qv;
+    J[0] = j00;
+    J[1] = 0.0f;
+    J[2] = j02;
+    J[3] = 0.0f;
+    J[4] = j11;
+    J[5] = j12;
+    /* step 4: Σ' = (J·W)·Σ·(J·W)ᵀ, every product an explicit sum over k left to right */
+    float T[6];
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 3; j++) {
+            SPR_PRECISE float a = J[3 * i] * g[SPR_GPRM_R + j];
+            SPR_PRECISE float b = J[3 * i + 1] * g[SPR_GPRM_R + 3 + j];
+            SPR_PRECISE float e = J[3 * i + 2] * g[SPR_GPRM_R + 6 + j];
+            SPR_PRECISE float ab = a + b;
+            SPR_PRECISE float x = ab + e;
+            T[3 * i + j] = x;
+        }
+    float A[6];
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 3; j++) {
+            SPR_PRECISE float a = T[3 * i] * S[j];
+            SPR_PRECISE float b = T[3 * i + 1] * S[3 + j];
+            SPR_PRECISE float e = T[3 * i + 2] * S[6 + j];
+            SPR_PRECISE float ab = a + b;
+            SPR_PRECISE float x = ab + e;
+            A[3 * i + j] = x;
+        }
+    float P[4];
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++) {
+            SPR_PRECISE float a = A[3 * i] * T[3 * j];
+            SPR_PRECISE float b = A[3 * i + 1] * T[3 * j + 1];
+            SPR_PRECISE float e = A[3 * i + 2] * T[3 * j + 2];
+            SPR_PRECISE float ab = a + b;
+            SPR_PRECISE float x = ab + e;
+            P[2 * i + j] = x;
+        }
+    /* step 5: the dilation, the conic and (--gauss-aa) the opacity's compensation */
+    SPR_PRECISE float a = P[0] + g[SPR_GPRM_EPS2D];
+    float b = P[1];
+    SPR_PRECISE float cc = P[3] + g[SPR_GPRM_EPS2D];
+    SPR_PRECISE float ac = a * cc;
+    SPR_PRECISE float bb = b * b;
+    SPR_PRECISE float det = ac - bb;
+    if (g[SPR_GPRM_DET_LE] != 0.0f) {
+        if (!(det > 0.0f)) {
+            spr_gauss_cull(SPR_GCULL_DET, rec);
+            return;
+        }
+    } else if (det == 0.0f) {
+        spr_gauss_cull(SPR_GCULL_DET, rec);
+        return;
+    }
+    SPR_PRECISE float k = 1.0f / det;
+    SPR_PRECISE float nb = -b;
+    SPR_PRECISE float cA = cc * k;
+    SPR_PRECISE float cB = nb * k;
+    SPR_PRECISE float cC = a * k;
+    SPR_PRECISE float op = o;
+    if (g[SPR_GPRM_AA] != 0.0f) {
+        SPR_PRECISE float p03 = P[0] * P[3];
+        SPR_PRECISE float p11 = P[1] * P[1];
+        SPR_PRECISE float det0 = p03 - p11;
+        SPR_PRECISE float ratio = det0 / det;
+        if (!(ratio >= g[SPR_GPRM_AA_MIN])) ratio = g[SPR_GPRM_AA_MIN];
+        SPR_PRECISE float sq = spr_sqrt(ratio);
+        op = o * sq;
+    }
+    /* step 6: the extent */
+    SPR_PRECISE float sum = a + cc;
+    SPR_PRECISE float mid = 0.5f * sum;
+    SPR_PRECISE float mm = mid * mid;
+    SPR_PRECISE float disc = mm - det;
+    if (!(disc >= g[SPR_GPRM_EXT_MIN])) disc = g[SPR_GPRM_EXT_MIN];
+    SPR_PRECISE float e = spr_sqrt(disc);
+    SPR_PRECISE float l1 = mid + e;
+    SPR_PRECISE float l2 = mid - e;
+    SPR_PRECISE float lmax = l1;
+    if (l2 > lmax) lmax = l2;
+    SPR_PRECISE float sl = spr_sqrt(lmax);
+    SPR_PRECISE float r3 = 3.0f * sl;
+    SPR_PRECISE float r = spr_ceil(r3);
+    /* step 7: the centre in pixel-index coordinates */
+    SPR_PRECISE float fx = g[SPR_GPRM_FX] * txz;
+    SPR_PRECISE float fy = g[SPR_GPRM_FY] * tyz;
+    SPR_PRECISE float mx = fx + g[SPR_GPRM_CX];
+    SPR_PRECISE float my = fy + g[SPR_GPRM_CY];
+    SPR_PRECISE float iz = 1.0f / t[2];
+    rec[SPR_GREC_M] = mx;
+    rec[SPR_GREC_M + 1] = my;
+    rec[SPR_GREC_CONIC] = cA;
+    rec[SPR_GREC_CONIC + 1] = cB;
+    rec[SPR_GREC_CONIC + 2] = cC;
+    rec[SPR_GREC_OPACITY] = op;
+    rec[SPR_GREC_DEPTH] = t[2];
+    rec[SPR_GREC_INVZ] = iz;
+    rec[SPR_GREC_RADIUS] = r;
+    for (int ch = 0; ch < 3; ch++) rec[SPR_GREC_COLOR + ch] = c[ch];
+    rec[SPR_GREC_CULL] = SPR_GCULL_NONE;
+    /* step 8 */
+    spr_gauss_rects(g, mx, my, r, rec);
+}
+
+/* SPEC §10.5 for a planar Gaussian (docs/gaussians.md, "gauss2d, operation
+ * by operation"): the two axes of the largest σ (in axis order; a 2D
+ * Gaussian's third σ is 0) span the disk, the third is its normal.  The
+ * homogeneous map H = K·[σ_u·W·Rq e_u | σ_v·W·Rq e_v | t] takes (u, v, 1) to
+ * (i·w, j·w, w); its rows Tu, Tv, Tw are kept.  The normal (camera space)
+ * faces the camera; the centre and extent are those of the bounding box of
+ * the disk's 3σ ellipse on screen (the dual-conic box of hbb1's
+ * compute_aabb), the radius at least 3·FilterSize. */
+SPR_FN void spr_gauss_preprocess2d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_CARR q[4], SPR_CARR s[3], float o,
+                                   SPR_CARR c[3], SPR_OARR rec[SPR_GREC_FLOATS])
+{
+    float t[3];
+    spr_gauss_to_camera(g, mu, t);
+    for (int f = 0; f < SPR_GREC_FLOATS; f++) rec[f] = 0.0f;
+    if (!(t[2] > g[SPR_GPRM_NEAR])) {
+        spr_gauss_cull(SPR_GCULL_NEAR, rec);
+        return;
+    }
+    /* the axes: the smallest σ is the normal (ties: the later axis) */
+    int nax = 2;
+    if (s[1] < s[nax]) nax = 1;
+    if (s[0] < s[nax]) nax = 0;
+    int ua = 0;
+    int va = 1;
+    if (nax == 0) {
+        ua = 1;
+        va = 2;
+    } else if (nax == 1) {
+        va = 2;
+    }
+    float Rq[9];
+    spr_quat_matrix(q, Rq);
+    /* A = [σ_u·W·Rq e_u | σ_v·W·Rq e_v | t] in camera space, column by column */
+    float A[9];
+    for (int col = 0; col < 2; col++) {
+        int ax = ua;
+        if (col == 1) ax = va;
+        float l[3];
+        for (int i = 0; i < 3; i++) {
+            SPR_PRECISE float v = Rq[3 * i + ax] * s[ax];
+            l[i] = v;
+        }
+        for (int i = 0; i < 3; i++) {
+            SPR_PRECISE float a = g[SPR_GPRM_R + 3 * i] * l[0];
+            SPR_PRECISE float b = g[SPR_GPRM_R + 3 * i + 1] * l[1];
+            SPR_PRECISE float e = g[SPR_GPRM_R + 3 * i + 2] * l[2];
+            SPR_PRECISE float ab = a + b;
+            SPR_PRECISE float v = ab + e;
+            A[3 * i + col] = v;
+        }
+    }
+    for (int i = 0; i < 3; i++) A[3 * i + 2] = t[i];
+    /* H = K·A: Tu = fx·A0 + cx·A2, Tv = fy·A1 + cy·A2, Tw = A2 (cx, cy pixel-index) */
+    float Tu[3];
+    float Tv[3];
+    float Tw[3];
+    for (int j = 0; j < 3; j++) {
+        SPR_PRECISE float a = g[SPR_GPRM_FX] * A[j];
+        SPR_PRECISE float b = g[SPR_GPRM_CX] * A[6 + j];
+        SPR_PRECISE float e = g[SPR_GPRM_FY] * A[3 + j];
+        SPR_PRECISE float f = g[SPR_GPRM_CY] * A[6 + j];
+        SPR_PRECISE float u = a + b;
+        SPR_PRECISE float v = e + f;
+        Tu[j] = u;
+        Tv[j] = v;
+        Tw[j] = A[6 + j];
+    }
+    /* the normal in camera space, facing the camera (culled edge-on: t·n == 0) */
+    float nw[3];
+    for (int i = 0; i < 3; i++) {
+        SPR_PRECISE float a = g[SPR_GPRM_R + 3 * i] * Rq[nax];
+        SPR_PRECISE float b = g[SPR_GPRM_R + 3 * i + 1] * Rq[3 + nax];
+        SPR_PRECISE float e = g[SPR_GPRM_R + 3 * i + 2] * Rq[6 + nax];
+        SPR_PRECISE float ab = a + b;
+        SPR_PRECISE float v = ab + e;
+        nw[i] = v;
+    }
+    SPR_PRECISE float c0 = t[0] * nw[0];
+    SPR_PRECISE float c1 = t[1] * nw[1];
+    SPR_PRECISE float c2 = t[2] * nw[2];
+    SPR_PRECISE float c01 = c0 + c1;
+    SPR_PRECISE float tn = c01 + c2;
+    SPR_PRECISE float cosv = -tn;
+    if (cosv == 0.0f) {
+        spr_gauss_cull(SPR_GCULL_DET, rec);
+        return;
+    }
+    if (cosv < 0.0f)
+        for (int i = 0; i < 3; i++) {
+            SPR_PRECISE float v = -nw[i];
+            nw[i] = v;
+        }
+    /* the screen box of the 3σ ellipse: d = 9·Tw0² + 9·Tw1² − Tw2², f = (9, 9, −1)/d */
+    SPR_PRECISE float w00 = Tw[0] * Tw[0];
+    SPR_PRECISE float w11 = Tw[1] * Tw[1];
+    SPR_PRECISE float w22 = Tw[2] * Tw[2];
+    SPR_PRECISE float d0 = 9.0f * w00;
+    SPR_PRECISE float d1 = 9.0f * w11;
+    SPR_PRECISE float d01 = d0 + d1;
+    SPR_PRECISE float d = d01 - w22;
+    if (d == 0.0f) {
+        spr_gauss_cull(SPR_GCULL_DET, rec);
+        return;
+    }
+    SPR_PRECISE float kd = 1.0f / d;
+    SPR_PRECISE float f0 = kd * 9.0f;
+    SPR_PRECISE float f2 = -kd;
+    float ext[2];
+    float mid[2];
+    for (int a = 0; a < 2; a++) {
+        float R[3];
+        for (int j = 0; j < 3; j++) R[j] = Tu[j];
+        if (a == 1)
+            for (int j = 0; j < 3; j++) R[j] = Tv[j];
+        SPR_PRECISE float p0 = R[0] * Tw[0];
+        SPR_PRECISE float p1 = R[1] * Tw[1];
+        SPR_PRECISE float p2 = R[2] * Tw[2];
+        SPR_PRECISE float q0 = f0 * p0;
+        SPR_PRECISE float q1 = f0 * p1;
+        SPR_PRECISE float q2 = f2 * p2;
+        SPR_PRECISE float q01 = q0 + q1;
+        SPR_PRECISE float p = q01 + q2;
+        SPR_PRECISE float r0 = R[0] * R[0];
+        SPR_PRECISE float r1 = R[1] * R[1];
+        SPR_PRECISE float r2 = R[2] * R[2];
+        SPR_PRECISE float s0 = f0 * r0;
+        SPR_PRECISE float s1 = f0 * r1;
+        SPR_PRECISE float s2 = f2 * r2;
+        SPR_PRECISE float s01 = s0 + s1;
+        SPR_PRECISE float ss = s01 + s2;
+        SPR_PRECISE float pp = p * p;
+        SPR_PRECISE float h0 = pp - ss;
+        if (!(h0 >= g[SPR_GPRM_EXT2D_MIN])) h0 = g[SPR_GPRM_EXT2D_MIN];
+        SPR_PRECISE float h = spr_sqrt(h0);
+        mid[a] = p;
+        ext[a] = h;
+    }
+    SPR_PRECISE float rad = ext[0];
+    if (ext[1] > rad) rad = ext[1];
+    if (g[SPR_GPRM_R2D_MIN] > rad) rad = g[SPR_GPRM_R2D_MIN];
+    SPR_PRECISE float r = spr_ceil(rad);
+    rec[SPR_GREC_M] = mid[0];
+    rec[SPR_GREC_M + 1] = mid[1];
+    for (int j = 0; j < 3; j++) {
+        rec[SPR_GREC_TU + j] = Tu[j];
+        rec[SPR_GREC_TV + j] = Tv[j];
+        rec[SPR_GREC_TW + j] = Tw[j];
+        rec[SPR_GREC_NORMAL + j] = nw[j];
+        rec[SPR_GREC_COLOR + j] = c[j];
+    }
+    rec[SPR_GREC_OPACITY] = o;
+    rec[SPR_GREC_DEPTH] = t[2];
+    SPR_PRECISE float iz = 1.0f / t[2];
+    rec[SPR_GREC_INVZ] = iz;
+    rec[SPR_GREC_RADIUS] = r;
+    rec[SPR_GREC_CULL] = SPR_GCULL_NONE;
+    spr_gauss_rects(g, mid[0], mid[1], r, rec);
+}
+
+/* The record of one Gaussian under the frame's mode (SPR_GMODE_*). */
+SPR_FN void spr_gauss_preprocess(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_CARR q[4], SPR_CARR s[3], float o,
+                                 SPR_CARR c[3], SPR_OARR rec[SPR_GREC_FLOATS])
+{
+    if (g[SPR_GPRM_MODE] == SPR_GMODE_2D) spr_gauss_preprocess2d(g, mu, q, s, o, c, rec);
+    else spr_gauss_preprocess3d(g, mu, q, s, o, c, rec);
+}
+
+/* power of the 3D Gaussian with centre (mx, my) and conic (A, B, C) at pixel
+ * (fi, fj): (−0.5·((A·d.x)·d.x + (C·d.y)·d.y)) − (B·d.x)·d.y, d = m − (i, j). */
+SPR_FN float spr_gauss_power(float mx, float my, float A, float B, float C, float fi, float fj)
+{
+    SPR_PRECISE float dx = mx - fi;
+    SPR_PRECISE float dy = my - fj;
+    SPR_PRECISE float ad = A * dx;
+    SPR_PRECISE float add = ad * dx;
+    SPR_PRECISE float cd = C * dy;
+    SPR_PRECISE float cdd = cd * dy;
+    SPR_PRECISE float sum = add + cdd;
+    SPR_PRECISE float h = -0.5f * sum;
+    SPR_PRECISE float bd = B * dx;
+    SPR_PRECISE float bdd = bd * dy;
+    SPR_PRECISE float p = h - bdd;
+    return p;
+}
+
+/* α = min(cap, o·e^power) (SPEC §10.4). */
+SPR_FN float spr_gauss_alpha(SPR_CARR g[SPR_GPRM_COUNT], float o, float power)
+{
+    float ex = spr_exp(power);
+    SPR_PRECISE float a = o * ex;
+    if (a > g[SPR_GPRM_CAP]) a = g[SPR_GPRM_CAP];
+    return a;
+}
+
+/* gauss2d at pixel (fi, fj) of the surfel of record G (SPEC §10.5): the
+ * planes k = i·Tw − Tu and l = j·Tw − Tv meet in p = k × l, the local hit
+ * s = (p.x/p.z, p.y/p.z), ρ₃ = s.x² + s.y², ρ₂ = 2·|m − (i, j)|²,
+ * ρ = min(ρ₃, ρ₂), power = −0.5·ρ; depth = (s.x·Tw0 + s.y·Tw1) + Tw2.
+ * Returns 0 when the ray is parallel to the disk (p.z == 0). */
+SPR_FN int spr_gauss_surfel(SPR_PIXEL px, int G, float fi, float fj, SPR_OUT power_out, SPR_OUT depth_out)
+{
+    float Tu[3];
+    float Tv[3];
+    float Tw[3];
+    for (int j = 0; j < 3; j++) {
+        Tu[j] = spr_grec(px, G, SPR_GREC_TU + j);
+        Tv[j] = spr_grec(px, G, SPR_GREC_TV + j);
+        Tw[j] = spr_grec(px, G, SPR_GREC_TW + j);
+    }
+    float k[3];
+    float l[3];
+    for (int j = 0; j < 3; j++) {
+        SPR_PRECISE float a = fi * Tw[j];
+        SPR_PRECISE float b = fj * Tw[j];
+        SPR_PRECISE float ka = a - Tu[j];
+        SPR_PRECISE float lb = b - Tv[j];
+        k[j] = ka;
+        l[j] = lb;
+    }
+    SPR_PRECISE float x1 = k[1] * l[2];
+    SPR_PRECISE float x2 = k[2] * l[1];
+    SPR_PRECISE float y1 = k[2] * l[0];
+    SPR_PRECISE float y2 = k[0] * l[2];
+    SPR_PRECISE float z1 = k[0] * l[1];
+    SPR_PRECISE float z2 = k[1] * l[0];
+    SPR_PRECISE float p0 = x1 - x2;
+    SPR_PRECISE float p1 = y1 - y2;
+    SPR_PRECISE float p2 = z1 - z2;
+    if (p2 == 0.0f) return 0;
+    SPR_PRECISE float su = p0 / p2;
+    SPR_PRECISE float sv = p1 / p2;
+    SPR_PRECISE float uu = su * su;
+    SPR_PRECISE float vv = sv * sv;
+    SPR_PRECISE float rho3 = uu + vv;
+    SPR_PRECISE float dx = spr_grec(px, G, SPR_GREC_M) - fi;
+    SPR_PRECISE float dy = spr_grec(px, G, SPR_GREC_M + 1) - fj;
+    SPR_PRECISE float dxx = dx * dx;
+    SPR_PRECISE float dyy = dy * dy;
+    SPR_PRECISE float dd = dxx + dyy;
+    SPR_PRECISE float rho2 = 2.0f * dd;
+    SPR_PRECISE float rho = rho3;
+    if (rho2 < rho) rho = rho2;
+    SPR_PRECISE float pw = -0.5f * rho;
+    SPR_PRECISE float du = su * Tw[0];
+    SPR_PRECISE float dv = sv * Tw[1];
+    SPR_PRECISE float duv = du + dv;
+    SPR_PRECISE float depth = duv + Tw[2];
+    SPR_SET(power_out) = pw;
+    SPR_SET(depth_out) = depth;
+    return 1;
+}
+
+/* SPEC §10.4 (mode 3D) and §10.5 (mode 2D): pixel px's tile list, front to
+ * back; returns the Gaussians visited.  Gives o = (C + T·bg, 1 − T),
+ * aux = (T, last contributor k, D, Gaussians blended) with
+ * D = Σ (1/t.z)·α·T (3D: the inverse depth) or Σ depth·α·T (2D: the surface
+ * depth), and nrm = (Σ n·α·T, 1 − T) (2D; zero in 3D).  Each Gaussian of the
+ * list makes a note (SPR_NOTE_GAUSS_*: blended, or why it was skipped, or
+ * where the loop stopped) with its power, α, T before and after. */
+SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3], SPR_OARR o[4], SPR_OARR aux[4],
+                           SPR_OARR nrm[4])
+{
+    int x = spr_px_x(px);
+    int y = spr_px_y(px);
+    int jrow = SPR_INT(g[SPR_GPRM_H]) - 1 - y;
+    float fi = SPR_FLOAT(x);
+    float fj = SPR_FLOAT(jrow);
+    int tile = (jrow / 16) * SPR_INT(g[SPR_GPRM_GX]) + x / 16;
+    int first = spr_gtile_first(px, tile);
+    int end = spr_gtile_end(px, tile);
+    int two = 0;
+    if (g[SPR_GPRM_MODE] == SPR_GMODE_2D) two = 1;
+    SPR_NOTE(px, SPR_NOTE_GAUSS_TILE, tile, fi, fj, SPR_FLOAT(first), SPR_FLOAT(end - first));
+    SPR_PRECISE float T = 1.0f;
+    SPR_PRECISE float C[3];
+    SPR_PRECISE float N[3];
+    for (int ch = 0; ch < 3; ch++) {
+        C[ch] = 0.0f;
+        N[ch] = 0.0f;
+    }
+    SPR_PRECISE float D = 0.0f;
+    int k = 0;
+    int last = 0;
+    int blended = 0;
+    for (int e = first; e < end; e++) {
+        int G = spr_glist(px, e);
+        k = k + 1;
+        float power = 0.0f;
+        float depth = 0.0f;
+        if (two != 0) {
+            if (spr_gauss_surfel(px, G, fi, fj, SPR_REF(power), SPR_REF(depth)) == 0) {
+                SPR_NOTE(px, SPR_NOTE_GAUSS_PARALLEL, G, 0.0f, 0.0f, T, T);
+                continue;
+            }
+            if (depth < g[SPR_GPRM_NEAR]) {
+                SPR_NOTE(px, SPR_NOTE_GAUSS_BEHIND, G, power, depth, T, T);
+                continue;
+            }
+        } else {
+            power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
+                                    spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
+        }
+        if (power > 0.0f) {
+            SPR_NOTE(px, SPR_NOTE_GAUSS_POWER, G, power, 0.0f, T, T);
+            continue;
+        }
+        float alpha = spr_gauss_alpha(g, spr_grec(px, G, SPR_GREC_OPACITY), power);
+        if (alpha < g[SPR_GPRM_ALPHA_MIN]) {
+            SPR_NOTE(px, SPR_NOTE_GAUSS_FAINT, G, power, alpha, T, T);
+            continue;
+        }
+        SPR_PRECISE float oma = 1.0f - alpha;
+        SPR_PRECISE float Tn = T * oma;
+        int stop = 0;
+        if (Tn < g[SPR_GPRM_T_MIN]) stop = 1;
+        if (g[SPR_GPRM_STOP_LE] != 0.0f && Tn == g[SPR_GPRM_T_MIN]) stop = 1;
+        if (stop != 0) {
+            SPR_NOTE(px, SPR_NOTE_GAUSS_STOP, G, power, alpha, T, Tn);
+            break;
+        }
+        if (two != 0) {
+            SPR_PRECISE float w = alpha * T;
+            for (int ch = 0; ch < 3; ch++) {
+                SPR_PRECISE float cw = spr_grec(px, G, SPR_GREC_COLOR + ch) * w;
+                C[ch] = C[ch] + cw;
+                SPR_PRECISE float nv = spr_grec(px, G, SPR_GREC_NORMAL + ch) * w;
+                N[ch] = N[ch] + nv;
+            }
+            SPR_PRECISE float dw = depth * w;
+            D = D + dw;
+        } else {
+            for (int ch = 0; ch < 3; ch++) {
+                SPR_PRECISE float ca = spr_grec(px, G, SPR_GREC_COLOR + ch) * alpha;
+                SPR_PRECISE float cat = ca * T;
+                C[ch] = C[ch] + cat;
+            }
+            SPR_PRECISE float ia = spr_grec(px, G, SPR_GREC_INVZ) * alpha;
+            SPR_PRECISE float iat = ia * T;
+            D = D + iat;
+        }
+        SPR_NOTE(px, SPR_NOTE_GAUSS_BLEND, G, power, alpha, T, Tn);
+        T = Tn;
+        last = k;
+        blended = blended + 1;
+    }
+    for (int ch = 0; ch < 3; ch++) {
+        SPR_PRECISE float tb = T * bg[ch];
+        SPR_PRECISE float v = C[ch] + tb;
+        o[ch] = v;
+        nrm[ch] = N[ch];
+    }
+    SPR_PRECISE float cov = 1.0f - T;
+    o[3] = cov;
+    nrm[3] = cov;
+    if (two == 0) nrm[3] = 0.0f;
+    aux[0] = T;
+    aux[1] = SPR_FLOAT(last);
+    aux[2] = D;
+    aux[3] = SPR_FLOAT(blended);
+    SPR_NOTE(px, SPR_NOTE_GAUSS_END, last, T, D, SPR_FLOAT(k), SPR_FLOAT(blended));
+    return k;
+}
+
+/* gauss-blend (SPEC §10.7): what the Gaussian with centre (mx, my), conic
+ * (A, B, C), opacity o and colour c offers pixel (fi, fj) — 1 and
+ * src = (c·α, α) (premultiplied), or 0 where the ellipse is cut
+ * (power < −4.5: 3σ), power > 0, or α < 1/255; power and α given either way. */
+SPR_FN int spr_gauss_blend_frag(SPR_CARR g[SPR_GPRM_COUNT], float mx, float my, float A, float B, float C, float o, SPR_CARR c[3],
+                                float fi, float fj, SPR_OARR src[4], SPR_OUT power_out, SPR_OUT alpha_out)
+{
+    float power = spr_gauss_power(mx, my, A, B, C, fi, fj);
+    SPR_SET(power_out) = power;
+    SPR_SET(alpha_out) = 0.0f;
+    if (power < -4.5f || power > 0.0f) return 0;
+    float alpha = spr_gauss_alpha(g, o, power);
+    SPR_SET(alpha_out) = alpha;
+    if (alpha < g[SPR_GPRM_ALPHA_MIN]) return 0;
+    for (int ch = 0; ch < 3; ch++) {
+        SPR_PRECISE float v = c[ch] * alpha;
+        src[ch] = v;
+    }
+    src[3] = alpha;
+    return 1;
+}

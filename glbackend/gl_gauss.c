@@ -1,0 +1,190 @@
+/* gl_gauss.c — the Gaussian splatting references on GL (SPEC §10), every
+ * float operation in the shared arithmetic run on the GPU:
+ *
+ *   preprocess  a compute program (gl_gauss_pre.comp), one invocation per
+ *               Gaussian over shader storage; the records read back for the
+ *               host's sorting (core/algo/gauss.c);
+ *   raster      a compute program (gl_gauss_raster.comp), one work group
+ *               per 16×16 tile, storing the target's planes as images (the
+ *               Gaussian planes are never colour attachments: llvmpipe has
+ *               8, the fragment-written planes use 6);
+ *   draw        gauss-blend: instanced quads over the Gaussians' boxes in the
+ *               host's order (gl_splat.vert, gl_gauss_blend.frag), blended
+ *               by GL (ONE, ONE_MINUS_SRC_ALPHA) — measured to round as the
+ *               reference's spr_blend1 does (PARITY.md, tests/test_gl.c).
+ * Records, tile ranges and lists reach the programs through buffer
+ * textures (the reason: gl_prelude.glsl).  Programs are linked on first use.
+ */
+#include "gl_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* `bytes` of data into buffer *buf (made or grown as needed). */
+static void upload(GLuint *buf, size_t *cap, size_t bytes, const void *data)
+{
+    if (!*buf) glCreateBuffers(1, buf);
+    if (bytes > *cap || !*cap) {
+        *cap = bytes > 16 ? bytes : 16;
+        glNamedBufferData(*buf, (GLsizeiptr)*cap, NULL, GL_DYNAMIC_DRAW);
+    }
+    if (bytes && data) glNamedBufferSubData(*buf, 0, (GLsizeiptr)bytes, data);
+}
+
+/* A buffer texture of format fmt over the first `bytes` of buf, on unit. */
+static spr_result texture_of(gl_context *c, GLuint *tex, GLenum fmt, GLuint buf, size_t bytes, GLuint unit, const char *what)
+{
+    GLint max = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max);
+    if (bytes / 4 > (size_t)max)
+        return spr__fail(&c->base.err, SPR_E_TOO_LARGE, "gl: %s of %zu values exceed GL_MAX_TEXTURE_BUFFER_SIZE (%d)", what, bytes / 4, max);
+    if (*tex) glDeleteTextures(1, tex);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, tex);
+    glTextureBufferRange(*tex, fmt, buf, 0, (GLsizeiptr)(bytes > 16 ? bytes : 16));
+    glBindTextureUnit(unit, *tex);
+    return SPR_OK;
+}
+
+spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec)
+{
+    gl_context *c = gl_ctx(b);
+    gl__make_current(c);
+    spr_result r = gl__gauss_program(c, GL_GPROG_PRE, &b->err);
+    if (r) return r;
+    if (d->n == 0) return SPR_OK;
+    float *in = malloc(d->n * 14 * sizeof *in);
+    if (!in) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu Gaussians", d->n);
+    for (size_t i = 0; i < d->n; i++) { /* the inputs packed: μ, q, σ, o, c (no arithmetic) */
+        float *o = in + 14 * i;
+        memcpy(o, d->mu + 3 * i, 3 * sizeof *o);
+        memcpy(o + 3, d->q + 4 * i, 4 * sizeof *o);
+        memcpy(o + 7, d->s + 3 * i, 3 * sizeof *o);
+        o[10] = d->opacity[i];
+        memcpy(o + 11, d->color + 3 * i, 3 * sizeof *o);
+    }
+    upload(&c->gbuf[GL_GBUF_IN], &c->gcap[GL_GBUF_IN], d->n * 14 * sizeof *in, in);
+    free(in);
+    const size_t rbytes = d->n * SPR_GREC_FLOATS * sizeof(float);
+    upload(&c->gbuf[GL_GBUF_REC], &c->gcap[GL_GBUF_REC], rbytes, NULL);
+    const GLuint p = c->gprog[GL_GPROG_PRE];
+    glUseProgram(p);
+    glUniform1fv(glGetUniformLocation(p, "u_g"), SPR_GPRM_COUNT, d->prm);
+    glUniform1ui(glGetUniformLocation(p, "u_n"), (GLuint)d->n);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->gbuf[GL_GBUF_IN]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->gbuf[GL_GBUF_REC]);
+    const size_t per = (size_t)65535 * 256; /* work groups a dispatch may have, times their size */
+    for (size_t base = 0; base < d->n; base += per) {
+        const size_t m = d->n - base < per ? d->n - base : per;
+        glUniform1ui(glGetUniformLocation(p, "u_base"), (GLuint)base);
+        glDispatchCompute((GLuint)((m + 255) / 256), 1, 1);
+    }
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glGetNamedBufferSubData(c->gbuf[GL_GBUF_REC], 0, (GLsizeiptr)rbytes, rec);
+    return gl__check(b, "gauss preprocess");
+}
+
+spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st)
+{
+    gl_context *c = gl_ctx(b);
+    gl__make_current(c);
+    if (b->probe && !c->probe_programs) return gl__probe_refused(c);
+    spr_result r = gl__gauss_program(c, GL_GPROG_RASTER, &b->err);
+    if (r) return r;
+    const int gx = (int)d->prm[SPR_GPRM_GX], gy = (int)d->prm[SPR_GPRM_GY];
+    const size_t tiles = (size_t)gx * gy, entries = d->range[tiles];
+    upload(&c->gbuf[GL_GBUF_RECTEX], &c->gcap[GL_GBUF_RECTEX], d->n * SPR_GREC_FLOATS * sizeof(float), d->rec);
+    upload(&c->gbuf[GL_GBUF_RANGE], &c->gcap[GL_GBUF_RANGE], (tiles + 1) * sizeof(uint32_t), d->range);
+    upload(&c->gbuf[GL_GBUF_LIST], &c->gcap[GL_GBUF_LIST], entries * sizeof(uint32_t), d->list);
+    uint32_t *counts = calloc(2 * tiles, sizeof *counts);
+    if (!counts) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu tiles", tiles);
+    upload(&c->gbuf[GL_GBUF_COUNT], &c->gcap[GL_GBUF_COUNT], 2 * tiles * sizeof *counts, counts);
+    if ((r = texture_of(c, &c->gtex[0], GL_R32F, c->gbuf[GL_GBUF_RECTEX], d->n * SPR_GREC_FLOATS * sizeof(float), 10, "Gaussian records")) ||
+        (r = texture_of(c, &c->gtex[1], GL_R32UI, c->gbuf[GL_GBUF_RANGE], (tiles + 1) * sizeof(uint32_t), 11, "tile ranges")) ||
+        (r = texture_of(c, &c->gtex[2], GL_R32UI, c->gbuf[GL_GBUF_LIST], entries * sizeof(uint32_t), 12, "tile lists"))) {
+        free(counts);
+        return r;
+    }
+    const unsigned planes = b->target_planes[target];
+    const int two = d->prm[SPR_GPRM_MODE] == SPR_GMODE_2D;
+    const spr_plane depth_plane = two ? SPR_PLANE_SURFDEPTH : SPR_PLANE_INVDEPTH;
+    static const struct { spr_plane p; GLenum fmt; } img[5] = {
+        {SPR_PLANE_COLOR, GL_RGBA32F}, {SPR_PLANE_TRANS, GL_R32F}, {SPR_PLANE_CONTRIB, GL_R32UI}, {SPR_PLANE__COUNT, GL_R32F}, {SPR_PLANE_NORMAL, GL_RGBA32F}};
+    int has = 0;
+    for (int k = 0; k < 5; k++) {
+        const spr_plane p = k == 3 ? depth_plane : img[k].p;
+        const int on = (planes & SPR_PLANE_BIT(p)) != 0 && (k != 4 || two);
+        if (k) has |= on << (k - 1);
+        if (on || k == 0) glBindImageTexture((GLuint)k, c->pool[p], 0, GL_TRUE, 0, GL_WRITE_ONLY, img[k].fmt);
+    }
+    const GLuint p = c->gprog[GL_GPROG_RASTER];
+    glUseProgram(p);
+    glUniform1fv(glGetUniformLocation(p, "u_g"), SPR_GPRM_COUNT, d->prm);
+    glUniform1fv(glGetUniformLocation(p, "u_bg"), 3, d->background);
+    glUniform1i(glGetUniformLocation(p, "u_layer"), target);
+    glUniform1i(glGetUniformLocation(p, "u_has"), has);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c->gbuf[GL_GBUF_COUNT]);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    gl__probe_begin(c);
+    glDispatchCompute((GLuint)gx, (GLuint)gy, 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    if (b->probe && (r = gl__probe_end(c, b->probe->n_frags))) {
+        free(counts);
+        return r;
+    }
+    glGetNamedBufferSubData(c->gbuf[GL_GBUF_COUNT], 0, (GLsizeiptr)(2 * tiles * sizeof *counts), counts);
+    st->splats = d->n;
+    for (size_t t = 0; t < tiles; t++) st->generated += counts[2 * t], st->passed += counts[2 * t + 1];
+    free(counts);
+    return gl__check(b, "gauss raster");
+}
+
+spr_result gl__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st)
+{
+    gl_context *c = gl_ctx(b);
+    gl__make_current(c);
+    if (b->probe && !c->probe_programs) return gl__probe_refused(c);
+    spr_result r = gl__gauss_program(c, GL_GPROG_BLEND, &b->err);
+    if (r) return r;
+    st->splats = d->count;
+    const int H = b->view.height;
+    gl_instance *inst = malloc((d->count ? d->count : 1) * sizeof *inst);
+    if (!inst) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu instances", d->count);
+    size_t m = 0;
+    for (size_t e = 0; e < d->count; e++) { /* the order; a box is pixel-index rows, the quad plane rows */
+        const float *R = d->rec + (size_t)d->order[e] * SPR_GREC_FLOATS;
+        const int i0 = (int)R[SPR_GREC_BOX], j0 = (int)R[SPR_GREC_BOX + 1], i1 = (int)R[SPR_GREC_BOX + 2], j1 = (int)R[SPR_GREC_BOX + 3];
+        if (i1 < i0 || j1 < j0) continue;
+        gl_instance *g = &inst[m++];
+        memset(g, 0, sizeof *g);
+        g->rect[0] = i0, g->rect[1] = H - 1 - j1, g->rect[2] = i1, g->rect[3] = H - 1 - j0;
+        g->pr[0] = R[SPR_GREC_M], g->pr[1] = R[SPR_GREC_M + 1], g->pr[2] = R[SPR_GREC_CONIC], g->pr[3] = R[SPR_GREC_CONIC + 1];
+        g->na[0] = R[SPR_GREC_CONIC + 2], g->na[1] = R[SPR_GREC_OPACITY];
+        for (int k = 0; k < 3; k++) g->c[k] = R[SPR_GREC_COLOR + k];
+        g->id = d->order[e];
+        g->seq = (uint32_t)e;
+    }
+    gl__upload_instances(c, inst, m);
+    free(inst);
+    glBindFramebuffer(GL_FRAMEBUFFER, c->targets[target].fbo);
+    const GLuint p = c->gprog[GL_GPROG_BLEND];
+    glUseProgram(p);
+    glUniform2f(glGetUniformLocation(p, "u_size"), (float)b->view.width, (float)H);
+    glUniform1fv(glGetUniformLocation(p, "u_g"), SPR_GPRM_COUNT, d->prm);
+    gl__pass_state(&d->state);
+    gl__draw_instances(c, m, st);
+    st->splats = d->count;
+    return gl__check(b, "gauss draw");
+}
+
+void gl__gauss_free(gl_context *c)
+{
+    glDeleteBuffers(GL_GBUF__COUNT, c->gbuf);
+    glDeleteTextures(3, c->gtex);
+    for (int k = 0; k < GL_GPROG__COUNT; k++)
+        if (c->gprog[k]) glDeleteProgram(c->gprog[k]);
+    memset(c->gbuf, 0, sizeof c->gbuf);
+    memset(c->gcap, 0, sizeof c->gcap);
+    memset(c->gtex, 0, sizeof c->gtex);
+    memset(c->gprog, 0, sizeof c->gprog);
+}
