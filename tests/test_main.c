@@ -24,6 +24,8 @@ Suite *make_tools_gl_suite(void);
 Suite *make_browser_suite(void);
 Suite *make_capture_suite(void);
 Suite *make_capture_gl_suite(void);
+Suite *make_gauss_suite(void);
+Suite *make_gauss_gl_suite(void);
 
 static const struct { const char *name; Suite *(*make)(void); int gl; } suites[] = {
     {"kernel", make_kernel_suite, 0}, {"camera", make_camera_suite, 0}, {"raster", make_raster_suite, 0},
@@ -36,6 +38,8 @@ static const struct { const char *name; Suite *(*make)(void); int gl; } suites[]
     {"browser", make_browser_suite, 0},
     {"capture", make_capture_suite, 0},
     {"capture_gl", make_capture_gl_suite, 1},
+    {"gauss", make_gauss_suite, 0},
+    {"gauss_gl", make_gauss_gl_suite, 1},
     {"gl", make_gl_suite, 1},
 };
 

@@ -71,7 +71,7 @@ static cJSON *report_json(const report_ref *r)
             cJSON_AddNumberToObject(q, "pass", d->pass);
             cJSON_AddStringToObject(q, "pass_name", d->pass_name);
             cJSON_AddNumberToObject(q, "group", d->group);
-            cJSON_AddStringToObject(q, "plane", d->plane == SPR_PLANE_FINAL ? "final" : spr_plane_name((spr_plane)d->plane));
+            cJSON_AddStringToObject(q, "plane", spr_parity_plane_name(d->plane));
             cJSON_AddNumberToObject(q, "differing_pixels", (double)d->differing_pixels);
             cJSON_AddNumberToObject(q, "max_ulp", (double)d->max_ulp);
             cJSON_AddNumberToObject(q, "max_abs", d->max_abs); /* cJSON writes null for NaN and infinity */
@@ -105,7 +105,7 @@ void cli_parity_summary(const char *algo, const spr_parity_report *p)
         char where[64] = "";
         if (d->group >= 0) snprintf(where, sizeof where, " k=%d", d->group);
         printf("  first differences: pass %d %s%s plane %s: %zu pixels differ, max %llu ulp (%.3g), first at (%d,%d) ch %d: cpu %.9g gl %.9g\n",
-               d->pass, d->pass_name, where, d->plane == SPR_PLANE_FINAL ? "final" : spr_plane_name((spr_plane)d->plane),
+               d->pass, d->pass_name, where, spr_parity_plane_name(d->plane),
                d->differing_pixels, (unsigned long long)d->max_ulp, d->max_abs, d->first_x, d->first_y, d->first_channel,
                d->first_ref, d->first_test);
         shown++;

@@ -28,6 +28,12 @@ void spr_capture_hook(void *user, spr_backend *b, const spr_pass_info *info)
     p->stats = info->stats;
     p->ms = info->ms;
     const size_t np = (size_t)b->view.width * b->view.height;
+    if (info->records) { /* a Gaussian preprocessing pass: its records */
+        const size_t bytes = info->n_records * SPR_GREC_FLOATS * sizeof(float);
+        if (!(p->records = malloc(bytes ? bytes : 1))) { cp->failed = 1; snprintf(cp->err.msg, sizeof cp->err.msg, "capture: out of memory"); return; }
+        memcpy(p->records, info->records, bytes);
+        p->n_records = info->n_records;
+    }
     p->planes = spr_backend_target_planes(b, info->target);
     for (int k = 0; k < SPR_PLANE__COUNT && !cp->failed; k++) {
         if (!(p->planes & SPR_PLANE_BIT(k))) continue;
@@ -46,7 +52,10 @@ void spr_capture_hook(void *user, spr_backend *b, const spr_pass_info *info)
 void spr_capture_free(spr_capture *cp)
 {
     for (int i = 0; i < cp->n; i++)
+    {
         for (int k = 0; k < SPR_PLANE__COUNT; k++) free(cp->passes[i].plane[k]);
+        free(cp->passes[i].records);
+    }
     free(cp->passes);
     memset(cp, 0, sizeof *cp);
 }

@@ -227,6 +227,30 @@ static spr_result h_composite(spr_backend *b, const spr_composite_desc *c)
     return call_end(b, e, pass_on(b, spr_backend_composite(w->w.inner, c)));
 }
 
+static spr_result h_gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st)
+{
+    spr_hist_event *e = new_event(b, SPR_HIST_GAUSS_RASTER, target);
+    if (!e) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
+    memcpy(e->gprm, d->prm, sizeof e->gprm);
+    e->submitted = d->n;
+    spr_result r = call_begin(b, e);
+    if (r) return r;
+    return call_end(b, e, pass_on(b, spr_backend_gauss_raster(hb(b)->w.inner, target, d, st)));
+}
+
+static spr_result h_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st)
+{
+    spr_hist_event *e = new_event(b, SPR_HIST_GAUSS_DRAW, target);
+    if (!e) return spr__fail(&b->err, SPR_E_NOMEM, "history: out of memory");
+    e->state = d->state;
+    memcpy(e->gprm, d->prm, sizeof e->gprm);
+    e->submitted = d->count;
+    spr_result r = call_begin(b, e);
+    if (r || (r = call_end(b, e, pass_on(b, spr_backend_gauss_draw(hb(b)->w.inner, target, d, st))))) return r;
+    replay(e, NULL);
+    return SPR_OK;
+}
+
 static void h_destroy(spr_backend *b)
 {
     hist_backend *w = hb(b);
@@ -255,6 +279,8 @@ spr_backend *spr_history_create(spr_backend *inner, int x, int y, spr_history *h
     b->draw_splats = h_draw;
     b->draw_rects = h_draw_rects;
     b->composite = h_composite;
+    b->gauss_raster = h_gauss_raster;
+    b->gauss_draw = h_gauss_draw;
     return b;
 }
 

@@ -8,6 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+const char *spr_parity_plane_name(int plane)
+{
+    return plane == SPR_PLANE_FINAL ? "final" : plane == SPR_PLANE_RECORDS ? "records" : spr_plane_name((spr_plane)plane);
+}
+
 uint64_t spr_ulp_distance(float a, float b)
 {
     int32_t ia, ib;
@@ -49,9 +54,9 @@ static int add_diff(compare_ctx *cc, spr_plane_diff *out)
 static void compare_plane(compare_ctx *cc, int pass, const char *pname, int group, int plane, int W, int H,
                           const void *ref, const void *test)
 {
-    int ch = plane == SPR_PLANE_FINAL ? 4 : spr_plane_channels((spr_plane)plane);
-    const spr_plane_info *pi = plane == SPR_PLANE_FINAL ? NULL : spr_plane_info_of((spr_plane)plane);
-    int is_uint = pi && (pi->type == SPR_PLANE_U32 || pi->type == SPR_PLANE_COUNTER);
+    int ch = plane == SPR_PLANE_FINAL ? 4 : plane == SPR_PLANE_RECORDS ? 1 : spr_plane_channels((spr_plane)plane);
+    const spr_plane_info *pi = plane >= SPR_PLANE__COUNT ? NULL : spr_plane_info_of((spr_plane)plane);
+    int is_uint = pi && spr_plane_type_uint(pi->type);
     spr_plane_diff d;
     memset(&d, 0, sizeof d);
     d.pass = pass;
@@ -98,7 +103,7 @@ static void compare_plane(compare_ctx *cc, int pass, const char *pname, int grou
             }
             if (!pixel_differs) continue;
             d.differing_pixels++;
-            if (cc->dir) {
+            if (cc->dir && plane != SPR_PLANE_RECORDS) { /* records: no picture */
                 if (!heat) heat = calloc((size_t)W * H, sizeof(float));
                 if (heat) heat[(size_t)y * W + x] = (float)worst;
             }
@@ -111,7 +116,7 @@ static void compare_plane(compare_ctx *cc, int pass, const char *pname, int grou
                 if (heat[i] > 0.0f) ramp(heat[i] / 32.0 > 1.0 ? 1.0 : heat[i] / 32.0, c3);
                 for (int k = 0; k < 3; k++) rgb[3 * i + k] = c3[k] / 255.0f;
             }
-            const char *plane_name = plane == SPR_PLANE_FINAL ? "final" : spr_plane_name((spr_plane)plane);
+            const char *plane_name = spr_parity_plane_name(plane);
             if (group >= 0)
                 snprintf(d.heatmap, sizeof d.heatmap, "%s_%03d_%s_k%03d_%s.png", cc->label, pass, pname, group, plane_name);
             else if (pass >= 0)
@@ -155,6 +160,14 @@ static void compare_hook(void *user, spr_backend *b, const spr_pass_info *info)
         compare_plane(cc, i, info->name, info->group, k, W, H, rp->plane[k], buf);
     }
     free(buf);
+    if (!cc->failed && (rp->records || info->records)) { /* a preprocessing pass: its records, value by value */
+        if (!rp->records || !info->records || rp->n_records != info->n_records) {
+            cc->failed = 1;
+            snprintf(cc->err.msg, sizeof cc->err.msg, "pass %d %s: %zu records vs %zu", i, info->name, rp->n_records, info->n_records);
+        } else {
+            compare_plane(cc, i, info->name, info->group, SPR_PLANE_RECORDS, SPR_GREC_FLOATS, (int)info->n_records, rp->records, info->records);
+        }
+    }
 }
 
 spr_result spr_parity_run(spr_backend *ref, spr_backend *test, const spr_view *v, const spr_cloud *c,

@@ -24,7 +24,13 @@ typedef struct spr_hist_frag {
     uint32_t after[SPR_PLANE__COUNT][4]; /* the pixel's planes after it (replayed; value bits) */
 } spr_hist_frag;
 
-typedef enum spr_hist_kind { SPR_HIST_SPLATS = 0, SPR_HIST_RECTS, SPR_HIST_COMPOSITE } spr_hist_kind;
+typedef enum spr_hist_kind {
+    SPR_HIST_SPLATS = 0,
+    SPR_HIST_RECTS,
+    SPR_HIST_COMPOSITE,
+    SPR_HIST_GAUSS_RASTER, /* SPEC 10.4, 10.5: the pixel's loop over its tile's list, as notes (SPR_NOTE_GAUSS_*) */
+    SPR_HIST_GAUSS_DRAW    /* SPEC 10.7: the ellipses' fragments (t = power, ρ = α), replayed under premultiplied over */
+} spr_hist_kind;
 
 typedef struct spr_hist_event {
     spr_hist_kind kind;
@@ -45,6 +51,8 @@ typedef struct spr_hist_event {
     unsigned in_planes[SPR_MAX_COMPOSITE_INPUTS];
     uint32_t in_vals[SPR_MAX_COMPOSITE_INPUTS][SPR_PLANE__COUNT][4];
     float eps_t;
+    /* the Gaussian rasterizers */
+    float gprm[SPR_GPRM_COUNT];
     /* both */
     uint32_t before[SPR_PLANE__COUNT][4], after[SPR_PLANE__COUNT][4]; /* as the backend holds them */
     spr_hist_frag *frags;

@@ -13,17 +13,20 @@
 #include "spr_algo.h"
 
 #define SPR_PLANE_FINAL SPR_PLANE__COUNT  /* the final image read back by spr_render */
+#define SPR_PLANE_RECORDS (SPR_PLANE__COUNT + 1) /* a Gaussian preprocessing pass's records: rows of SPR_GREC_FLOATS values */
+/* "final", "records" or the plane's name. */
+const char *spr_parity_plane_name(int plane);
 
 typedef struct spr_plane_diff {
     int pass;              /* index in execution order; −1 for the final image */
     char pass_name[32];
     int group;
-    int plane;             /* spr_plane, or SPR_PLANE_FINAL */
+    int plane;             /* spr_plane, SPR_PLANE_FINAL or SPR_PLANE_RECORDS */
     size_t values, differing_pixels;
     uint64_t max_ulp;      /* float planes: ulp distance; id/count planes: integer difference */
     double max_abs;
     int max_lsb;           /* float planes: largest difference of the 8-bit values (spr_to_u8) */
-    int first_x, first_y, first_channel;  /* first differing pixel, row 0 = bottom; −1 if none */
+    int first_x, first_y, first_channel;  /* first differing pixel, row 0 = bottom; −1 if none (records: x the field, y the Gaussian) */
     double first_ref, first_test;
     char heatmap[256];     /* file name (in heatmap_dir) of the PNG written for a differing plane, "" otherwise */
 } spr_plane_diff;

@@ -1,7 +1,7 @@
 // gen-sheet.mjs: a splat-transform generator (its `.mjs` input, "Generators
 // (Beta)" in its README) for the flat red sheet of tests/data/captures/
 // splat-transform/: 16 x 16 Gaussians in the plane z = 0 covering the square
-// [-1, 1]^2, each with sigma 0.09 x 0.05 in the plane (turned 30 degrees about
+// [-1, 1]^2, each with sigma 0.12 x 0.08 in the plane (turned 30 degrees about
 // z, so a reader that misorders the quaternion tilts them out of the plane)
 // and 0.001 across it, SH DC colour (0.9, 0.1, 0.1), opacity 0.95.
 // splat-transform writes every file from it (see PROVENANCE.md); this script
@@ -21,8 +21,8 @@ class Sheet {
         row.x = -1 + (a + 0.5) * (2 / N);
         row.y = -1 + (b + 0.5) * (2 / N);
         row.z = 0;
-        row.scale_0 = Math.log(0.09);
-        row.scale_1 = Math.log(0.05);
+        row.scale_0 = Math.log(0.12);
+        row.scale_1 = Math.log(0.08);
         row.scale_2 = Math.log(0.001);
         row.rot_0 = Math.cos(half); // w
         row.rot_1 = 0;
