@@ -21,7 +21,7 @@
 
 static const spr__opt check_opts[] = {
     {"image", "F.png|F.pfm", "the image to check (PNG 8/16-bit or PFM; row 0 of a PNG is the top)"},
-    {"plane", "NAME", "what the image holds: color (final image, default) | weight | depth | test | id | count | opacity"},
+    {"plane", "NAME", "what the image holds: color (final image, default) | weight | depth | test | id | count | opacity; gauss*: transmittance | contrib | invdepth | surfdepth"},
     {"pass", "N", "the plane after pass N (as numbered by render --dump; default: the last pass that has it)"},
     CLI_TIER_OPTS,
     {"out", "DIR", "report.json, heatmap.png and side-by-side.png (default check-report)"},
@@ -272,7 +272,7 @@ int cmd_check(int argc, char **argv)
         while (p < SPR_PLANE__COUNT && strcmp(spr_plane_name((spr_plane)p), pname)) p++;
         if (!strcmp(pname, "weight")) p = SPR_PLANE_COLOR, g.channel = 3;
         else if (p == SPR_PLANE__COUNT || p == SPR_PLANE_NORMAL) {
-            spr__error(&a, "--plane: '%s' is not color, weight, depth, test, id, count or opacity", pname);
+            spr__error(&a, "--plane: '%s' is not color, weight, depth, test, id, count, opacity, transmittance, contrib, invdepth or surfdepth", pname);
             return 2;
         }
         g.plane = (spr_plane)p;

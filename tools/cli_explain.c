@@ -23,7 +23,7 @@ static const spr__opt explain_opts[] = {
 
 static const char *const depth_names[SPR_DEPTH__COUNT] = {"d_f", "d_f + eps_t", "z~ (low precision, [ZP] Eq. 10)", "z~ + rho/n (Voronoi, [ZP] Eq. 14)"};
 static const char *const func_names[SPR_FUNC__COUNT] = {"LESS", "LEQUAL", "ALWAYS"};
-static const char *const blend_names[SPR_BLEND__COUNT] = {"replace", "add", "over", "sub"};
+static const char *const blend_names[SPR_BLEND__COUNT] = {"replace", "add", "over", "sub", "premultiplied over"};
 
 
 typedef struct explain_ctx { spr_history *h; } explain_ctx;
@@ -155,13 +155,42 @@ static void print_note(FILE *f, const spr_probe_note *n)
                                : "not a neighbour of the front-most, left out",
                n->v[3]);
         break;
+    case SPR_NOTE_GAUSS_TILE:
+        fprintf(f, "    SPEC 10.4: pixel-index (i, j) = (%d, %d) lies in tile %d, whose list holds %d Gaussians sorted by depth "
+                   "(entries %d …), front to back:\n", (int)n->v[0], (int)n->v[1], n->k, (int)n->v[3], (int)n->v[2]);
+        fprintf(f, "      %8s %14s %14s %14s %14s  outcome\n", "Gaussian", "power", "alpha", "T before", "T after");
+        break;
+    case SPR_NOTE_GAUSS_BLEND: case SPR_NOTE_GAUSS_POWER: case SPR_NOTE_GAUSS_FAINT: case SPR_NOTE_GAUSS_STOP:
+    case SPR_NOTE_GAUSS_PARALLEL: case SPR_NOTE_GAUSS_BEHIND: {
+        static const char *const why[] = {"blended", "skipped: power > 0", "skipped: alpha < 1/255",
+                                          "STOP: T*(1 - alpha) below 1e-4, not blended; the loop ends here",
+                                          "skipped: the ray is parallel to the disk", "skipped: the hit lies before the near plane"};
+        const int w = n->tag - SPR_NOTE_GAUSS_BLEND;
+        if (n->tag == SPR_NOTE_GAUSS_BEHIND)
+            fprintf(f, "      %8d %14.9g %14s %14.9g %14.9g  %s (depth %.9g)\n", n->k, n->v[0], "-", n->v[2], n->v[3], why[w], n->v[1]);
+        else if (n->tag == SPR_NOTE_GAUSS_POWER || n->tag == SPR_NOTE_GAUSS_PARALLEL)
+            fprintf(f, "      %8d %14.9g %14s %14.9g %14.9g  %s\n", n->k, n->v[0], "-", n->v[2], n->v[3], why[w]);
+        else fprintf(f, "      %8d %14.9g %14.9g %14.9g %14.9g  %s\n", n->k, n->v[0], n->v[1], n->v[2], n->v[3], why[w]);
+        break;
+    }
+    case SPR_NOTE_GAUSS_END:
+        fprintf(f, "    the loop ends after %d of the list: %d blended, T = %.9g, D = %.9g, last contributor %d\n", (int)n->v[2], (int)n->v[3], n->v[0],
+                n->v[1], n->k);
+        break;
     default: fprintf(f, "      note %d: %d %.9g %.9g %.9g %.9g\n", n->tag, n->k, n->v[0], n->v[1], n->v[2], n->v[3]);
     }
 }
 
 void cli_explain_event(FILE *f, const spr_hist_event *e, int idx, const spr_hist_event *other, int diff_ev, int diff_frag, const char *other_name)
 {
-    if (e->kind == SPR_HIST_COMPOSITE) {
+    if (e->kind == SPR_HIST_GAUSS_RASTER) {
+        const int two = e->gprm[SPR_GPRM_MODE] == SPR_GMODE_2D;
+        fprintf(f, "pass %d %s -- %s of %zu Gaussians into t%d: alpha = min(%.9g, o*exp(power)), skipped below %.9g, stop when T*(1 - alpha) < %.9g%s\n",
+                e->pass, e->pass_name, two ? "gauss2d's surfel loop (SPEC 10.5)" : "gauss3d's front-to-back loop (SPEC 10.4)", e->submitted, e->target,
+                e->gprm[SPR_GPRM_CAP], e->gprm[SPR_GPRM_ALPHA_MIN], e->gprm[SPR_GPRM_T_MIN], e->gprm[SPR_GPRM_STOP_LE] != 0.0f ? " (or equal)" : "");
+        for (int i = 0; i < e->n_notes; i++) print_note(f, &e->notes[i]);
+        print_planes(f, "out", e->planes, e->after);
+    } else if (e->kind == SPR_HIST_COMPOSITE) {
         fprintf(f, "pass %d %s -- composite %s of", e->pass, e->pass_name, spr_composite_info_of(e->op)->name);
         for (int k = 0; k < e->n_inputs; k++) fprintf(f, " t%d", e->inputs[k]);
         fprintf(f, " into t%d, eps_t %.9g: %s\n", e->target, e->eps_t, spr_composite_info_of(e->op)->summary);
@@ -177,7 +206,8 @@ void cli_explain_event(FILE *f, const spr_hist_event *e, int idx, const spr_hist
         const spr_pass_state *s = &e->state;
         if (e->group >= 0) fprintf(f, "pass %d %s k%d -- ", e->pass, e->pass_name, e->group);
         else fprintf(f, "pass %d %s -- ", e->pass, e->pass_name);
-        fprintf(f, "%s of %zu %s into t%d", e->list ? "list draw" : "draw", e->submitted, e->kind == SPR_HIST_SPLATS ? "splats" : "rectangles", e->target);
+        fprintf(f, "%s of %zu %s into t%d", e->list ? "list draw" : "draw", e->submitted,
+                e->kind == SPR_HIST_SPLATS ? "splats" : e->kind == SPR_HIST_GAUSS_DRAW ? "Gaussian ellipses, farthest first (SPEC 10.7)" : "rectangles", e->target);
         if (e->list) fprintf(f, ": every fragment joins the pixel's list (no test, no plane written)\n");
         else {
             fprintf(f, ": test value %s, depth %s, depth write %s, blend rgb %s alpha %s, writes ", depth_names[s->depth_value], func_names[s->depth_func],
@@ -189,8 +219,11 @@ void cli_explain_event(FILE *f, const spr_hist_event *e, int idx, const spr_hist
             fprintf(f, "\n");
             print_planes(f, "before", e->planes, e->before);
         }
-        if (e->n_frags) fprintf(f, "      #  index      id            t          rho            z   %-36s  test before  outcome\n",
-                               e->kind == SPR_HIST_SPLATS && s->output == SPR_OUT_WEIGHTED ? "colour (w*r, w*g, w*b, w)" : "colour (r, g, b, alpha)");
+        if (e->n_frags && e->kind == SPR_HIST_GAUSS_DRAW)
+            fprintf(f, "      #  order      id        power        alpha            z   %-36s  test before  outcome\n", "colour (a*r, a*g, a*b, alpha)");
+        else if (e->n_frags)
+            fprintf(f, "      #  index      id            t          rho            z   %-36s  test before  outcome\n",
+                    e->kind == SPR_HIST_SPLATS && s->output == SPR_OUT_WEIGHTED ? "colour (w*r, w*g, w*b, w)" : "colour (r, g, b, alpha)");
         for (int i = 0; i < e->n_frags; i++) {
             const spr_hist_frag *hf = &e->frags[i];
             char col[96];
@@ -241,8 +274,10 @@ static cJSON *planes_json(unsigned planes, const uint32_t v[SPR_PLANE__COUNT][4]
 static cJSON *history_json(const spr_history *h)
 {
     cJSON *arr = cJSON_CreateArray();
-    static const char *const kinds[] = {"draw_splats", "draw_rects", "composite"};
-    static const char *const tags[] = {"", "eps_nearest", "eps_input", "prefix_node"};
+    static const char *const kinds[] = {"draw_splats", "draw_rects", "composite", "gauss_raster", "gauss_draw"};
+    static const char *const tags[] = {"", "eps_nearest", "eps_input", "prefix_node", "gauss_tile", "gauss_blend", "gauss_skip_power",
+                                       "gauss_skip_faint", "gauss_stop", "gauss_skip_parallel", "gauss_skip_behind", "gauss_end"};
+    _Static_assert(sizeof tags / sizeof tags[0] == SPR_NOTE_GAUSS_END + 1, "a name for every note tag");
     for (int i = 0; i < h->n; i++) {
         const spr_hist_event *e = &h->ev[i];
         cJSON *o = cJSON_CreateObject();
@@ -251,7 +286,9 @@ static cJSON *history_json(const spr_history *h)
         cJSON_AddNumberToObject(o, "group", e->group);
         cJSON_AddStringToObject(o, "kind", kinds[e->kind]);
         cJSON_AddNumberToObject(o, "target", e->target);
-        if (e->kind == SPR_HIST_COMPOSITE) {
+        if (e->kind == SPR_HIST_GAUSS_RASTER) {
+            cJSON_AddNumberToObject(o, "submitted", (double)e->submitted);
+        } else if (e->kind == SPR_HIST_COMPOSITE) {
             cJSON_AddStringToObject(o, "op", spr_composite_info_of(e->op)->name);
             cJSON_AddNumberToObject(o, "eps_t", e->eps_t);
             cJSON *in = cJSON_AddArrayToObject(o, "inputs");
@@ -297,7 +334,7 @@ static cJSON *history_json(const spr_history *h)
         for (int n = 0; n < e->n_notes; n++) {
             const spr_probe_note *x = &e->notes[n];
             cJSON *j = cJSON_CreateObject();
-            cJSON_AddStringToObject(j, "step", x->tag > 0 && x->tag < 4 ? tags[x->tag] : "note");
+            cJSON_AddStringToObject(j, "step", x->tag > 0 && x->tag <= SPR_NOTE_GAUSS_END ? tags[x->tag] : "note");
             cJSON_AddNumberToObject(j, "k", x->k);
             double v[4] = {x->v[0], x->v[1], x->v[2], x->v[3]};
             cJSON_AddItemToObject(j, "v", cJSON_CreateDoubleArray(v, 4));

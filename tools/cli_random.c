@@ -8,7 +8,10 @@
  * equal depths, pairs exactly ε apart in depth, tiny and huge radii, grazing
  * and exactly edge-on normals, splats crossing the near plane, a scene scaled
  * down until its arithmetic meets denormals — random groups, kernel, Voronoi
- * and ε.  Every scene goes through a PLY file and back, so that the saved
+ * and ε; and, drawn last, Gaussian captures (SPEC 10: anisotropic, needle-thin,
+ * huge, on tile borders, about the near plane, deep stacks, SH degree 3,
+ * --gauss-aa, gsplat's flavour).  Every scene goes through a PLY file (the
+ * 3DGS layout for Gaussians) and back, so that the saved
  * file reproduces it bit for bit.  Every algorithm of the registry runs on
  * both backends; a mismatch writes the scene, its groups and the command
  * that replays it, then shrinks the splats by delta debugging (ddmin) to a
@@ -53,11 +56,19 @@ typedef struct rscene {
     double dom_texel;
     spr_sampling sampling;
     float alpha_ref;
+    /* a Gaussian capture (SPEC 10; drawn after every other choice): the file's raw values, so that the saved
+     * 3DGS PLY of any subset is the scene, bit for bit */
+    int gauss;
+    float *g_logit, *g_logs, *g_rot, *g_sh;
+    int g_sh_k;
+    int gauss_aa;
+    spr_gauss_flavor flavor;
     char features[256];
 } rscene;
 
 static void rscene_free(rscene *s)
 {
+    free(s->g_logit), free(s->g_logs), free(s->g_rot), free(s->g_sh);
     spr_cloud_free(&s->cloud);
     spr_envmap_free(&s->env);
     spr_rects_free(&s->rects);
@@ -87,6 +98,72 @@ static void unit(double v[3])
 {
     double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+/* The scene's splats as Gaussians: raw file values (log σ, logit opacity, an unnormalised rotation, SH) in s->g_*. */
+static int gauss_scene(rscene *s, uint64_t *st, spr_error *err)
+{
+    const size_t n = s->cloud.n;
+    const int deg = pick(st, 4);
+    s->g_sh_k = (deg + 1) * (deg + 1);
+    s->g_logit = malloc(n * sizeof(float)), s->g_logs = malloc(3 * n * sizeof(float)), s->g_rot = malloc(4 * n * sizeof(float));
+    s->g_sh = malloc(n * (size_t)s->g_sh_k * 3 * sizeof(float));
+    if (!s->g_logit || !s->g_logs || !s->g_rot || !s->g_sh) return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1;
+    s->gauss = 1;
+    const int needles = chance(st, 0.25), huge = chance(st, 0.15), borders = chance(st, 0.3), near = chance(st, 0.25), deep = chance(st, 0.3),
+              faint = chance(st, 0.3);
+    s->gauss_aa = chance(st, 0.3);
+    s->flavor = chance(st, 0.3) ? SPR_FLAVOR_GSPLAT : SPR_FLAVOR_INRIA;
+    char f[160];
+    snprintf(f, sizeof f, "gaussians SH%d%s%s%s%s%s%s%s%s", deg, needles ? " needles" : "", huge ? " huge" : "", borders ? " tile-borders" : "",
+             near ? " near" : "", deep ? " deep-stack" : "", faint ? " faint" : "", s->gauss_aa ? " aa" : "",
+             s->flavor == SPR_FLAVOR_GSPLAT ? " gsplat" : "");
+    feature(s, f);
+    const spr_pinhole *p = &s->view.cv;
+    double eye[3];
+    for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
+    /* a world point at camera depth z seen at pixel-index (i, j) */
+    double ray_i = pick(st, s->cam.width), ray_j = pick(st, s->cam.height);
+    for (size_t k = 0; k < n; k++) {
+        float *pos = s->cloud.pos + 3 * k;
+        double z = -1.0, pi = 0.0, pj = 0.0;
+        if (borders && chance(st, 0.5)) { /* the centre on a tile's edge or corner (16-pixel lines) */
+            pi = 16.0 * pick(st, s->cam.width / 16 + 2) + (chance(st, 0.5) ? 0.0 : spr__uniform01(st) * 16.0);
+            pj = 16.0 * pick(st, s->cam.height / 16 + 2);
+            z = 2.0 + 3.0 * spr__uniform01(st);
+        } else if (near && chance(st, 0.3)) { /* camera depth about the near test: 0.1 … 0.3 */
+            pi = spr__uniform01(st) * s->cam.width, pj = spr__uniform01(st) * s->cam.height;
+            z = 0.1 + 0.2 * spr__uniform01(st);
+        } else if (deep && chance(st, 0.6)) { /* along one ray: a stack */
+            pi = ray_i + 0.3 * (spr__uniform01(st) - 0.5), pj = ray_j + 0.3 * (spr__uniform01(st) - 0.5);
+            z = 1.0 + 6.0 * spr__uniform01(st);
+        }
+        if (z > 0.0) { /* x/z = (i − (cx − ½))/fx */
+            const double c[3] = {(pi - (p->cx - 0.5)) / p->fx * z, (pj - (p->cy - 0.5)) / p->fy * z, z};
+            for (int a = 0; a < 3; a++) pos[a] = (float)(eye[a] + p->R[a] * c[0] + p->R[3 + a] * c[1] + p->R[6 + a] * c[2]);
+        }
+        const double r = s->cloud.radius[k] < 1e-3f ? 1e-3 : s->cloud.radius[k];
+        for (int a = 0; a < 3; a++) s->g_logs[3 * k + a] = (float)log(r / 3.0 * (0.05 + 0.95 * spr__uniform01(st)));
+        if (needles && chance(st, 0.5)) { /* two axes all but nothing */
+            s->g_logs[3 * k + pick(st, 3)] = (float)log(1e-5 + 1e-4 * spr__uniform01(st));
+            s->g_logs[3 * k + pick(st, 3)] = (float)log(1e-6 + 1e-5 * spr__uniform01(st));
+        }
+        if (huge && chance(st, 0.15))
+            for (int a = 0; a < 3; a++) s->g_logs[3 * k + a] = (float)log(1.0 + 6.0 * spr__uniform01(st));
+        double q[4], l = 0.0;
+        do {
+            l = 0.0;
+            for (int a = 0; a < 4; a++) q[a] = spr__uniform01(st) - 0.5, l += q[a] * q[a];
+        } while (l < 1e-4);
+        for (int a = 0; a < 4; a++) s->g_rot[4 * k + a] = (float)(q[a] * (0.5 + 2.0 * spr__uniform01(st))); /* any length */
+        s->g_logit[k] = (float)(8.0 * spr__uniform01(st) - 4.0);
+        if (deep) s->g_logit[k] = (float)(1.0 + 4.0 * spr__uniform01(st));
+        if (faint && chance(st, 0.2)) s->g_logit[k] = (float)(-9.0 + 3.0 * spr__uniform01(st)); /* α below 1/255 */
+        float *sh = s->g_sh + k * (size_t)s->g_sh_k * 3;
+        for (int ch = 0; ch < 3; ch++) sh[ch] = (float)((s->cloud.color[3 * k + ch] - 0.5) / 0.28209479177387814);
+        for (int j = 3; j < 3 * s->g_sh_k; j++) sh[j] = (float)(0.6 * (spr__uniform01(st) - 0.5));
+    }
+    return 0;
 }
 
 /* Scene i of seed: everything drawn from one stream. */
@@ -235,9 +312,16 @@ static int generate(uint64_t seed, int i, const char *tmp_ply, rscene *s, spr_er
         }
         feature(s, extreme ? "ellipses-thin" : "ellipses");
     }
+    /* Gaussians (SPEC 10), perspective scenes only: anisotropic, needle-thin, huge, on tile borders, about the
+     * near plane, stacks deep enough to stop the loop, SH degree up to 3, --gauss-aa, gsplat's flavour */
+    if (!s->view.ortho && chance(&st, 0.4) && gauss_scene(s, &st, err)) return -1;
     /* through a file and back: the saved scene is this scene, bit for bit */
     spr_cloud back;
-    if (spr_write_ply(tmp_ply, &s->cloud, err) || spr_load(tmp_ply, NULL, &back, err)) return -1;
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    ld.sh_degree = 3;
+    const spr_gauss_file gf = {n, s->cloud.pos, s->g_sh, s->g_logit, s->g_logs, s->g_rot, s->g_sh_k};
+    if ((s->gauss ? spr_write_gauss_ply(tmp_ply, &gf, err) : spr_write_ply(tmp_ply, &s->cloud, err)) || spr_load(tmp_ply, &ld, &back, err)) return -1;
     spr_cloud_free(&s->cloud);
     s->cloud = back;
     return 0;
@@ -261,6 +345,8 @@ static void render_desc(const rscene *s, spr_algo algo, spr_groups *g, spr_rende
     rd->rects = ai->uses & SPR_USES_RECTS ? &s->rects : NULL;
     rd->sampling = s->sampling;
     rd->alpha_ref = ai->uses & SPR_USES_ALPHAREF ? s->alpha_ref : 0.0f;
+    rd->gauss_aa = (ai->uses & SPR_USES_GAUSS) && s->gauss_aa;
+    rd->gauss_flavor = ai->uses & SPR_USES_GAUSS ? s->flavor : SPR_FLAVOR_INRIA;
 }
 
 /* The domain primitives of cloud c with the scene's domain options, as
@@ -313,7 +399,10 @@ static void scene_rects(rscene *s, uint64_t seed, int i)
 static int subset(const rscene *s, const uint32_t *keep, size_t m, spr_cloud *c, int32_t **lab, spr_error *err)
 {
     *lab = malloc((m ? m : 1) * sizeof **lab);
-    if (!*lab || spr_cloud_alloc(c, m) || (s->cloud.ell && spr_cloud_alloc_ell(c))) {
+    const int K = s->cloud.sh_k;
+    if (!*lab || spr_cloud_alloc(c, m) || (s->cloud.ell && spr_cloud_alloc_ell(c)) ||
+        (s->cloud.gauss && !(c->gauss = malloc((m ? m : 1) * SPR_GAUSS_FLOATS * sizeof(float)))) ||
+        (s->cloud.sh && !(c->sh = malloc((m ? m : 1) * (size_t)K * 3 * sizeof(float))))) {
         free(*lab);
         spr_cloud_free(c);
         return spr__fail(err, SPR_E_NOMEM, "random: out of memory"), -1;
@@ -326,9 +415,14 @@ static int subset(const rscene *s, const uint32_t *keep, size_t m, spr_cloud *c,
         c->alpha[k] = s->cloud.alpha[j];
         c->radius[k] = s->cloud.radius[j];
         if (s->cloud.ell) memcpy(c->ell + 4 * k, s->cloud.ell + 4 * j, 4 * sizeof(float));
+        if (s->cloud.gauss) memcpy(c->gauss + SPR_GAUSS_FLOATS * k, s->cloud.gauss + SPR_GAUSS_FLOATS * j, SPR_GAUSS_FLOATS * sizeof(float));
+        if (s->cloud.sh) memcpy(c->sh + (size_t)K * 3 * k, s->cloud.sh + (size_t)K * 3 * j, (size_t)K * 3 * sizeof(float));
         (*lab)[k] = s->labels[j];
     }
     c->flags = s->cloud.flags;
+    c->sh_k = s->cloud.sh_k;
+    c->gauss_cut = s->cloud.gauss_cut;
+    c->gauss_aa = s->cloud.gauss_aa;
     return 0;
 }
 
@@ -377,7 +471,26 @@ static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, 
     char ply[1200], grp[1200];
     snprintf(ply, sizeof ply, "%s.ply", name);
     snprintf(grp, sizeof grp, "%s.groups", name);
-    int bad = spr_write_ply(ply, &c, err) || spr_groups_write(grp, lab, m, err);
+    int bad;
+    if (s->gauss) { /* the file's own values of the subset: the 3DGS layout read back gives these Gaussians, bit for bit */
+        float *lg = malloc((m ? m : 1) * sizeof *lg), *ls = malloc((m ? m : 1) * 3 * sizeof *ls), *rt = malloc((m ? m : 1) * 4 * sizeof *rt),
+              *sh = malloc((m ? m : 1) * (size_t)s->g_sh_k * 3 * sizeof *sh);
+        bad = !lg || !ls || !rt || !sh;
+        for (size_t k = 0; !bad && k < m; k++) {
+            const size_t j = keep[k];
+            lg[k] = s->g_logit[j];
+            memcpy(ls + 3 * k, s->g_logs + 3 * j, 3 * sizeof *ls);
+            memcpy(rt + 4 * k, s->g_rot + 4 * j, 4 * sizeof *rt);
+            memcpy(sh + (size_t)s->g_sh_k * 3 * k, s->g_sh + (size_t)s->g_sh_k * 3 * j, (size_t)s->g_sh_k * 3 * sizeof *sh);
+        }
+        const spr_gauss_file gf = {m, c.pos, sh, lg, ls, rt, s->g_sh_k};
+        if (bad) spr__fail(err, SPR_E_NOMEM, "random: out of memory");
+        else bad = spr_write_gauss_ply(ply, &gf, err) != SPR_OK;
+        free(lg), free(ls), free(rt), free(sh);
+        bad = bad || spr_groups_write(grp, lab, m, err);
+    } else {
+        bad = spr_write_ply(ply, &c, err) || spr_groups_write(grp, lab, m, err);
+    }
     int level = -1;
     if (!bad && (spr_algo_info_of(algo)->uses & SPR_USES_RECTS)) {
         spr_rects r;
@@ -416,6 +529,9 @@ static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, 
         printf(" --level %d --texel %.17g%s --sampling %s", level, s->dom_texel, s->dom_strict ? " --domain strict" : "",
                s->sampling == SPR_SAMPLE_LINEAR ? "linear" : "nearest");
     if ((ai->uses & SPR_USES_ALPHAREF) && s->alpha_ref > 0.0f) printf(" --alpha-ref %.9g", s->alpha_ref);
+    if (s->gauss && s->g_sh_k > 1) printf(" --sh-degree 3");
+    if ((ai->uses & SPR_USES_GAUSS) && s->gauss_aa) printf(" --gauss-aa");
+    if ((ai->uses & SPR_USES_GAUSS) && s->flavor == SPR_FLAVOR_GSPLAT) printf(" --gauss-flavor gsplat");
     printf("\n");
     return 0;
 }
@@ -463,8 +579,8 @@ int cli_parity_random(spr__args *a, int count, uint64_t seed, const char *dir, i
     snprintf(tmp, sizeof tmp, "/tmp/splatref-random-%ld.ply", (long)getpid());
     printf("parity random: cpu reference vs gl [%s], %d scenes from seed %llu, every algorithm of the registry\n", spr_gl_renderer(gl),
            count, (unsigned long long)seed);
-    int mismatches = 0, failed = 0, made_dir = 0;
-    long comparisons = 0;
+    int mismatches = 0, failed = 0, made_dir = 0, gauss_scenes = 0;
+    long comparisons = 0, gauss_comparisons = 0;
     for (int i = 0; i < count && !failed; i++) {
         rscene s;
         if (generate(seed, i, tmp, &s, &err)) {
@@ -474,13 +590,16 @@ int cli_parity_random(spr__args *a, int count, uint64_t seed, const char *dir, i
             break;
         }
         scene_rects(&s, seed, i);
+        gauss_scenes += s.gauss;
         uint32_t *keep = malloc(s.cloud.n * sizeof *keep);
         for (size_t k = 0; keep && k < s.cloud.n; k++) keep[k] = (uint32_t)k;
         for (int al = 0; keep && al < SPR_ALGO__COUNT && !failed; al++) {
             if ((spr_algo_info_of((spr_algo)al)->uses & SPR_USES_RECTS) && !s.has_rects) continue;
+            if ((spr_algo_info_of((spr_algo)al)->uses & SPR_USES_GAUSS) && s.view.ortho) continue; /* pinhole only (SPEC 10.2) */
             spr_parity_report rep;
             int d = differs(cpu, gl, &s, keep, s.cloud.n, (spr_algo)al, &rep, &err);
             comparisons++;
+            gauss_comparisons += (spr_algo_info_of((spr_algo)al)->uses & SPR_USES_GAUSS) != 0;
             if (d < 0) { fprintf(stderr, "splatref %s: scene %d: %s\n", a->cmd, i, err.msg); failed = 1; break; }
             if (!d) { spr_parity_report_free(&rep); continue; }
             mismatches++;
@@ -519,8 +638,8 @@ int cli_parity_random(spr__args *a, int count, uint64_t seed, const char *dir, i
     spr_backend_destroy(cpu);
     spr_backend_destroy(gl);
     if (failed) return 2;
-    printf("parity random: %d scenes, %ld comparisons, %d mismatches (seed %llu)\n", count, comparisons, mismatches,
-           (unsigned long long)seed);
+    printf("parity random: %d scenes (%d of Gaussian captures), %ld comparisons (%ld by the Gaussian algorithms), %d mismatches (seed %llu)\n",
+           count, gauss_scenes, comparisons, gauss_comparisons, mismatches, (unsigned long long)seed);
     printf("verdict: %s\n", mismatches ? "DIFFERENT" : "BIT-EXACT (Tier A)");
     return mismatches ? 1 : 0;
 }

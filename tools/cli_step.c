@@ -118,7 +118,7 @@ static const char *const depth_eq[SPR_DEPTH__COUNT] = {
     "z = floor(((d<sub>f</sub> &minus; d<sub>min</sub>)/(d<sub>max</sub> &minus; d<sub>min</sub>))&middot;n)&middot;(1/n) ([ZP] Eq. 10, SPEC 3.3)",
     "z = z&#771; + &rho;&middot;(1/n): Voronoi depth, the fragment nearest its own splat centre wins within a layer ([ZP] Eq. 14, SPEC 3.3)"};
 static const char *const blend_eq[SPR_BLEND__COUNT] = {"dst = src", "dst = src + dst", "dst = src&middot;&alpha; + dst&middot;(1 &minus; &alpha;)",
-                                                      "dst = dst &minus; src"};
+                                                      "dst = dst &minus; src", "dst = src + dst&middot;(1 &minus; &alpha;)"};
 static const char *const func_eq[SPR_FUNC__COUNT] = {"passes when z &lt; the stored test value", "passes when z &le; the stored test value",
                                                     "always passes"};
 
@@ -207,7 +207,7 @@ static int pass_views(spr__args *a, page *pg, const char *dir, const spr_capture
             snprintf(vo.caption, sizeof vo.caption, "normal (sum w*n)/(sum w) as 0.5*n + 0.5");
         } else {
             const float clear = (float)spr_plane_info_of((spr_plane)q)->clear;
-            range(v, np, 1, ty == SPR_PLANE_COUNTER ? -2.0f : clear, &lo, &hi);
+            range(v, np, 1, ty == SPR_PLANE_COUNTER || ty == SPR_PLANE_U32_IMAGE ? -2.0f : clear, &lo, &hi);
             for (size_t i = 0; i < np; i++) {
                 if (v[i] == clear && ty != SPR_PLANE_COUNTER) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.12f;
                 else if (ty == SPR_PLANE_COUNTER && v[i] == 0.0f) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.0f;
@@ -269,12 +269,65 @@ static int pass_views(spr__args *a, page *pg, const char *dir, const spr_capture
     return rc;
 }
 
+/* The passes of the Gaussian references (SPEC 10): preprocessing with its records, the host's sort, the loop or the blend. */
+static void gauss_header(page *pg, const spr_captured_pass *p, const spr_hist_event *ev)
+{
+    FILE *f = pg->f;
+    if (p->records) {
+        size_t kept = 0, near = 0, det = 0;
+        for (size_t i = 0; i < p->n_records; i++) {
+            const float cull = p->records[i * SPR_GREC_FLOATS + SPR_GREC_CULL];
+            kept += cull == SPR_GCULL_NONE, near += cull == SPR_GCULL_NEAR, det += cull == SPR_GCULL_DET;
+        }
+        fprintf(f, "<p>Per-Gaussian preprocessing (SPEC 10.3; gauss2d 10.5) of %zu Gaussians: t = R&middot;&mu; + t, the screen covariance "
+                   "&Sigma;' = (J&middot;W)&middot;R<sub>q</sub>S&sup2;R<sub>q</sub><sup>T</sup>&middot;(J&middot;W)<sup>T</sup> dilated by 0.3, its conic, "
+                   "the radius ceil(3&middot;sqrt(&lambda;<sub>max</sub>)), the centre in pixel-index coordinates and the 16&times;16 tiles it touches. "
+                   "%zu kept, %zu culled at the near plane, %zu degenerate.</p>", p->n_records, kept, near, det);
+        fprintf(f, "<details><summary>Gaussian by Gaussian (the first 300 kept)</summary><table class=\"groups\"><tr><th>Gaussian</th><th>centre (i, j)</th>"
+                   "<th>conic A, B, C</th><th>opacity</th><th>depth t.z</th><th>radius</th><th>tiles x, y</th><th>colour</th></tr>");
+        size_t shown = 0;
+        for (size_t i = 0; i < p->n_records && shown < 300; i++) {
+            const float *R = p->records + i * SPR_GREC_FLOATS;
+            if (R[SPR_GREC_CULL] != SPR_GCULL_NONE) continue;
+            fprintf(f, "<tr><td>%zu</td><td>%.6g, %.6g</td><td>%.4g, %.4g, %.4g</td><td>%.4g</td><td>%.6g</td><td>%g</td><td>%g&ndash;%g, %g&ndash;%g</td>"
+                       "<td>%.3g, %.3g, %.3g</td></tr>", i, R[SPR_GREC_M], R[SPR_GREC_M + 1], R[SPR_GREC_CONIC], R[SPR_GREC_CONIC + 1], R[SPR_GREC_CONIC + 2],
+                    R[SPR_GREC_OPACITY], R[SPR_GREC_DEPTH], R[SPR_GREC_RADIUS], R[SPR_GREC_RECT], R[SPR_GREC_RECT + 2] - 1, R[SPR_GREC_RECT + 1],
+                    R[SPR_GREC_RECT + 3] - 1, R[SPR_GREC_COLOR], R[SPR_GREC_COLOR + 1], R[SPR_GREC_COLOR + 2]);
+            shown++;
+        }
+        fprintf(f, "</table></details>");
+    } else if (!strcmp(p->name, "sort")) {
+        fprintf(f, "<p>The host sorts (shared by both backends): every kept Gaussian joins the list of each tile its rectangle covers, in file "
+                   "order, then each list is sorted by depth t.z, ties keeping file order (gauss-blend: every Gaussian by its distance to the eye, "
+                   "farthest first). %llu Gaussians, %llu entries.</p>", (unsigned long long)p->stats.splats, (unsigned long long)p->stats.generated);
+    } else if (ev && ev->kind == SPR_HIST_GAUSS_RASTER) {
+        fprintf(f, "<p>Per pixel, front to back over its tile's list (SPEC %s): power from the conic (gauss2d: the ray&ndash;disk hit and the "
+                   "screen low-pass), power &gt; 0 skipped, &alpha; = min(%.9g, o&middot;e<sup>power</sup>), &alpha; &lt; 1/255 skipped, "
+                   "T' = T(1 &minus; &alpha;), the loop stops when T' &lt; %.9g; C += c&middot;&alpha;&middot;T. Out: C + T&middot;background, "
+                   "the transmittance T, the last contributor, %s.</p>", ev->gprm[SPR_GPRM_MODE] == SPR_GMODE_2D ? "10.5" : "10.4",
+                ev->gprm[SPR_GPRM_CAP], ev->gprm[SPR_GPRM_T_MIN],
+                ev->gprm[SPR_GPRM_MODE] == SPR_GMODE_2D ? "the surface depth and normal" : "the inverse depth &Sigma;(1/t.z)&alpha;T");
+        fprintf(f, "<p class=\"stats\">%llu Gaussians visited, %llu blended over all pixels (%.2f ms on the CPU reference).</p>",
+                (unsigned long long)p->stats.generated, (unsigned long long)p->stats.passed, p->ms);
+    } else if (ev) {
+        fprintf(f, "<p>Each of %llu Gaussians once, farthest first, as a screen-space ellipse over its box (SPEC 10.7): cut at power &lt; "
+                   "&minus;4.5 (3&sigma;), (c&middot;&alpha;, &alpha;) blended premultiplied over, dst = src + (1 &minus; &alpha;)&middot;dst.</p>"
+                   "<p class=\"stats\">%llu fragments, %llu blended (%.2f ms on the CPU reference).</p>",
+                (unsigned long long)p->stats.splats, (unsigned long long)p->stats.generated, (unsigned long long)p->stats.passed, p->ms);
+    }
+}
+
 static void pass_header(page *pg, const spr_captured_pass *p, const spr_hist_event *ev)
 {
     FILE *f = pg->f;
     fprintf(f, "<section class=\"pass\" id=\"pass%d\"><h2>Pass %d: %s", p->index, p->index, p->name);
     if (p->group >= 0) fprintf(f, " (group %d)", p->group);
     fprintf(f, "</h2>\n<div class=\"eq\">");
+    if (p->records || !strcmp(p->name, "sort") || (ev && (ev->kind == SPR_HIST_GAUSS_RASTER || ev->kind == SPR_HIST_GAUSS_DRAW))) {
+        gauss_header(pg, p, ev);
+        fprintf(f, "</div>\n<div class=\"views\">\n");
+        return;
+    }
     if (!p->composite) {
         const spr_pass_state *s = &p->state;
         const int rects = ev && ev->kind == SPR_HIST_RECTS;

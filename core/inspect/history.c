@@ -23,7 +23,7 @@ static hist_backend *hb(spr_backend *b) { return (hist_backend *)b; }
 double spr_history_value(spr_plane p, uint32_t bits)
 {
     const spr_plane_type t = spr_plane_info_of(p)->type;
-    if (t == SPR_PLANE_U32 || t == SPR_PLANE_COUNTER) return bits == UINT32_MAX ? -1.0 : (double)bits;
+    if (spr_plane_type_uint(t)) return bits == UINT32_MAX ? -1.0 : (double)bits;
     float f;
     memcpy(&f, &bits, 4);
     return f;

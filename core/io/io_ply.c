@@ -772,6 +772,45 @@ spr_result spr_write_ply(const char *path, const spr_cloud *c, spr_error *err)
     return spr__write_atomic(path, write_ply_body, c, err);
 }
 
+/* The 3DGS layout of the training code's save_ply (FORMATS.md): x y z, nx ny nz (zero),
+ * f_dc_0..2, f_rest_* channel-major (all of red, then green, then blue), opacity (logit),
+ * scale_0..2 (log), rot_0..3 (w x y z); every value written as given. */
+static int write_gauss_body(FILE *f, const void *user)
+{
+    const spr_gauss_file *g = user;
+    const int rest = g->sh_k > 1 ? g->sh_k - 1 : 0;
+    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment written by splatref (3D Gaussian splatting layout)\nelement vertex %zu\n"
+               "property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+               "property float f_dc_0\nproperty float f_dc_1\nproperty float f_dc_2\n", g->n);
+    for (int k = 0; k < 3 * rest; k++) fprintf(f, "property float f_rest_%d\n", k);
+    fprintf(f, "property float opacity\nproperty float scale_0\nproperty float scale_1\nproperty float scale_2\n"
+               "property float rot_0\nproperty float rot_1\nproperty float rot_2\nproperty float rot_3\nend_header\n");
+    float *rec = malloc((size_t)(17 + 3 * rest) * sizeof *rec);
+    if (!rec) return -1;
+    int bad = 0;
+    for (size_t i = 0; i < g->n && !bad; i++) {
+        int k = 0;
+        for (int a = 0; a < 3; a++) rec[k++] = g->pos[3 * i + a];
+        for (int a = 0; a < 3; a++) rec[k++] = 0.0f;
+        const float *sh = g->sh + i * (size_t)g->sh_k * 3;
+        for (int ch = 0; ch < 3; ch++) rec[k++] = sh[ch];
+        for (int ch = 0; ch < 3; ch++)
+            for (int j = 1; j <= rest; j++) rec[k++] = sh[3 * j + ch];
+        rec[k++] = g->opacity_logit[i];
+        for (int a = 0; a < 3; a++) rec[k++] = g->log_scale[3 * i + a];
+        for (int a = 0; a < 4; a++) rec[k++] = g->rot[4 * i + a];
+        bad = fwrite(rec, sizeof *rec, (size_t)k, f) != (size_t)k;
+    }
+    free(rec);
+    return bad ? -1 : 0;
+}
+
+spr_result spr_write_gauss_ply(const char *path, const spr_gauss_file *g, spr_error *err)
+{
+    if (g->sh_k < 1 || g->sh_k > 16) return spr__fail(err, SPR_E_ARG, "%s: %d SH coefficients a channel (1 … 16)", path, g->sh_k);
+    return spr__write_atomic(path, write_gauss_body, g, err);
+}
+
 /* ---- a binary PLY read in chunks (render --stream) ---- */
 
 typedef struct ply_source {

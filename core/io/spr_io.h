@@ -43,6 +43,19 @@ spr_result spr_load(const char *path, const spr_load_desc *d, spr_cloud *c, spr_
  * alpha uchar, radius float) through a temporary file renamed into place. */
 spr_result spr_write_ply(const char *path, const spr_cloud *c, spr_error *err);
 
+/* A Gaussian capture as the training code's PLY stores it (3DGS layout): per
+ * Gaussian the centre (3), SH coefficients sh_k × rgb, coefficient-major (DC
+ * first), the logit of the opacity, log σ (3) and the rotation w x y z (4,
+ * any length).  spr_write_gauss_ply writes it through a temporary file; a
+ * load gives back σ = exp(log σ), α = sigmoid(logit) and the normalised
+ * rotation, the same bits each time. */
+typedef struct spr_gauss_file {
+    size_t n;
+    const float *pos, *sh, *opacity_logit, *log_scale, *rot;
+    int sh_k;        /* 1 (DC) … 16 (degree 3) */
+} spr_gauss_file;
+spr_result spr_write_gauss_ply(const char *path, const spr_gauss_file *g, spr_error *err);
+
 /* A binary PLY opened for reading in chunks of `chunk` splats (0: 2^20)
  * instead of whole (`render --stream`, clouds larger than memory): only the
  * header is read here.  The file must be binary, with fixed-size records up
