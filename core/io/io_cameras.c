@@ -25,7 +25,7 @@ static int number_of(const cJSON *e, const char *key, double *out)
 static int line_of(const char *text, size_t at)
 {
     int line = 1;
-    for (size_t i = 0; i < at && text[i]; i++) line += text[i] == '\n';
+    for (size_t i = 0; i < at; i++) line += text[i] == '\n';
     return line;
 }
 
@@ -77,14 +77,21 @@ spr_result spr_cameras_json(const char *path, long id, spr_pinhole *p, int *widt
     size_t len = 0;
     spr_result r = spr__read_file(path, &text, &len, err);
     if (r) return r;
+    r = spr__parse_cameras_json(path, text, len, id, p, width, height, err);
+    free(text);
+    return r;
+}
+
+spr_result spr__parse_cameras_json(const char *path, const char *text, size_t len, long id, spr_pinhole *p, int *width, int *height,
+                                   spr_error *err)
+{
+    spr_result r;
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
     if (!root) {
         const char *at = cJSON_GetErrorPtr();
         size_t off = at && at >= text && at <= text + len ? (size_t)(at - text) : len;
-        r = spr__fail(err, SPR_E_FORMAT, "%s:%d: not valid JSON (byte %zu)", path, line_of(text, off), off);
-        free(text);
-        return r;
+        return spr__fail(err, SPR_E_FORMAT, "%s:%d: not valid JSON (byte %zu)", path, line_of(text, off), off);
     }
     if (!cJSON_IsArray(root)) {
         r = spr__fail(err, SPR_E_FORMAT, "%s: not a cameras.json (an array of camera entries)", path);
@@ -112,6 +119,5 @@ spr_result spr_cameras_json(const char *path, long id, spr_pinhole *p, int *widt
           : spr__fail(err, SPR_E_FORMAT, "%s: no camera entries", path);
 done:
     cJSON_Delete(root);
-    free(text);
     return r;
 }

@@ -343,6 +343,11 @@ static spr_result spz_v4(const char *path, const unsigned char *b, size_t len, u
         return spr__fail(err, SPR_E_TRUNCATED, "%s: byte 16: the stream table at byte %u lies outside the file", path, toc);
     size_t total = 0;
     for (unsigned k = 0; k < expect; k++) total += want[k];
+    /* as Niantic's loader bounds it: no real capture compresses past 1024:1, so a small file claiming more splats is refused
+     * before anything is allocated for them */
+    if (total / 1024 > len)
+        return spr__fail(err, SPR_E_FORMAT, "%s: byte 8: %u splats need %zu bytes, more than %zu bytes of zstd streams can hold (1024:1 at most)", path,
+                         n, total, len);
     unsigned char *d = malloc(total ? total : 1);
     if (!d) return spr__fail(err, SPR_E_NOMEM, "%s: out of memory for %u splats", path, n);
     size_t at = (size_t)toc + 16 * (size_t)streams, dst = 0;

@@ -13,6 +13,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include "spr_camera.h"
 #include "spr_cloud.h"
 #include "spr_knn.h"
 #include "spr_result.h"
@@ -134,6 +135,9 @@ double spr__sigmoid(double x);
 #define SPR__SH_C0 0.28209479177387814
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
                           const spr_warn *warn, const spr__gauss_opts *go, spr_error *err);
+/* cameras.json over its bytes (spr_cameras_json reads the file and calls it; the fuzz harness drives it). */
+spr_result spr__parse_cameras_json(const char *path, const char *text, size_t len, long id, spr_pinhole *p, int *width, int *height,
+                                   spr_error *err);
 spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);

@@ -1,7 +1,7 @@
 /* fuzz_readers.c — libFuzzer harnesses for the file readers (issue 9).
  *
  * One source, one harness per reader, chosen at compile time with
- * -DSPR_FUZZ_PLY / _OFF / _XYZ / _GROUPS / _SPLAT / _SPZ / _GLB (issue 15:
+ * -DSPR_FUZZ_PLY / _OFF / _XYZ / _GROUPS / _SPLAT / _SPZ / _GLB / _CAMERAS (issue 15:
  * the Gaussian-splat readers; their first input byte picks the options).  The readers run over the input
  * as it is, in memory (spr__parse_*; the groups reader through a memfd):
  * any crash, leak, hang or out-of-memory libFuzzer or the sanitizers find
@@ -68,6 +68,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         spr_cloud_free(&c);
     }
+#elif defined(SPR_FUZZ_CAMERAS)
+    /* the training code's cameras.json; the first byte: the id asked for (0..255) */
+    if (size < 1) return 0;
+    spr_pinhole p;
+    int w, h;
+    spr_result r = spr__parse_cameras_json("fuzz.json", (const char *)data + 1, size - 1, data[0], &p, &w, &h, &err);
+    check_message(r, &err, "fuzz.json");
+    if (!r && (w < 1 || h < 1 || spr_pinhole_check(&p, "fuzz.json", &err))) abort(); /* an accepted camera is a camera */
+    (void)c;
 #elif defined(SPR_FUZZ_XYZ)
     spr_result r = spr__parse_xyz("fuzz.xyz", (const char *)data, size, NULL, &c, &err);
     check_message(r, &err, "fuzz.xyz");
@@ -92,7 +101,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     close(fd);
 #else
-#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB"
+#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB, SPR_FUZZ_CAMERAS"
 #endif
     return 0;
 }
