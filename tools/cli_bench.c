@@ -17,7 +17,7 @@
 #include <unistd.h>
 
 static const spr__opt bench_opts[] = {
-    {"scene", "NAME", "bunny | armadillo-1m | all (rendering, default all) | armadillo-10m | armadillo-100m (opt-in scale scenes: pbr2p1 and deferred) | grouping (hash and WGC ratios)"},
+    {"scene", "NAME", "bunny | armadillo-1m | capture-1m (a 3DGS capture: pbr2p1 and the Gaussian algorithms, 1920x1080 unless --size) | all (rendering, default all) | armadillo-10m | armadillo-100m (opt-in scale scenes: pbr2p1 and deferred) | grouping (hash and WGC ratios)"},
     {"size", "WxH", "image size (default 1024x1024)"},
     {"reps", "N", "renders per configuration, best kept (default 5)"},
     {"points", "N", "size of the armadillo resampling (default 1000000)"},
@@ -105,65 +105,6 @@ static void stream_floor(const spr_cloud *c, int reps, double t[2])
     sink = (int32_t)sum;
 }
 
-/* The cloud as a 3D Gaussian Splatting PLY, the layout of captures (62
- * floats a splat: x y z, nx ny nz, f_dc_0..2, f_rest_0..44, opacity,
- * scale_0..2, rot_0..3): each splat a flat Gaussian, σ = r/3 in its plane
- * and r/300 along its normal, the rotation taking (x, y, z) to (u, n × u, n). */
-static int write_gauss_body(FILE *f, const void *user)
-{
-    const spr_cloud *c = user;
-    fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex %zu\n", c->n);
-    static const char *const head[] = {"x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"};
-    for (int k = 0; k < 9; k++) fprintf(f, "property float %s\n", head[k]);
-    for (int k = 0; k < 45; k++) fprintf(f, "property float f_rest_%d\n", k);
-    fprintf(f, "property float opacity\nproperty float scale_0\nproperty float scale_1\nproperty float scale_2\n"
-               "property float rot_0\nproperty float rot_1\nproperty float rot_2\nproperty float rot_3\nend_header\n");
-    for (size_t i = 0; i < c->n; i++) {
-        float rec[62] = {0};
-        const float *n = c->nrm + 3 * i;
-        double u[3] = {n[1], -n[0], 0.0};
-        if (fabs(n[2]) > 0.9) u[0] = 0.0, u[1] = n[2], u[2] = -n[1];
-        double l = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-        for (int k = 0; k < 3; k++) u[k] /= l;
-        const double v[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
-        /* quaternion of the matrix with columns u, v, n (trace form; w > 0 when the trace allows) */
-        const double m00 = u[0], m11 = v[1], m22 = n[2], tr = m00 + m11 + m22;
-        double q[4];
-        if (tr > -0.9) {
-            q[0] = 0.5 * sqrt(1.0 + tr);
-            q[1] = (v[2] - n[1]) / (4.0 * q[0]);
-            q[2] = (n[0] - u[2]) / (4.0 * q[0]);
-            q[3] = (u[1] - v[0]) / (4.0 * q[0]);
-        } else if (m00 >= m11 && m00 >= m22) {
-            q[1] = 0.5 * sqrt(1.0 + m00 - m11 - m22);
-            q[0] = (v[2] - n[1]) / (4.0 * q[1]);
-            q[2] = (u[1] + v[0]) / (4.0 * q[1]);
-            q[3] = (n[0] + u[2]) / (4.0 * q[1]);
-        } else if (m11 >= m22) {
-            q[2] = 0.5 * sqrt(1.0 + m11 - m00 - m22);
-            q[0] = (n[0] - u[2]) / (4.0 * q[2]);
-            q[1] = (u[1] + v[0]) / (4.0 * q[2]);
-            q[3] = (v[2] + n[1]) / (4.0 * q[2]);
-        } else {
-            q[3] = 0.5 * sqrt(1.0 + m22 - m00 - m11);
-            q[0] = (u[1] - v[0]) / (4.0 * q[3]);
-            q[1] = (n[0] + u[2]) / (4.0 * q[3]);
-            q[2] = (v[2] + n[1]) / (4.0 * q[3]);
-        }
-        for (int k = 0; k < 3; k++) {
-            rec[k] = c->pos[3 * i + k];
-            rec[6 + k] = (float)((c->color[3 * i + k] - 0.5) / 0.28209479177387814);
-        }
-        const double a = c->alpha[i] < 0.999 ? c->alpha[i] : 0.999;
-        rec[54] = (float)log(a / (1.0 - a));
-        rec[55] = rec[56] = (float)log(c->radius[i] / 3.0);
-        rec[57] = (float)log(c->radius[i] / 300.0);
-        for (int k = 0; k < 4; k++) rec[58 + k] = (float)q[k];
-        if (fwrite(rec, sizeof rec, 1, f) != 1) return -1;
-    }
-    return 0;
-}
-
 /* Loading a capture: the cloud written as a 3DGS PLY and as our own binary
  * PLY, each read back by spr_load (best of reps), against the streaming pass. */
 static void bench_capture_load(const spr_cloud *c, int reps, double stream_1t)
@@ -172,7 +113,7 @@ static void bench_capture_load(const spr_cloud *c, int reps, double stream_1t)
     snprintf(gpath, sizeof gpath, "/tmp/splatref-bench-%d-3dgs.ply", (int)getpid());
     snprintf(opath, sizeof opath, "/tmp/splatref-bench-%d-own.ply", (int)getpid());
     spr_error err = {0};
-    if (spr__write_atomic(gpath, write_gauss_body, c, &err) || spr_write_ply(opath, c, &err)) {
+    if (spr_write_gauss_ply_of_cloud(gpath, c, 0, &err) || spr_write_ply(opath, c, &err)) {
         fprintf(stderr, "splatref bench: %s\n", err.msg);
         remove(gpath);
         remove(opath);
@@ -195,8 +136,21 @@ static void bench_capture_load(const spr_cloud *c, int reps, double stream_1t)
     remove(opath);
 }
 
-static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, int quiet, int scale, double load_ms)
+/* What a scene's table holds: every row (bunny, armadillo-1m), the two
+ * opaque algorithms (the scale scenes), or pbr2p1 and the three Gaussian
+ * algorithms of SPEC 10 (the capture scene). */
+typedef enum bench_mode { BENCH_ALL, BENCH_SCALE, BENCH_GAUSS } bench_mode;
+
+static int bench_row_wanted(bench_mode mode, spr_algo al)
 {
+    if (mode == BENCH_SCALE) return al == SPR_ALGO_PBR2P1 || al == SPR_ALGO_DEFERRED;
+    if (mode == BENCH_GAUSS) return al == SPR_ALGO_PBR2P1 || (spr_algo_info_of(al)->uses & SPR_USES_GAUSS);
+    return 1;
+}
+
+static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, int quiet, bench_mode mode, double load_ms)
+{
+    const int scale = mode != BENCH_ALL; /* no grouping, domains, BSP or capture loading */
     spr_bounds bd;
     spr_cloud_bounds(&s->cloud, &bd);
     spr_camera_frame(&s->cam, &bd);
@@ -210,14 +164,17 @@ static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, 
     gd.progress = spr__progress(quiet);
     gd.threads = 2;
     double t0g = spr_now_ms();
-    if (spr__make_groups(a, s, &gd, NULL)) return -1;
+    if (mode != BENCH_GAUSS && spr__make_groups(a, s, &gd, NULL)) return -1;
     const double group_ms = spr_now_ms() - t0g;
     printf("\nscene %s: %zu splats, %dx%d\n", label, s->cloud.n, s->view.width, s->view.height);
     printf("  streaming pass (every attribute of every splat read once): %.3g ms on 1 thread, %.3g ms on 2 (%.2fx);"
            " the x-stream column below divides by it\n", floor_ms[0], floor_ms[1], floor_ms[0] / floor_ms[1]);
-    printf("  %s %.0f ms = %.1fx stream (1 thread); hash grouping K=8 mode 1 with BSP axes, 2 threads: %.0f ms = %.1fx stream (2 threads)\n",
-           load_ms > 0 ? "loading/sampling" : "loading", load_ms > 0 ? load_ms : 0.0, (load_ms > 0 ? load_ms : 0.0) / floor_ms[0], group_ms,
-           group_ms / floor_ms[1]);
+    if (mode == BENCH_GAUSS)
+        printf("  loading the capture %.0f ms = %.1fx stream (1 thread); no grouping (none of these rows uses groups)\n", load_ms, load_ms / floor_ms[0]);
+    else
+        printf("  %s %.0f ms = %.1fx stream (1 thread); hash grouping K=8 mode 1 with BSP axes, 2 threads: %.0f ms = %.1fx stream (2 threads)\n",
+               load_ms > 0 ? "loading/sampling" : "loading", load_ms > 0 ? load_ms : 0.0, (load_ms > 0 ? load_ms : 0.0) / floor_ms[0], group_ms,
+               group_ms / floor_ms[1]);
     if (!scale) bench_capture_load(&s->cloud, reps, floor_ms[0]);
     /* the domain pipeline (SPEC 7) for the domain-* rows: its phases timed */
     if (!scale) {
@@ -260,9 +217,9 @@ static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, 
     int rc = 0;
     int done[N_ROWS] = {0};
     for (int row = 0; row < N_ROWS && !rc; row++) {
-        if (scale && row != SPR_ALGO_PBR2P1 && row != SPR_ALGO_DEFERRED) continue; /* the scale scenes: the two opaque algorithms */
-        done[row] = 1;
         const spr_algo al = row < SPR_ALGO__COUNT ? (spr_algo)row : row == SPR_ALGO__COUNT ? SPR_ALGO_DEPTHPEEL : SPR_ALGO_TRANSPARENT2;
+        if ((scale && row >= SPR_ALGO__COUNT) || !bench_row_wanted(mode, al)) continue;
+        done[row] = 1;
         const spr_algo_info *ai = spr_algo_info_of(al);
         spr_render_desc rd = {0};
         rd.algo = al;
@@ -306,10 +263,42 @@ static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, 
     return 0;
 }
 
+/* The capture scene: the armadillo resampled to npts points, written as a
+ * 3DGS capture (SH degree 3 with random higher bands, `splatref sample
+ * --gaussians --sh-noise`) and loaded back with every band, at 1920x1080. */
+static int bench_capture(spr__args *a, size_t npts, int W, int H, int reps, int quiet, const spr_load_desc *ld0)
+{
+    char path[1200], gpath[64];
+    snprintf(path, sizeof path, "%s/meshes/armadillo.off", cli_data_dir());
+    snprintf(gpath, sizeof gpath, "/tmp/splatref-bench-%d-capture.ply", (int)getpid());
+    spr_load_desc ld = *ld0;
+    ld.sh_degree = 3;
+    spr_error err = {0};
+    spr_cloud c;
+    if (spr_sample_mesh(path, npts, 1, &ld, &c, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
+    spr_result r = spr_write_gauss_ply_of_cloud(gpath, &c, 2026, &err);
+    spr_cloud_free(&c);
+    spr_scene s;
+    memset(&s, 0, sizeof s);
+    spr_camera_defaults(&s.cam);
+    s.cam.width = W;
+    s.cam.height = H;
+    double t0 = spr_now_ms();
+    if (!r) r = spr_load(gpath, &ld, &s.cloud, &err);
+    const double load_ms = spr_now_ms() - t0;
+    remove(gpath);
+    if (r) { fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
+    char label[96];
+    snprintf(label, sizeof label, "3DGS capture of the armadillo, %zu Gaussians, SH degree 3", npts);
+    int rc = bench_scene(a, label, &s, reps, quiet, BENCH_GAUSS, load_ms);
+    spr_scene_free(&s);
+    return rc;
+}
+
 int cmd_bench(int argc, char **argv)
 {
     spr__args a;
-    int pr = spr__parse(&a, "bench", bench_opts, "[--scene bunny|armadillo-1m|all] [--size WxH] [--reps N]", 0, argc, argv);
+    int pr = spr__parse(&a, "bench", bench_opts, "[--scene bunny|armadillo-1m|capture-1m|all] [--size WxH] [--reps N]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     int W = 1024, H = 1024, reps = 5, quiet = spr__flag(&a, "quiet");
     size_t npts = 1000000;
@@ -322,8 +311,8 @@ int cmd_bench(int argc, char **argv)
         return cli_bench_grouping(&a, npts, reps, quiet);
     }
     const size_t scale_pts = !strcmp(scene, "armadillo-10m") ? 10000000 : !strcmp(scene, "armadillo-100m") ? 100000000 : 0;
-    if (strcmp(scene, "all") && strcmp(scene, "bunny") && strcmp(scene, "armadillo-1m") && !scale_pts) {
-        spr__error(&a, "--scene: '%s' is not bunny, armadillo-1m, all, armadillo-10m, armadillo-100m or grouping", scene);
+    if (strcmp(scene, "all") && strcmp(scene, "bunny") && strcmp(scene, "armadillo-1m") && strcmp(scene, "capture-1m") && !scale_pts) {
+        spr__error(&a, "--scene: '%s' is not bunny, armadillo-1m, capture-1m, all, armadillo-10m, armadillo-100m or grouping", scene);
         return 2;
     }
     spr_error gerr = {0};
@@ -346,7 +335,7 @@ int cmd_bench(int argc, char **argv)
         snprintf(path, sizeof path, "%s/meshes/bunny00.off", cli_data_dir());
         double t0 = spr_now_ms();
         if (spr_load(path, &ld, &s.cloud, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
-        rc |= bench_scene(&a, "bunny00.off", &s, reps, quiet, 0, spr_now_ms() - t0);
+        rc |= bench_scene(&a, "bunny00.off", &s, reps, quiet, BENCH_ALL, spr_now_ms() - t0);
         spr_scene_free(&s);
     }
     if (!rc && (!strcmp(scene, "all") || !strcmp(scene, "armadillo-1m") || scale_pts)) {
@@ -363,9 +352,11 @@ int cmd_bench(int argc, char **argv)
         printf("\n(resampled armadillo.off to %zu points in %.0f ms)\n", s.cloud.n, sample_ms);
         char label[64];
         snprintf(label, sizeof label, "armadillo resampled to %zu", npts);
-        rc |= bench_scene(&a, label, &s, reps, quiet, scale_pts != 0, sample_ms);
+        rc |= bench_scene(&a, label, &s, reps, quiet, scale_pts ? BENCH_SCALE : BENCH_ALL, sample_ms);
         spr_scene_free(&s);
     }
+    if (!rc && (!strcmp(scene, "all") || !strcmp(scene, "capture-1m")))
+        rc |= bench_capture(&a, npts, spr__get(&a, "size") ? W : 1920, spr__get(&a, "size") ? H : 1080, reps, quiet, &ld);
     spr_backend_destroy(bench_gl);
     bench_gl = NULL;
     return rc ? 2 : 0;

@@ -76,6 +76,8 @@ static const spr__opt sample_opts[] = {
     {"radius-k", "K", "radius rule r = rho*d_k: k (default 8)"},
     {"radius-scale", "RHO", "radius rule: rho (default 1.0)"},
     {"out", "F.ply", "output PLY"},
+    {"gaussians", NULL, "write a 3DGS capture (SH degree 3, sigma r/3 along the surface and r/300 across it) instead of surfels"},
+    {"sh-noise", NULL, "with --gaussians: random SH coefficients of degrees 1-3 (seeded by --seed), so the colour changes with the view"},
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
 
@@ -96,11 +98,15 @@ int cmd_sample(int argc, char **argv)
     ld.warn = spr__warn(&a);
     spr_cloud c;
     spr_error err = {0};
-    if (spr_sample_mesh(model, n, seed, &ld, &c, &err) || spr_write_ply(out, &c, &err)) {
+    const int gauss = spr__flag(&a, "gaussians"), noise = spr__flag(&a, "sh-noise");
+    if (noise && !gauss) { spr__error(&a, "--sh-noise needs --gaussians"); return 2; }
+    if (spr__reject_unused(&a)) return 2;
+    if (spr_sample_mesh(model, n, seed, &ld, &c, &err) ||
+        (gauss ? spr_write_gauss_ply_of_cloud(out, &c, noise ? (uint64_t)seed * 2654435761u + 1u : 0, &err) : spr_write_ply(out, &c, &err))) {
         fprintf(stderr, "splatref sample: %s\n", err.msg);
         return 2;
     }
-    printf("sample: %zu points of %s -> %s\n", c.n, model, out);
+    printf("sample: %zu points of %s -> %s%s\n", c.n, model, out, gauss ? noise ? " (3DGS capture, SH degree 3, random higher bands)" : " (3DGS capture, SH degree 3, DC only)" : "");
     spr_cloud_free(&c);
     return 0;
 }

@@ -61,27 +61,6 @@ static void frame_params(const spr_view *v, int mode, const spr_render_desc *des
     g[SPR_GPRM_MODE] = mode == 1 ? SPR_GMODE_2D : SPR_GMODE_3D;
 }
 
-/* The unit quaternion (w x y z) of the rotation whose columns are a, b, c (double). */
-static void quat_of_columns(const double a[3], const double b[3], const double c[3], double q[4])
-{
-    const double m00 = a[0], m11 = b[1], m22 = c[2], tr = m00 + m11 + m22;
-    if (tr > 0.0) {
-        double s = 2.0 * sqrt(tr + 1.0);
-        q[0] = 0.25 * s, q[1] = (b[2] - c[1]) / s, q[2] = (c[0] - a[2]) / s, q[3] = (a[1] - b[0]) / s;
-    } else if (m00 > m11 && m00 > m22) {
-        double s = 2.0 * sqrt(1.0 + m00 - m11 - m22);
-        q[0] = (b[2] - c[1]) / s, q[1] = 0.25 * s, q[2] = (b[0] + a[1]) / s, q[3] = (c[0] + a[2]) / s;
-    } else if (m11 > m22) {
-        double s = 2.0 * sqrt(1.0 + m11 - m00 - m22);
-        q[0] = (c[0] - a[2]) / s, q[1] = (b[0] + a[1]) / s, q[2] = 0.25 * s, q[3] = (c[1] + b[2]) / s;
-    } else {
-        double s = 2.0 * sqrt(1.0 + m22 - m00 - m11);
-        q[0] = (a[1] - b[0]) / s, q[1] = (c[0] + a[2]) / s, q[2] = (c[1] + b[2]) / s, q[3] = 0.25 * s;
-    }
-    const double l = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    for (int k = 0; k < 4; k++) q[k] /= l;
-}
-
 spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s)
 {
     for (size_t i = 0; i < c->n; i++) {
@@ -92,22 +71,8 @@ spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s)
             continue;
         }
         /* a surfel as a flat Gaussian: σ a third of its radii along (u, v), 0 along n (the gauss kernel's σ, SPEC 3.1) */
-        const float *nf = c->nrm + 3 * i;
-        double n[3] = {nf[0], nf[1], nf[2]}, u[3], v[3];
-        double ru = c->radius[i], rv = ru;
-        if (c->ell && c->ell[4 * i + 3] != c->radius[i]) {
-            for (int k = 0; k < 3; k++) u[k] = c->ell[4 * i + k];
-            rv = c->ell[4 * i + 3];
-        } else { /* any tangent, fixed: n × the axis of n's smallest component */
-            int ax = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
-            double e[3] = {ax == 0, ax == 1, ax == 2};
-            u[0] = n[1] * e[2] - n[2] * e[1], u[1] = n[2] * e[0] - n[0] * e[2], u[2] = n[0] * e[1] - n[1] * e[0];
-        }
-        double lu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-        for (int k = 0; k < 3; k++) u[k] /= lu;
-        v[0] = n[1] * u[2] - n[2] * u[1], v[1] = n[2] * u[0] - n[0] * u[2], v[2] = n[0] * u[1] - n[1] * u[0];
-        double qd[4];
-        quat_of_columns(u, v, n, qd);
+        double qd[4], ru, rv;
+        spr__surfel_frame(c, i, qd, &ru, &rv);
         for (int k = 0; k < 4; k++) q[4 * i + k] = (float)qd[k];
         s[3 * i] = (float)(ru / 3.0), s[3 * i + 1] = (float)(rv / 3.0), s[3 * i + 2] = 0.0f;
     }

@@ -310,3 +310,22 @@ void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *colo
     }
     sh_eval(c, eye, NULL, -1.0, color);
 }
+
+void spr__surfel_frame(const spr_cloud *c, size_t i, double q[4], double *ru, double *rv)
+{
+    const float *nf = c->nrm + 3 * i;
+    double n[3] = {nf[0], nf[1], nf[2]}, u[3], v[3];
+    *ru = *rv = c->radius[i];
+    if (c->ell && c->ell[4 * i + 3] != c->radius[i]) {
+        for (int k = 0; k < 3; k++) u[k] = c->ell[4 * i + k];
+        *rv = c->ell[4 * i + 3];
+    } else {
+        int ax = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
+        double e[3] = {ax == 0, ax == 1, ax == 2};
+        u[0] = n[1] * e[2] - n[2] * e[1], u[1] = n[2] * e[0] - n[0] * e[2], u[2] = n[0] * e[1] - n[1] * e[0];
+    }
+    double lu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int k = 0; k < 3; k++) u[k] /= lu;
+    v[0] = n[1] * u[2] - n[2] * u[1], v[1] = n[2] * u[0] - n[0] * u[2], v[2] = n[0] * u[1] - n[1] * u[0];
+    spr__quat_of_columns(u, v, n, q);
+}

@@ -64,6 +64,9 @@ void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *
  * max(0, 0.5 + Σ_k Y_k(dir)·sh_k), not clamped above 1, dir always from the
  * eye; a cloud without sh gives its colours.  In double, rounded once. */
 void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *color);
+/* Splat i's frame as a rotation: the quaternion (w x y z, double) taking (x, y, z) to (u, v, n) — u its major
+ * axis (an ellipse's), or for a circle n × the axis of n's smallest component — and its radii along u and v. */
+void spr__surfel_frame(const spr_cloud *c, size_t i, double q[4], double *ru, double *rv);
 /* Release the arrays; safe on a zeroed cloud. */
 void spr_cloud_free(spr_cloud *c);
 /* Check every invariant above; names `what` (a file) and the first bad splat. */

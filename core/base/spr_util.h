@@ -34,6 +34,9 @@ spr_result spr__write_atomic(const char *path, spr__writer_fn fn, const void *us
 
 /* splitmix64: a small, well-known generator, the same bits everywhere
  * (mesh resampling, generated test scenes). */
+/* The unit quaternion (w x y z) of the rotation whose columns are a, b, c (an orthonormal, right-handed frame), in double. */
+void spr__quat_of_columns(const double a[3], const double b[3], const double c[3], double q[4]);
+
 static inline uint64_t spr__splitmix64(uint64_t *s)
 {
     uint64_t z = (*s += 0x9E3779B97F4A7C15ull);

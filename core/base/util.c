@@ -1,6 +1,8 @@
 /* util.c — monotonic clock, atomic file writes and the binary heap of spr_util.h. */
 #include "spr_util.h"
 
+#include <math.h>
+
 #include <errno.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -100,4 +102,24 @@ void spr_warn_report(const spr_warn *w, const char *fmt, ...)
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     w->fn(w->user, msg);
+}
+
+void spr__quat_of_columns(const double a[3], const double b[3], const double c[3], double q[4])
+{
+    const double m00 = a[0], m11 = b[1], m22 = c[2], tr = m00 + m11 + m22;
+    if (tr > 0.0) { /* the largest of w, x, y, z first, for accuracy (Shepperd) */
+        double s = 2.0 * sqrt(tr + 1.0);
+        q[0] = 0.25 * s, q[1] = (b[2] - c[1]) / s, q[2] = (c[0] - a[2]) / s, q[3] = (a[1] - b[0]) / s;
+    } else if (m00 > m11 && m00 > m22) {
+        double s = 2.0 * sqrt(1.0 + m00 - m11 - m22);
+        q[0] = (b[2] - c[1]) / s, q[1] = 0.25 * s, q[2] = (b[0] + a[1]) / s, q[3] = (c[0] + a[2]) / s;
+    } else if (m11 > m22) {
+        double s = 2.0 * sqrt(1.0 + m11 - m00 - m22);
+        q[0] = (c[0] - a[2]) / s, q[1] = (b[0] + a[1]) / s, q[2] = 0.25 * s, q[3] = (c[1] + b[2]) / s;
+    } else {
+        double s = 2.0 * sqrt(1.0 + m22 - m00 - m11);
+        q[0] = (a[1] - b[0]) / s, q[1] = (c[0] + a[2]) / s, q[2] = (c[1] + b[2]) / s, q[3] = 0.25 * s;
+    }
+    const double l = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int k = 0; k < 4; k++) q[k] /= l;
 }

@@ -811,6 +811,28 @@ spr_result spr_write_gauss_ply(const char *path, const spr_gauss_file *g, spr_er
     return spr__write_atomic(path, write_gauss_body, g, err);
 }
 
+spr_result spr_write_gauss_ply_of_cloud(const char *path, const spr_cloud *c, uint64_t seed, spr_error *err)
+{
+    const size_t n = c->n ? c->n : 1;
+    float *sh = malloc(n * 16 * 3 * sizeof *sh), *lg = malloc(n * sizeof *lg), *ls = malloc(n * 3 * sizeof *ls), *rt = malloc(n * 4 * sizeof *rt);
+    spr_result r = sh && lg && ls && rt ? SPR_OK : spr__fail(err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", path, c->n);
+    for (size_t i = 0; !r && i < c->n; i++) {
+        double q[4], ru, rv;
+        spr__surfel_frame(c, i, q, &ru, &rv);
+        for (int k = 0; k < 4; k++) rt[4 * i + k] = (float)q[k];
+        ls[3 * i] = (float)log(ru / 3.0), ls[3 * i + 1] = (float)log(rv / 3.0), ls[3 * i + 2] = (float)log(ru / 300.0);
+        const double a = c->alpha[i] < 0.999 ? c->alpha[i] : 0.999;
+        lg[i] = (float)log(a / (1.0 - a));
+        float *s = sh + 48 * i;
+        for (int ch = 0; ch < 3; ch++) s[ch] = (float)((c->color[3 * i + ch] - 0.5) / SPR__SH_C0);
+        for (int k = 3; k < 48; k++) s[k] = seed ? (float)(0.4 * (spr__uniform01(&seed) - 0.5)) : 0.0f;
+    }
+    const spr_gauss_file g = {c->n, c->pos, sh, lg, ls, rt, 16};
+    if (!r) r = spr_write_gauss_ply(path, &g, err);
+    free(sh), free(lg), free(ls), free(rt);
+    return r;
+}
+
 /* ---- a binary PLY read in chunks (render --stream) ---- */
 
 typedef struct ply_source {

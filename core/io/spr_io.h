@@ -56,6 +56,10 @@ typedef struct spr_gauss_file {
     int sh_k;        /* 1 (DC) … 16 (degree 3) */
 } spr_gauss_file;
 spr_result spr_write_gauss_ply(const char *path, const spr_gauss_file *g, spr_error *err);
+/* Cloud c as a capture in that layout, SH degree 3: each splat a flat Gaussian, σ = r/3 along its axes and
+ * r/300 across, opacity its α (at most 0.999), DC its colour; the higher coefficients 0, or (seed ≠ 0) drawn
+ * in ±0.2 from that seed, so that view-dependent colour has work to do. */
+spr_result spr_write_gauss_ply_of_cloud(const char *path, const spr_cloud *c, uint64_t seed, spr_error *err);
 
 /* A binary PLY opened for reading in chunks of `chunk` splats (0: 2^20)
  * instead of whole (`render --stream`, clouds larger than memory): only the
