@@ -1,6 +1,7 @@
 #!/bin/sh
 # Regenerates the pictures of README.md and docs/ with the CPU reference
-# (`domains` as the argument: only those of docs/domains.md).
+# (`domains` or `gaussians` as the argument: only those of docs/domains.md or
+# docs/gaussians.md).
 # Run deliberately, look at every picture before committing them.
 set -eu
 cd "$(dirname "$0")/.."
@@ -27,7 +28,30 @@ domain_images() { # docs/domains.md: strict domains per level, the seven methods
     $S render --model $B --algo domain-$meth --level 9 --extend-color --size 256x256 --quiet --out "$D/bunny_level9_$meth.png"
   done
 }
+gauss_images() { # docs/gaussians.md: the three algorithms of SPEC 10 on captures, gauss3d's planes
+  G=$O/gaussians
+  mkdir -p "$G"
+  tmp=$(mktemp -d)
+  C=tests/data/captures/splat-transform/3.7.0/sphere.ply
+  cam="--model $C --sh-degree 3 --cameras docs/examples/sphere-cameras.json --camera 1 --quiet"
+  for a in gauss3d gauss2d gauss-blend pbr2p1; do $S render $cam --algo $a --out "$G/sphere_$a.png" --float "$tmp/$a.pfm" > /dev/null; done
+  $S render $cam --algo gauss3d --dump "$tmp/dump" --out "$tmp/x.png" > /dev/null
+  for p in transmittance contrib invdepth; do
+    f=$(ls "$tmp/dump"/*"$p"*.pfm | tail -1)
+    $S show "$f" --out "$G/sphere_gauss3d_$p.png" > /dev/null
+  done
+  # where the viewers' image and the surfels' differ from the training rasterizer's: checked against gauss3d
+  # at Tier B within 2 LSB, the heat maps (red: more than 2 LSB apart)
+  for a in gauss-blend gauss2d; do
+    $S check $cam --algo gauss3d --image "$tmp/$a.pfm" --tier B --lsb 2 --out "$tmp/check-$a" > /dev/null || true
+    cp "$tmp/check-$a/heatmap.png" "$G/sphere_${a}_vs_gauss3d_heatmap.png"
+  done
+  $S sample --model $B --points 40000 --gaussians --out "$tmp/bunny-3dgs.ply" --quiet > /dev/null
+  for a in gauss3d gauss2d gauss-blend; do $S render --model "$tmp/bunny-3dgs.ply" --algo $a --size 384x384 --quiet --out "$G/bunny_capture_$a.png" > /dev/null; done
+  rm -rf "$tmp"
+}
 if [ "${1:-}" = domains ]; then domain_images; exit 0; fi
+if [ "${1:-}" = gaussians ]; then gauss_images; exit 0; fi
 
 common="--model $B --size 384x384 --quiet"
 $S render $common --algo pbr2p1 --out $O/bunny_pbr2p1.png
@@ -37,3 +61,4 @@ $S render $common --algo deferred --groups hash --k 8 --voronoi --out $O/bunny_d
 $S render $common --algo deferred --groups none --out $O/bunny_deferred_k1.png
 $S render --size 384x384 --quiet --out $O/default_torus.png
 domain_images
+gauss_images

@@ -3,7 +3,8 @@
 # the registry (splatref step), OUT/<algo>/index.html, and OUT/index.html
 # linking them (default OUT: build/walkthroughs).  docs/tutorial.md links
 # them.  Scenes: the torus (3,000 points; deferred and the transparent ones
-# with WGC K = 4) and the cube's domain primitives at level 1.
+# with WGC K = 4), the cube's domain primitives at level 1, and the Gaussian
+# algorithms on the converter's sphere capture (600 Gaussians, SH degree 3).
 set -eu
 cd "$(dirname "$0")/.."
 S=build/splatref
@@ -18,6 +19,7 @@ for a in $algos; do
   case $a in
     domain-*) extra="--model builtin:cube --points 1500 --level 1" ;;
     deferred|transparent*) extra="--points 3000 --groups wgc --k 4" ;;
+    gauss*) extra="--model tests/data/captures/splat-transform/3.7.0/sphere.ply --sh-degree 3" ;;
     *) extra="--points 3000" ;;
   esac
   rm -rf "$OUT/$a"

@@ -28,7 +28,19 @@
 #define spr_floor floorf
 #define spr_ceil ceilf
 #define spr_sqrt sqrtf
-#define spr_ldexp ldexpf   /* exact: x·2^n for a normal result */
+#define spr_ldexp spr__ldexp_c
+
+/* x·2^n, exact for a normal result as GLSL's ldexp: 2^n built from its bits
+ * and one multiply while 2^n is a normal float (libm's ldexpf, a tenth of
+ * gauss3d's raster time, only outside that range).  The two differ only
+ * where the product is subnormal and the CPU's FTZ flushes it; spr_exp's
+ * results stay above 2^-126 (SPEC 10.6). */
+static inline float spr__ldexp_c(float x, int n)
+{
+    if (n < -126 || n > 127) return ldexpf(x, n);
+    union { uint32_t u; float f; } p = {(uint32_t)(n + 127) << 23};
+    return x * p.f;
+}
 
 /* A pixel's inputs on the CPU: plane arrays of the input targets, pixel i. */
 typedef struct spr_pixel_in {

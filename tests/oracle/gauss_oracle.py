@@ -183,3 +183,61 @@ def render_blend(p, W, H, bg):
 def render(g, cam, W, H, bg=(0.0, 0.0, 0.0), algo="gauss3d"):
     p = preprocess(g, cam, W, H)
     return render_gauss3d(p, W, H, bg) if algo == "gauss3d" else render_blend(p, W, H, bg)
+
+
+def camera_of_json(path, cam_id):
+    """A camera of the training code's cameras.json (SPEC 10.8): rotation camera-to-world, position the centre."""
+    import json
+    with open(path) as f:
+        entries = json.load(f)
+    for e in entries:
+        if e["id"] == cam_id:
+            c2w = np.asarray(e["rotation"], float)
+            R = c2w.T
+            return {"R": R.ravel(), "t": -R @ np.asarray(e["position"], float), "fx": float(e["fx"]), "fy": float(e["fy"]),
+                    "cx": e["width"] / 2.0, "cy": e["height"] / 2.0}, int(e["width"]), int(e["height"])
+    raise SystemExit("gauss_oracle: %s: no camera with id %d" % (path, cam_id))
+
+
+def write_image(path, img):
+    """PFM (float, bottom row first) or 8-bit PNG (row 0 the top, round(255 v) of v clamped to [0, 1])."""
+    import struct
+    import zlib
+    H, W, _ = img.shape
+    if path.endswith(".pfm"):
+        with open(path, "wb") as f:
+            f.write(b"PF\n%d %d\n-1\n" % (W, H))
+            f.write(np.ascontiguousarray(img[::-1], dtype="<f4").tobytes())
+        return
+    q = np.floor(np.clip(img, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
+    raw = b"".join(b"\x00" + q[j].tobytes() for j in range(H))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", W, H, 8, 2, 0, 0, 0)) + chunk(b"IDAT", zlib.compress(raw, 9))
+                + chunk(b"IEND", b""))
+
+
+def main():
+    """`gauss_oracle.py CAPTURE.ply --cameras F.json --camera ID --out F.png|F.pfm`: a second renderer to check
+    (docs/tutorial.md, "Validate your 3DGS renderer")."""
+    import argparse
+    ap = argparse.ArgumentParser(description=main.__doc__)
+    ap.add_argument("capture")
+    ap.add_argument("--cameras", required=True)
+    ap.add_argument("--camera", type=int, required=True)
+    ap.add_argument("--sh-degree", type=int, default=3)
+    ap.add_argument("--algo", choices=("gauss3d", "gauss-blend"), default="gauss3d")
+    ap.add_argument("--background", default="0,0,0")
+    ap.add_argument("--out", required=True)
+    a = ap.parse_args()
+    cam, W, H = camera_of_json(a.cameras, a.camera)
+    bg = tuple(float(v) for v in a.background.split(","))
+    img, _ = render(read_3dgs_ply(a.capture, a.sh_degree), cam, W, H, bg, a.algo)
+    write_image(a.out, img)
+    print("gauss_oracle: %s, %s, camera %d (%dx%d) -> %s" % (a.capture, a.algo, a.camera, W, H, a.out))
+
+
+if __name__ == "__main__":
+    main()
