@@ -160,6 +160,28 @@ static GLuint compile(GLenum type, const char *src, const char *name, spr_error 
     return sh;
 }
 
+/* A program of compiled shaders, flagged for deletion with it; 0 and one
+ * line with GL's log when it does not link. */
+static GLuint link_shaders(const GLuint *sh, int n, const char *name, spr_error *err)
+{
+    GLuint p = glCreateProgram();
+    for (int k = 0; k < n; k++) glAttachShader(p, sh[k]);
+    glLinkProgram(p);
+    for (int k = 0; k < n; k++) glDeleteShader(sh[k]);
+    GLint ok = 0;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = "";
+        glGetProgramInfoLog(p, sizeof log, NULL, log);
+        for (char *q = log; *q; q++)
+            if (*q == '\n') *q = ' ';
+        spr__fail(err, SPR_E_BACKEND, "gl: program %s does not link: %s", name, log);
+        glDeleteProgram(p);
+        return 0;
+    }
+    return p;
+}
+
 /* Link; the shaders stay attached (flagged for deletion with the program),
  * so spr_gl_program_source() can ask GL for the text it compiled. */
 static GLuint link(const char *vs_main, const char *fs_main, int op, int probe, const char *name, spr_error *err)
@@ -173,24 +195,8 @@ static GLuint link(const char *vs_main, const char *fs_main, int op, int probe, 
         if (v) glDeleteShader(v);
         return 0;
     }
-    GLuint p = glCreateProgram();
-    glAttachShader(p, v);
-    glAttachShader(p, f);
-    glLinkProgram(p);
-    glDeleteShader(v);
-    glDeleteShader(f);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = "";
-        glGetProgramInfoLog(p, sizeof log, NULL, log);
-        for (char *q = log; *q; q++)
-            if (*q == '\n') *q = ' ';
-        spr__fail(err, SPR_E_BACKEND, "gl: program %s does not link: %s", name, log);
-        glDeleteProgram(p);
-        return 0;
-    }
-    return p;
+    GLuint sh[2] = {v, f};
+    return link_shaders(sh, 2, name, err);
 }
 
 /* Resolve `names` (NULL-terminated) into locs; a missing one fails unless
@@ -240,22 +246,7 @@ static GLuint link_compute(const char *main_src, int probe, const char *name, sp
     GLuint sh = compile(GL_COMPUTE_SHADER, cs, name, err);
     free(cs);
     if (!sh) return 0;
-    GLuint p = glCreateProgram();
-    glAttachShader(p, sh);
-    glLinkProgram(p);
-    glDeleteShader(sh);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = "";
-        glGetProgramInfoLog(p, sizeof log, NULL, log);
-        for (char *q = log; *q; q++)
-            if (*q == '\n') *q = ' ';
-        spr__fail(err, SPR_E_BACKEND, "gl: program %s does not link: %s", name, log);
-        glDeleteProgram(p);
-        return 0;
-    }
-    return p;
+    return link_shaders(&sh, 1, name, err);
 }
 
 spr_result gl__gauss_program(gl_context *c, int which, spr_error *err)

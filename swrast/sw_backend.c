@@ -21,7 +21,16 @@ static spr_result sw_set_view(spr_backend *b, const spr_view *v)
     float *ray = realloc(c->ray, np * 6 * sizeof(float));
     if (!ray) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a %dx%d view", v->width, v->height);
     c->ray = ray;
-    int W = v->width, H = v->height;
+    c->ray_ok = 0; /* computed by the first draw that needs them: the Gaussian algorithms do not */
+    return SPR_OK;
+}
+
+void sw__rays(sw_context *c)
+{
+    if (c->ray_ok) return;
+    const spr_view *v = &c->base.view;
+    const int W = v->width, H = v->height;
+    float *ray = c->ray;
 #pragma omp parallel for num_threads(c->threads) schedule(static)
     for (int y = 0; y < H; y++) {
         unsigned fp = sw_fp_enter();
@@ -31,7 +40,7 @@ static spr_result sw_set_view(spr_backend *b, const spr_view *v)
         }
         sw_fp_leave(fp);
     }
-    return SPR_OK;
+    c->ray_ok = 1;
 }
 
 static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)

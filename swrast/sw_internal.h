@@ -45,10 +45,14 @@ typedef struct sw_context {
     spr_backend base; /* first: a sw_context is an spr_backend */
     int threads;
     sw_scratch scratch[SW_SCRATCH__COUNT]; /* splat draws' binning (sw_raster.c) */
-    float *ray;       /* 6 per pixel: o0, d (spr_pixel_ray), computed once per view */
+    float *ray;       /* 6 per pixel: o0, d (spr_pixel_ray), computed once per view (sw__rays) */
+    int ray_ok;       /* ray holds this view's rays */
     sw_target *targets;
     int cap;
 } sw_context;
+
+/* The pixel rays of the view, computed at the first draw of a view that reads them. */
+void sw__rays(sw_context *c);
 
 static inline sw_context *sw_ctx(spr_backend *b) { return (sw_context *)b; }
 

@@ -105,6 +105,7 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
     sw_context *c = sw_ctx(b);
     sw_target *tg = &c->targets[target];
     const spr_view *v = &b->view;
+    sw__rays(c);
     const size_t n = d->indices ? d->count : d->cloud->n;
     const int tiles_x = (v->width + SW_TILE - 1) / SW_TILE, tiles_y = (v->height + SW_TILE - 1) / SW_TILE;
     const int ntiles = tiles_x * tiles_y;

@@ -108,6 +108,7 @@ spr_result sw__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *
     sw_context *c = sw_ctx(b);
     sw_target *tg = &c->targets[target];
     const spr_view *v = &b->view;
+    sw__rays(c);
     const size_t n = d->indices ? d->count : d->rects->n, np = (size_t)v->width * (size_t)v->height;
     const int tiles_x = (v->width + SW_TILE - 1) / SW_TILE, tiles_y = (v->height + SW_TILE - 1) / SW_TILE;
     const int ntiles = tiles_x * tiles_y;

@@ -56,6 +56,9 @@ static void frame_params(const spr_view *v, int mode, const spr_render_desc *des
     g[SPR_GPRM_R2D_MIN] = 3.0f * 0.707106f; /* hbb1: cutoff · FilterSize, in float */
     g[SPR_GPRM_CAP] = gsplat ? 0.999f : 0.99f;
     g[SPR_GPRM_ALPHA_MIN] = 1.0f / 255.0f;
+    /* ln(1/255) − 0.01: e^power is then below 0.99/255, which spr_exp's 1 ulp cannot lift to 1/255, so the
+     * skip of SPEC 10.4 is decided without the exponential (an o ≤ 1 only; the note still gives α) */
+    g[SPR_GPRM_POWER_MIN] = (float)(log(1.0 / 255.0) - 0.01);
     g[SPR_GPRM_T_MIN] = 0.0001f;
     g[SPR_GPRM_STOP_LE] = gsplat ? 1.0f : 0.0f;
     g[SPR_GPRM_MODE] = mode == 1 ? SPR_GMODE_2D : SPR_GMODE_3D;

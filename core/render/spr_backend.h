@@ -420,6 +420,7 @@ int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int
     X(R2D_MIN, 1)            /* gauss2d: the radius's floor, 3·FilterSize */                                    \
     X(CAP, 1)                /* α cap (0.99; gsplat 0.999) */                                                   \
     X(ALPHA_MIN, 1)          /* skipped below, the float 1/255 */                                               \
+    X(POWER_MIN, 1)          /* power below which o·exp(power) < ALPHA_MIN for every o ≤ 1: skipped without exp */ \
     X(T_MIN, 1)              /* stop when T·(1 − α) falls below, 1e-4 */                                        \
     X(STOP_LE, 1)            /* 1: stop at T·(1 − α) ≤ T_MIN too (gsplat) */                                    \
     X(MODE, 1)               /* SPR_GMODE_3D (gauss3d, gauss-blend) or SPR_GMODE_2D (gauss2d) */

@@ -35,6 +35,17 @@ SPR_FN float spr_exp(float x)
     return v;
 }
 
+/* (a0·b0 + a1·b1) + a2·b2: the three-term sums of SPEC §10.3, left to right. */
+SPR_FN float spr_sum3(float a0, float b0, float a1, float b1, float a2, float b2)
+{
+    SPR_PRECISE float a = a0 * b0;
+    SPR_PRECISE float b = a1 * b1;
+    SPR_PRECISE float e = a2 * b2;
+    SPR_PRECISE float ab = a + b;
+    SPR_PRECISE float v = ab + e;
+    return v;
+}
+
 /* The rotation matrix (row-major) of the unit quaternion q = (w, x, y, z)
  * (SPEC §10.3 step 2), in float: first row 1 − 2(y² + z²), 2(xy − wz), 2(xz + wy). */
 SPR_FN void spr_quat_matrix(SPR_CARR q[4], SPR_OARR M[9])
@@ -84,11 +95,7 @@ SPR_FN void spr_quat_matrix(SPR_CARR q[4], SPR_OARR M[9])
 SPR_FN void spr_gauss_to_camera(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_OARR t[3])
 {
     for (int i = 0; i < 3; i++) {
-        SPR_PRECISE float a = g[SPR_GPRM_R + 3 * i] * mu[0];
-        SPR_PRECISE float b = g[SPR_GPRM_R + 3 * i + 1] * mu[1];
-        SPR_PRECISE float c = g[SPR_GPRM_R + 3 * i + 2] * mu[2];
-        SPR_PRECISE float ab = a + b;
-        SPR_PRECISE float abc = ab + c;
+        float abc = spr_sum3(g[SPR_GPRM_R + 3 * i], mu[0], g[SPR_GPRM_R + 3 * i + 1], mu[1], g[SPR_GPRM_R + 3 * i + 2], mu[2]);
         SPR_PRECISE float v = abc + g[SPR_GPRM_T + i];
         t[i] = v;
     }
@@ -167,11 +174,7 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     float S[9];
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
-            SPR_PRECISE float a = L[3 * i] * L[3 * j];
-            SPR_PRECISE float b = L[3 * i + 1] * L[3 * j + 1];
-            SPR_PRECISE float e = L[3 * i + 2] * L[3 * j + 2];
-            SPR_PRECISE float ab = a + b;
-            SPR_PRECISE float v = ab + e;
+            float v = spr_sum3(L[3 * i], L[3 * j], L[3 * i + 1], L[3 * j + 1], L[3 * i + 2], L[3 * j + 2]);
             S[3 * i + j] = v;
         }
     /* step 3: the Jacobian with clamped tangents */
@@ -209,31 +212,19 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     float T[6];
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 3; j++) {
-            SPR_PRECISE float a = J[3 * i] * g[SPR_GPRM_R + j];
-            SPR_PRECISE float b = J[3 * i + 1] * g[SPR_GPRM_R + 3 + j];
-            SPR_PRECISE float e = J[3 * i + 2] * g[SPR_GPRM_R + 6 + j];
-            SPR_PRECISE float ab = a + b;
-            SPR_PRECISE float x = ab + e;
+            float x = spr_sum3(J[3 * i], g[SPR_GPRM_R + j], J[3 * i + 1], g[SPR_GPRM_R + 3 + j], J[3 * i + 2], g[SPR_GPRM_R + 6 + j]);
             T[3 * i + j] = x;
         }
     float A[6];
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 3; j++) {
-            SPR_PRECISE float a = T[3 * i] * S[j];
-            SPR_PRECISE float b = T[3 * i + 1] * S[3 + j];
-            SPR_PRECISE float e = T[3 * i + 2] * S[6 + j];
-            SPR_PRECISE float ab = a + b;
-            SPR_PRECISE float x = ab + e;
+            float x = spr_sum3(T[3 * i], S[j], T[3 * i + 1], S[3 + j], T[3 * i + 2], S[6 + j]);
             A[3 * i + j] = x;
         }
     float P[4];
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++) {
-            SPR_PRECISE float a = A[3 * i] * T[3 * j];
-            SPR_PRECISE float b = A[3 * i + 1] * T[3 * j + 1];
-            SPR_PRECISE float e = A[3 * i + 2] * T[3 * j + 2];
-            SPR_PRECISE float ab = a + b;
-            SPR_PRECISE float x = ab + e;
+            float x = spr_sum3(A[3 * i], T[3 * j], A[3 * i + 1], T[3 * j + 1], A[3 * i + 2], T[3 * j + 2]);
             P[2 * i + j] = x;
         }
     /* step 5: the dilation, the conic and (--gauss-aa) the opacity's compensation */
@@ -345,11 +336,7 @@ SPR_FN void spr_gauss_preprocess2d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
             l[i] = v;
         }
         for (int i = 0; i < 3; i++) {
-            SPR_PRECISE float a = g[SPR_GPRM_R + 3 * i] * l[0];
-            SPR_PRECISE float b = g[SPR_GPRM_R + 3 * i + 1] * l[1];
-            SPR_PRECISE float e = g[SPR_GPRM_R + 3 * i + 2] * l[2];
-            SPR_PRECISE float ab = a + b;
-            SPR_PRECISE float v = ab + e;
+            float v = spr_sum3(g[SPR_GPRM_R + 3 * i], l[0], g[SPR_GPRM_R + 3 * i + 1], l[1], g[SPR_GPRM_R + 3 * i + 2], l[2]);
             A[3 * i + col] = v;
         }
     }
@@ -372,18 +359,10 @@ SPR_FN void spr_gauss_preprocess2d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     /* the normal in camera space, facing the camera (culled edge-on: t·n == 0) */
     float nw[3];
     for (int i = 0; i < 3; i++) {
-        SPR_PRECISE float a = g[SPR_GPRM_R + 3 * i] * Rq[nax];
-        SPR_PRECISE float b = g[SPR_GPRM_R + 3 * i + 1] * Rq[3 + nax];
-        SPR_PRECISE float e = g[SPR_GPRM_R + 3 * i + 2] * Rq[6 + nax];
-        SPR_PRECISE float ab = a + b;
-        SPR_PRECISE float v = ab + e;
+        float v = spr_sum3(g[SPR_GPRM_R + 3 * i], Rq[nax], g[SPR_GPRM_R + 3 * i + 1], Rq[3 + nax], g[SPR_GPRM_R + 3 * i + 2], Rq[6 + nax]);
         nw[i] = v;
     }
-    SPR_PRECISE float c0 = t[0] * nw[0];
-    SPR_PRECISE float c1 = t[1] * nw[1];
-    SPR_PRECISE float c2 = t[2] * nw[2];
-    SPR_PRECISE float c01 = c0 + c1;
-    SPR_PRECISE float tn = c01 + c2;
+    float tn = spr_sum3(t[0], nw[0], t[1], nw[1], t[2], nw[2]);
     SPR_PRECISE float cosv = -tn;
     if (cosv == 0.0f) {
         spr_gauss_cull(SPR_GCULL_DET, rec);
@@ -419,19 +398,11 @@ SPR_FN void spr_gauss_preprocess2d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
         SPR_PRECISE float p0 = R[0] * Tw[0];
         SPR_PRECISE float p1 = R[1] * Tw[1];
         SPR_PRECISE float p2 = R[2] * Tw[2];
-        SPR_PRECISE float q0 = f0 * p0;
-        SPR_PRECISE float q1 = f0 * p1;
-        SPR_PRECISE float q2 = f2 * p2;
-        SPR_PRECISE float q01 = q0 + q1;
-        SPR_PRECISE float p = q01 + q2;
+        float p = spr_sum3(f0, p0, f0, p1, f2, p2);
         SPR_PRECISE float r0 = R[0] * R[0];
         SPR_PRECISE float r1 = R[1] * R[1];
         SPR_PRECISE float r2 = R[2] * R[2];
-        SPR_PRECISE float s0 = f0 * r0;
-        SPR_PRECISE float s1 = f0 * r1;
-        SPR_PRECISE float s2 = f2 * r2;
-        SPR_PRECISE float s01 = s0 + s1;
-        SPR_PRECISE float ss = s01 + s2;
+        float ss = spr_sum3(f0, r0, f0, r1, f2, r2);
         SPR_PRECISE float pp = p * p;
         SPR_PRECISE float h0 = pp - ss;
         if (!(h0 >= g[SPR_GPRM_EXT2D_MIN])) h0 = g[SPR_GPRM_EXT2D_MIN];
@@ -608,7 +579,14 @@ SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg
             SPR_NOTE(px, SPR_NOTE_GAUSS_POWER, G, power, 0.0f, T, T);
             continue;
         }
-        float alpha = spr_gauss_alpha(g, spr_grec(px, G, SPR_GREC_OPACITY), power);
+        float og = spr_grec(px, G, SPR_GREC_OPACITY);
+        /* the same skip without the exponential where its outcome is certain (SPR_GPRM_POWER_MIN); the
+         * note computes α as below, only at a probed pixel */
+        if (power < g[SPR_GPRM_POWER_MIN] && og <= 1.0f) {
+            SPR_NOTE(px, SPR_NOTE_GAUSS_FAINT, G, power, spr_gauss_alpha(g, og, power), T, T);
+            continue;
+        }
+        float alpha = spr_gauss_alpha(g, og, power);
         if (alpha < g[SPR_GPRM_ALPHA_MIN]) {
             SPR_NOTE(px, SPR_NOTE_GAUSS_FAINT, G, power, alpha, T, T);
             continue;
