@@ -193,6 +193,43 @@ START_TEST(domains_by_hand)
 }
 END_TEST
 
+/* A level whose textures would take more than 2^25 texels is refused
+ * before any texture is made: a flat 20 × 20 grid (spacing 1) of splats of
+ * radius 0.00516 in three domains that each hold every point.  Each
+ * rectangle is about 19 × 1.05 ≈ 19.96 a side, each texture
+ * ceil(19.96/0.00516)² ≈ 1.5·10⁷ texels (under one texture's 2^24), the
+ * three 4.5·10⁷ > 2^25: one error, at once, nothing allocated. */
+START_TEST(level_texel_budget_refused_early)
+{
+    spr_cloud c;
+    ck_assert_int_eq(spr_cloud_alloc(&c, 400), SPR_OK);
+    size_t ptr[401];
+    uint32_t col[1200];
+    double val[1200];
+    for (int i = 0; i < 400; i++) {
+        c.pos[3 * i] = (float)(i % 20), c.pos[3 * i + 1] = (float)(i / 20), c.pos[3 * i + 2] = 0.0f;
+        c.radius[i] = 0.00516f;
+        ptr[i] = 3 * (size_t)i;
+        for (int d = 0; d < 3; d++) col[3 * i + d] = (uint32_t)d, val[3 * i + d] = 1.0 / 3.0;
+    }
+    ptr[400] = 1200;
+    spr_csr B = {400, 3, ptr, col, val};
+    spr_prims_desc pd;
+    spr_prims_defaults(&pd);
+    spr_rects rects;
+    spr_prims_stats st;
+    spr_error err = {0};
+    const double t0 = spr_now_ms();
+    ck_assert_int_eq(spr_domain_prims(&c, &B, &pd, &rects, &st, &err), SPR_E_TOO_LARGE);
+    const double ms = spr_now_ms() - t0;
+    printf("domain: texel budget: %s (%.0f ms)\n", err.msg, ms);
+    ck_assert_msg(strstr(err.msg, "3 textures would take") && strstr(err.msg, "--texel") && !strchr(err.msg, '\n'), "%s", err.msg);
+    ck_assert_msg(ms < 2000.0, "refused after %.0f ms: the textures were made first", ms);
+    ck_assert_ptr_null(rects.f);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 /* A flat 20×10 grid (spacing 1, z = 0.3, normals +z, radius 0.5) is one
  * rectangle with zero error: normal +z, u along x, extents 19 × 9 grown by
  * 5% to 19.95 × 9.45 about the centre, or 21 × 10.5 with the radii.
@@ -503,6 +540,7 @@ Suite *make_domain_suite(void)
     tcase_add_test(tc, partition_of_unity_every_level);
     tcase_add_test(tc, domains_by_hand);
     tcase_add_test(tc, flat_square_one_rectangle);
+    tcase_add_test(tc, level_texel_budget_refused_early);
     tcase_add_test(tc, radial_texture_of_one_point);
     tcase_add_test(tc, merge_flat_domains_of_the_cube);
     tcase_add_test(tc, affine_texture_reproduces_a_ramp);

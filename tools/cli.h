@@ -43,7 +43,7 @@ int cli_outdir_begin(spr__args *a, const char *opt, const char *dir, char *tmp, 
 int cli_outdir_end(spr__args *a, const char *opt, const char *tmp, const char *dir, int commit);
 
 /* parity --random: N generated scenes from seed on both backends (cli_random.c). */
-int cli_parity_random(spr__args *a, int count, uint64_t seed, const char *dir, int gl_device);
+int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, int gl_device);
 
 struct spr_parity_report;
 /* One summary line per algorithm, then its first differing planes. */

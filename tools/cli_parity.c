@@ -20,6 +20,7 @@ static const spr__opt parity_opts[] = {
     {"gl-eps", "E", "use this eps for the GL side only (a deliberate perturbation, to see a report)"},
     {"random", "N", "instead of one scene: N generated adversarial scenes, every algorithm; mismatches saved (and minimised) in --report DIR (default parity-random)"},
     {"seed", "S", "--random: the seed of the scene generator (default 1)"},
+    {"first", "I", "--random: start at scene I of the seed (scene i of a seed is always the same scene; default 0)"},
     {NULL, NULL, NULL}};
 
 const char *cli_cpu_flags(void)
@@ -124,12 +125,13 @@ int cmd_parity(int argc, char **argv)
     if (spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || spr__get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
     const char *dir = spr__get(&a, "report");
     if (spr__get(&a, "random")) { /* differential fuzzing: no scene options apply */
-        int count = 0;
+        int count = 0, first = 0;
         size_t seed = 1;
         if (spr__get_int(&a, "random", &count, 1, 100000000) < 0 || spr__get_size(&a, "seed", &seed, 0, (size_t)-1) < 0 ||
+            spr__get_int(&a, "first", &first, 0, 2000000000) < 0 ||
             (spr__flag(&a, "quiet"), spr__reject_unused(&a)))
             return 2;
-        return cli_parity_random(&a, count, (uint64_t)seed, dir, gl_device);
+        return cli_parity_random(&a, first, count, (uint64_t)seed, dir, gl_device);
     }
     spr_scene s;
     spr_render_desc rd;

@@ -565,7 +565,7 @@ static size_t minimise(spr_backend *cpu, spr_backend *gl, const rscene *s, spr_a
     return m;
 }
 
-int cli_parity_random(spr__args *a, int count, uint64_t seed, const char *dir, int gl_device)
+int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, int gl_device)
 {
     const char *out_dir = dir ? dir : "parity-random";
     spr_error err = {0};
@@ -579,9 +579,10 @@ int cli_parity_random(spr__args *a, int count, uint64_t seed, const char *dir, i
     snprintf(tmp, sizeof tmp, "/tmp/splatref-random-%ld.ply", (long)getpid());
     printf("parity random: cpu reference vs gl [%s], %d scenes from seed %llu, every algorithm of the registry\n", spr_gl_renderer(gl),
            count, (unsigned long long)seed);
+    if (first) printf("parity random: scenes %d to %d of the seed\n", first, first + count - 1);
     int mismatches = 0, failed = 0, made_dir = 0, gauss_scenes = 0;
     long comparisons = 0, gauss_comparisons = 0;
-    for (int i = 0; i < count && !failed; i++) {
+    for (int i = first; i < first + count && !failed; i++) {
         rscene s;
         if (generate(seed, i, tmp, &s, &err)) {
             fprintf(stderr, "splatref %s: scene %d: %s\n", a->cmd, i, err.msg);
@@ -631,7 +632,7 @@ int cli_parity_random(spr__args *a, int count, uint64_t seed, const char *dir, i
         }
         free(keep);
         rscene_free(&s);
-        if (isatty(2) && !spr__flag(a, "quiet") && (i & 63) == 63) fprintf(stderr, "\r\033[Kparity random: %d of %d scenes", i + 1, count);
+        if (isatty(2) && !spr__flag(a, "quiet") && (i & 63) == 63) fprintf(stderr, "\r\033[Kparity random: scene %d of %d", i + 1, first + count);
     }
     if (isatty(2) && !spr__flag(a, "quiet")) fprintf(stderr, "\r\033[K");
     remove(tmp);

@@ -23,6 +23,9 @@ void spr_prims_defaults(spr_prims_desc *d)
     d->nbr_ratio = 0.05;
 }
 
+/* 2^25 texels a level (512 MiB of RGBA floats): the bunny's finest level takes 0.9M */
+#define SPR_MAX_LEVEL_TEXELS 33554432.0
+
 typedef struct slot {
     int ok;
     spr_polygon pg;
@@ -46,12 +49,32 @@ spr_result spr_domain_prims(const spr_cloud *c, const spr_csr *B, const spr_prim
         spr_csr_free(&T);
         return spr__fail(err, SPR_E_NOMEM, "domains: out of memory for %zu domains", R);
     }
-#pragma omp parallel for schedule(dynamic, 1) num_threads(d->threads > 0 ? d->threads : 1)
+    /* the polygons first, and the texels their textures will take: a level whose textures exceed
+     * SPR_MAX_LEVEL_TEXELS is refused before any texture is made (a cloud of a few huge splats among
+     * tiny ones would otherwise ask for gigabytes of texels, the texel being the domain's mean radius) */
+    double level_texels = 0.0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(d->threads > 0 ? d->threads : 1) reduction(+ : level_texels)
     for (long jj = 0; jj < (long)R; jj++) {
         const size_t j = (size_t)jj, m = T.ptr[j + 1] - T.ptr[j];
         slot *s = &sl[j];
         if (m < 3) continue;
         if (spr_support_polygon(c, T.col + T.ptr[j], T.val + T.ptr[j], m, d->enlarge, 1, &s->pg, &s->err)) continue; /* degenerate */
+        double t, w, h;
+        if (spr_texture_size(c, T.col + T.ptr[j], m, &s->pg, &d->tex, &t, &w, &h, &s->err)) s->failed = 1;
+        else s->ok = 1, level_texels += w * h;
+    }
+    if (level_texels > SPR_MAX_LEVEL_TEXELS) {
+        free(sl);
+        spr_csr_free(&T);
+        return spr__fail(err, SPR_E_TOO_LARGE, "domains: the level's %zu textures would take %.0f texels (at most %.0f): a larger --texel, "
+                         "or splats of less disparate radii", R, level_texels, SPR_MAX_LEVEL_TEXELS);
+    }
+#pragma omp parallel for schedule(dynamic, 1) num_threads(d->threads > 0 ? d->threads : 1)
+    for (long jj = 0; jj < (long)R; jj++) {
+        const size_t j = (size_t)jj, m = T.ptr[j + 1] - T.ptr[j];
+        slot *s = &sl[j];
+        if (!s->ok) continue;
+        s->ok = 0;
         spr_result r = d->affine ? spr_texture_affine(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &s->pg, &d->tex, &s->tex, &s->triangles, &s->err)
                                  : spr_texture_radial(c, T.col + T.ptr[j], T.val + T.ptr[j], m, &s->pg, &d->tex, &s->tex, &s->err);
         if (r) s->failed = 1;

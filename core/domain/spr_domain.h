@@ -107,6 +107,11 @@ typedef struct spr_texture {
     double texel;         /* texel side in model units */
     float *rgba;          /* w·h·4: colour and alpha (= the basis function); row 0 at vmin */
 } spr_texture;
+/* The texel side (texel_factor × the domain's mean radius) and the texels
+ * along u and v of a domain's texture on its support rectangle pg, as
+ * doubles (one texture holds at most 2^24 texels: SPR_E_TOO_LARGE above). */
+spr_result spr_texture_size(const spr_cloud *c, const uint32_t *idx, size_t m, const spr_polygon *pg, const spr_texture_desc *td,
+                            double *texel, double *w, double *h, spr_error *err);
 /* The radial texture of a domain (points idx, basis values phi) on its
  * support rectangle pg. */
 spr_result spr_texture_radial(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, const spr_polygon *pg,

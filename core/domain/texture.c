@@ -36,20 +36,29 @@ static double rbf(spr_rbf shape, double d, double support)
     }
 }
 
-spr_result spr_texture_radial(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, const spr_polygon *pg,
-                              const spr_texture_desc *td, spr_texture *out, spr_error *err)
+spr_result spr_texture_size(const spr_cloud *c, const uint32_t *idx, size_t m, const spr_polygon *pg, const spr_texture_desc *td,
+                            double *texel, double *w, double *h, spr_error *err)
 {
-    memset(out, 0, sizeof *out);
     if (m == 0) return spr__fail(err, SPR_E_VALUE, "texture: empty domain");
     if (!(td->texel_factor > 0.0) || !(td->width > 0.0)) return spr__fail(err, SPR_E_ARG, "texture: texel size and width must be > 0");
     double rmean = 0.0;
     for (size_t a = 0; a < m; a++) rmean += c->radius[idx[a]];
     rmean /= (double)m;
-    const double h = td->texel_factor * rmean;
+    const double t = td->texel_factor * rmean;
     const double wu = pg->umax - pg->umin, wv = pg->vmax - pg->vmin;
-    const double W = ceil(wu / h), H = ceil(wv / h);
-    if (!(W >= 1.0 && H >= 1.0) || W * H > 16777216.0)
-        return spr__fail(err, SPR_E_TOO_LARGE, "texture: %g × %g texels (texel %g) for a %g × %g rectangle", W, H, h, wu, wv);
+    *texel = t, *w = ceil(wu / t), *h = ceil(wv / t);
+    if (!(*w >= 1.0 && *h >= 1.0) || *w * *h > 16777216.0)
+        return spr__fail(err, SPR_E_TOO_LARGE, "texture: %g × %g texels (texel %g) for a %g × %g rectangle", *w, *h, t, wu, wv);
+    return SPR_OK;
+}
+
+spr_result spr_texture_radial(const spr_cloud *c, const uint32_t *idx, const double *phi, size_t m, const spr_polygon *pg,
+                              const spr_texture_desc *td, spr_texture *out, spr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    double h, W, H;
+    spr_result sr = spr_texture_size(c, idx, m, pg, td, &h, &W, &H, err);
+    if (sr) return sr;
     out->w = (int)W;
     out->h = (int)H;
     out->texel = h;
