@@ -1,6 +1,7 @@
 /* sw_backend.c — CPU backend context: view, ray cache, targets, clear, read. */
 #include "spr_swrast.h"
 #include "sw_internal.h"
+#include "spr_util.h"
 #include "spr_fragment.h"
 
 #include <omp.h>
@@ -55,7 +56,7 @@ static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)
     tg->pixels = np;
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         if (!(planes & SPR_PLANE_BIT(p)) || tg->plane[p]) continue;
-        if (!(tg->plane[p] = malloc(np * (size_t)spr_plane_channels((spr_plane)p) * 4))) {
+        if (!(tg->plane[p] = spr__big_alloc(np * (size_t)spr_plane_channels((spr_plane)p) * 4))) {
             free_target(tg);
             return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a target");
         }

@@ -75,36 +75,28 @@ spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
     return SPR_OK;
 }
 
-/* gauss-blend: bins of (position in the order, Gaussian) per tile, in order. */
+/* gauss-blend: the tiles of the ellipse at position e of the order (its pixel box's tiles). */
+typedef struct blend_bins { const float *rec; const uint32_t *order; } blend_bins;
+static void box_tiles(const void *user, size_t e, int r[4])
+{
+    const blend_bins *bb = user;
+    const float *R = bb->rec + (size_t)bb->order[e] * SPR_GREC_FLOATS;
+    const int i0 = (int)R[SPR_GREC_BOX], j0 = (int)R[SPR_GREC_BOX + 1], i1 = (int)R[SPR_GREC_BOX + 2], j1 = (int)R[SPR_GREC_BOX + 3];
+    if (i1 < i0 || j1 < j0) r[0] = r[1] = r[2] = r[3] = 0;
+    else r[0] = i0 / 16, r[1] = j0 / 16, r[2] = i1 / 16 + 1, r[3] = j1 / 16 + 1;
+}
+
+/* gauss-blend: the positions in the order binned per tile, in order (spr__gauss_bin). */
 spr_result sw__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st)
 {
     sw_context *c = sw_ctx(b);
     sw_target *tg = &c->targets[target];
     const int W = b->view.width, H = b->view.height;
     const int gx = (W + 15) / 16, gy = (H + 15) / 16, nt = gx * gy;
-    uint32_t *start = calloc((size_t)nt + 1, sizeof *start), *fill = NULL, *bin = NULL;
-    spr_result r = start ? SPR_OK : spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory binning %zu Gaussians", d->count);
-    /* the tiles each box touches (box rows j from the top) */
+    uint32_t *start = NULL, *bin = NULL;
+    const blend_bins bb = {d->rec, d->order};
+    spr_result r = spr__gauss_bin(d->count, box_tiles, &bb, gx, gy, c->threads, &start, &bin, &b->err);
 #define BOX(G, k) ((int)d->rec[(size_t)(G) * SPR_GREC_FLOATS + SPR_GREC_BOX + (k)])
-    for (size_t e = 0; !r && e < d->count; e++) {
-        const uint32_t G = d->order[e];
-        if (BOX(G, 2) < BOX(G, 0) || BOX(G, 3) < BOX(G, 1)) continue;
-        for (int ty = BOX(G, 1) / 16; ty <= BOX(G, 3) / 16; ty++)
-            for (int tx = BOX(G, 0) / 16; tx <= BOX(G, 2) / 16; tx++) start[ty * gx + tx + 1]++;
-    }
-    for (int t = 0; !r && t < nt; t++) start[t + 1] += start[t];
-    if (!r && (!(fill = malloc((size_t)nt * sizeof *fill)) || !(bin = malloc(((size_t)start[nt] + 1) * 2 * sizeof *bin))))
-        r = spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for %u tile entries", start[nt]);
-    if (!r) memcpy(fill, start, (size_t)nt * sizeof *fill);
-    for (size_t e = 0; !r && e < d->count; e++) {
-        const uint32_t G = d->order[e];
-        if (BOX(G, 2) < BOX(G, 0) || BOX(G, 3) < BOX(G, 1)) continue;
-        for (int ty = BOX(G, 1) / 16; ty <= BOX(G, 3) / 16; ty++)
-            for (int tx = BOX(G, 0) / 16; tx <= BOX(G, 2) / 16; tx++) {
-                uint32_t *slot = bin + 2 * (size_t)fill[ty * gx + tx]++;
-                slot[0] = (uint32_t)e, slot[1] = G;
-            }
-    }
     uint64_t generated = 0, passed = 0;
     const spr_pass_state *s = &d->state;
     spr_probe *probe = b->probe;
@@ -117,7 +109,7 @@ spr_result sw__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc 
         for (int t = 0; t < nt; t++) {
             const int i0 = (t % gx) * 16, j0 = (t / gx) * 16;
             for (uint32_t k = start[t]; k < start[t + 1]; k++) {
-                const uint32_t seq = bin[2 * (size_t)k], G = bin[2 * (size_t)k + 1];
+                const uint32_t seq = bin[k], G = d->order[seq];
                 const float *R = d->rec + (size_t)G * SPR_GREC_FLOATS;
                 const int a0 = BOX(G, 0) > i0 ? BOX(G, 0) : i0, a1 = BOX(G, 2) < i0 + 15 ? BOX(G, 2) : i0 + 15;
                 const int b0 = BOX(G, 1) > j0 ? BOX(G, 1) : j0, b1 = BOX(G, 3) < j0 + 15 ? BOX(G, 3) : j0 + 15;
@@ -144,7 +136,6 @@ spr_result sw__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc 
 done:
 #undef BOX
     free(start);
-    free(fill);
     free(bin);
     st->splats = d->count;
     st->generated = generated;

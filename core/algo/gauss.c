@@ -112,58 +112,20 @@ static void sort_tile(const float *rec, uint32_t *a, uint32_t m, uint32_t *tmp)
     }
 }
 
+/* A Gaussian's tiles: its record's rectangle, none when culled. */
+static void record_tiles(const void *user, size_t G, int r[4])
+{
+    const float *R = (const float *)user + G * SPR_GREC_FLOATS;
+    for (int k = 0; k < 4; k++) r[k] = R[SPR_GREC_CULL] == SPR_GCULL_NONE ? (int)R[SPR_GREC_RECT + k] : 0;
+}
+
 spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int threads, uint32_t **range_out, uint32_t **list_out, spr_error *err)
 {
     const size_t nt = (size_t)gx * gy;
     if (threads <= 0) threads = omp_get_max_threads();
-    const int nchunks = threads * 4; /* any count: the chunks are concatenated in order */
-    uint32_t *cnt = calloc(nt * (size_t)nchunks, sizeof *cnt), *range = calloc(nt + 1, sizeof *range), *list = NULL;
-    if (!cnt || !range) {
-        free(cnt), free(range);
-        return spr__fail(err, SPR_E_NOMEM, "gauss: out of memory for %zu tiles", nt);
-    }
-    const size_t chunk = (n + (size_t)nchunks - 1) / (size_t)nchunks;
-#define RECT(G, k) ((int)rec[(size_t)(G) * SPR_GREC_FLOATS + SPR_GREC_RECT + (k)])
-#define KEPT(G) (rec[(size_t)(G) * SPR_GREC_FLOATS + SPR_GREC_CULL] == SPR_GCULL_NONE)
-#pragma omp parallel for num_threads(threads) schedule(static, 1)
-    for (int ch = 0; ch < nchunks; ch++) {
-        uint32_t *c = cnt + (size_t)ch * nt;
-        for (size_t G = (size_t)ch * chunk; G < n && G < (size_t)(ch + 1) * chunk; G++) {
-            if (!KEPT(G)) continue;
-            for (int ty = RECT(G, 1); ty < RECT(G, 3); ty++)
-                for (int tx = RECT(G, 0); tx < RECT(G, 2); tx++) c[(size_t)ty * gx + tx]++;
-        }
-    }
-    uint64_t total = 0;
-    for (size_t t = 0; t < nt; t++) { /* (tile, chunk) order: each tile's entries in file order */
-        range[t] = (uint32_t)total;
-        for (int ch = 0; ch < nchunks; ch++) {
-            uint32_t k = cnt[(size_t)ch * nt + t];
-            cnt[(size_t)ch * nt + t] = (uint32_t)total;
-            total += k;
-        }
-        if (total > UINT32_MAX || total - range[t] > (1u << 24)) {
-            free(cnt), free(range);
-            return spr__fail(err, SPR_E_TOO_LARGE, "gauss: tile %zu lists more than 2^24 Gaussians (or all tiles more than 2^32)", t);
-        }
-    }
-    range[nt] = (uint32_t)total;
-    if (!(list = malloc((total ? total : 1) * sizeof *list))) {
-        free(cnt), free(range);
-        return spr__fail(err, SPR_E_NOMEM, "gauss: out of memory for %llu tile entries", (unsigned long long)total);
-    }
-#pragma omp parallel for num_threads(threads) schedule(static, 1)
-    for (int ch = 0; ch < nchunks; ch++) {
-        uint32_t *off = cnt + (size_t)ch * nt;
-        for (size_t G = (size_t)ch * chunk; G < n && G < (size_t)(ch + 1) * chunk; G++) {
-            if (!KEPT(G)) continue;
-            for (int ty = RECT(G, 1); ty < RECT(G, 3); ty++)
-                for (int tx = RECT(G, 0); tx < RECT(G, 2); tx++) list[off[(size_t)ty * gx + tx]++] = (uint32_t)G;
-        }
-    }
-#undef RECT
-#undef KEPT
-    free(cnt);
+    uint32_t *range = NULL, *list = NULL;
+    spr_result br = spr__gauss_bin(n, record_tiles, rec, gx, gy, threads, &range, &list, err);
+    if (br) return br;
     int failed = 0;
 #pragma omp parallel num_threads(threads) reduction(| : failed)
     {
@@ -190,20 +152,38 @@ spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int thre
     return SPR_OK;
 }
 
-typedef struct by_distance { double d; uint32_t G; } by_distance;
-static int farthest_first(const void *a, const void *b)
+/* Stable LSD radix sort of n (key, value) pairs by key, ascending, 11 bits a
+ * pass; a pass whose digit is the same for every key is skipped (a frame's
+ * distances share their sign and most of their exponent). */
+static int radix_sort_u64(uint64_t *key, uint32_t *val, size_t n)
 {
-    const by_distance *x = a, *y = b;
-    if (x->d != y->d) return x->d > y->d ? -1 : 1;
-    return x->G < y->G ? -1 : x->G > y->G;
+    uint64_t *k2 = spr__big_alloc(n * sizeof *k2);
+    uint32_t *v2 = spr__big_alloc(n * sizeof *v2);
+    if (!k2 || !v2) { free(k2), free(v2); return -1; }
+    for (int shift = 0; shift < 64; shift += 11) {
+        size_t cnt[2049] = {0};
+        for (size_t i = 0; i < n; i++) cnt[(key[i] >> shift & 2047u) + 1]++;
+        int single = 0;
+        for (int b = 0; b < 2048; b++) single |= cnt[b + 1] == n;
+        if (single) continue;
+        for (int b = 0; b < 2048; b++) cnt[b + 1] += cnt[b];
+        for (size_t i = 0; i < n; i++) {
+            const size_t at = cnt[key[i] >> shift & 2047u]++;
+            k2[at] = key[i], v2[at] = val[i];
+        }
+        memcpy(key, k2, n * sizeof *key);
+        memcpy(val, v2, n * sizeof *val);
+    }
+    free(k2), free(v2);
+    return 0;
 }
 
 spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], uint32_t **order_out, size_t *count, spr_error *err)
 {
-    by_distance *k = malloc((c->n ? c->n : 1) * sizeof *k);
-    uint32_t *order = malloc((c->n ? c->n : 1) * sizeof *order);
-    if (!k || !order) {
-        free(k), free(order);
+    uint64_t *key = spr__big_alloc(c->n * sizeof *key);
+    uint32_t *order = spr__big_alloc(c->n * sizeof *order);
+    if (!key || !order) {
+        free(key), free(order);
         return spr__fail(err, SPR_E_NOMEM, "gauss-blend: out of memory ordering %zu Gaussians", c->n);
     }
     size_t m = 0;
@@ -212,11 +192,17 @@ spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double e
         if (R[SPR_GREC_CULL] != SPR_GCULL_NONE || R[SPR_GREC_BOX + 2] < R[SPR_GREC_BOX] || R[SPR_GREC_BOX + 3] < R[SPR_GREC_BOX + 1]) continue;
         double d2 = 0.0;
         for (int a = 0; a < 3; a++) d2 += ((double)c->pos[3 * G + a] - eye[a]) * ((double)c->pos[3 * G + a] - eye[a]);
-        k[m].d = sqrt(d2), k[m].G = (uint32_t)G, m++;
+        const double d = sqrt(d2);
+        uint64_t bits;
+        memcpy(&bits, &d, sizeof bits); /* d ≥ 0: the bits order as the values */
+        key[m] = ~bits, order[m] = (uint32_t)G, m++; /* farthest first; a stable sort keeps equal distances in file order */
     }
-    qsort(k, m, sizeof *k, farthest_first); /* the order is total: distance, then index */
-    for (size_t i = 0; i < m; i++) order[i] = k[i].G;
-    free(k);
+    const int bad = radix_sort_u64(key, order, m);
+    free(key);
+    if (bad) {
+        free(order);
+        return spr__fail(err, SPR_E_NOMEM, "gauss-blend: out of memory ordering %zu Gaussians", c->n);
+    }
     *order_out = order;
     *count = m;
     return SPR_OK;
@@ -234,8 +220,8 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     const size_t n = c->n;
     spr_gauss_desc gd = {.n = n, .mu = c->pos, .opacity = c->alpha};
     frame_params(v, mode, run->desc, gd.prm);
-    float *q = malloc((n ? n : 1) * 4 * sizeof *q), *s = malloc((n ? n : 1) * 3 * sizeof *s), *col = malloc((n ? n : 1) * 3 * sizeof *col);
-    float *rec = malloc((n ? n : 1) * SPR_GREC_FLOATS * sizeof *rec);
+    float *q = spr__big_alloc(n * 4 * sizeof *q), *s = spr__big_alloc(n * 3 * sizeof *s), *col = spr__big_alloc(n * 3 * sizeof *col);
+    float *rec = spr__big_alloc(n * SPR_GREC_FLOATS * sizeof *rec);
     uint32_t *range = NULL, *list = NULL, *order = NULL;
     int target = -1;
     spr_result r = q && s && col && rec ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);

@@ -12,11 +12,11 @@ spr_result spr_cloud_alloc(spr_cloud *c, size_t n)
     memset(c, 0, sizeof *c);
     if (n > SPR_MAX_SPLATS) return SPR_E_TOO_LARGE;
     size_t m = n ? n : 1;
-    c->pos = malloc(3 * m * sizeof(float));
-    c->nrm = malloc(3 * m * sizeof(float));
-    c->radius = malloc(m * sizeof(float));
-    c->color = malloc(3 * m * sizeof(float));
-    c->alpha = malloc(m * sizeof(float));
+    c->pos = spr__big_alloc(3 * m * sizeof(float));
+    c->nrm = spr__big_alloc(3 * m * sizeof(float));
+    c->radius = spr__big_alloc(m * sizeof(float));
+    c->color = spr__big_alloc(3 * m * sizeof(float));
+    c->alpha = spr__big_alloc(m * sizeof(float));
     if (!c->pos || !c->nrm || !c->radius || !c->color || !c->alpha) {
         spr_cloud_free(c);
         return SPR_E_NOMEM;

@@ -36,6 +36,11 @@ spr_result spr__write_atomic(const char *path, spr__writer_fn fn, const void *us
  * (mesh resampling, generated test scenes). */
 /* The unit quaternion (w x y z) of the rotation whose columns are a, b, c (an orthonormal, right-handed frame), in double. */
 void spr__quat_of_columns(const double a[3], const double b[3], const double c[3], double q[4]);
+/* malloc for frame-sized buffers: from 2 MiB on, 2 MiB-aligned and marked
+ * for transparent huge pages (madvise), so that first touching it takes one
+ * page fault per 2 MiB instead of per 4 KiB (where the kernel's THP is
+ * "madvise", Debian's default); freed with free(). */
+void *spr__big_alloc(size_t bytes);
 
 static inline uint64_t spr__splitmix64(uint64_t *s)
 {

@@ -491,6 +491,14 @@ typedef struct spr_gauss_draw_desc {
     float prm[SPR_GPRM_COUNT];
 } spr_gauss_draw_desc;
 
+/* The tiles [r0, r2) × [r1, r3) item k touches (empty: r2 ≤ r0 or r3 ≤ r1). */
+typedef void (*spr__gauss_rect_fn)(const void *user, size_t k, int r[4]);
+/* Items 0 … n−1 binned to the gx × gy tiles, each tile's run in item order:
+ * tile t's items are list[range[t] … range[t+1]) (core/render/gauss_bin.c;
+ * the same lists for any thread count). */
+spr_result spr__gauss_bin(size_t n, spr__gauss_rect_fn rect, const void *user, int gx, int gy, int threads, uint32_t **range,
+                          uint32_t **list, spr_error *err);
+
 /* ---- the pixel probe: the raw material of pixel history (SPEC §8) ----
  * While b->probe is set, each draw appends every fragment that covers pixel
  * (x, y) — after the coverage test and the depth mask, before the depth
