@@ -47,17 +47,43 @@ spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
     float *D = two ? sdepth : idepth;
     uint64_t visited = 0, blended = 0;
     spr_probe *probe = b->probe;
-#pragma omp parallel num_threads(c->threads) reduction(+ : visited, blended)
+    const int nt = gx * gy;
+    int failed = 0;
+#pragma omp parallel num_threads(c->threads) reduction(+ : visited, blended) reduction(| : failed)
     {
         unsigned fp = sw_fp_enter();
+        /* each tile's records copied in list order before its pixels run the loop: every pixel reads the
+         * list in sequence from there (the records of a tile's list lie scattered in file order), with a
+         * local list 0 … m−1 and local ranges; the tile of the probed pixel keeps the global ones, so that
+         * its notes name the Gaussians */
+        float *lrec = NULL;
+        uint32_t *lids = NULL, *lrange = calloc((size_t)nt + 1, sizeof *lrange);
+        size_t cap = 0;
+        failed |= !lrange;
 #pragma omp for schedule(dynamic, 1)
-        for (int t = 0; t < gx * gy; t++) {
+        for (int t = 0; t < nt; t++) {
+            if (failed) continue;
             const int i0 = (t % gx) * 16, j0 = (t / gx) * 16;
+            const uint32_t first = d->range[t], m = d->range[t + 1] - first;
+            const int probed = probe && probe->x >= i0 && probe->x < i0 + 16 && H - 1 - probe->y >= j0 && H - 1 - probe->y < j0 + 16;
+            if (!probed && m > cap) {
+                free(lrec), free(lids);
+                cap = m;
+                lrec = malloc(cap * SPR_GREC_FLOATS * sizeof *lrec), lids = malloc(cap * sizeof *lids);
+                if (!lrec || !lids) { failed = 1, cap = 0; continue; }
+                for (uint32_t k = 0; k < m; k++) lids[k] = k;
+            }
+            if (!probed) {
+                for (uint32_t k = 0; k < m; k++)
+                    memcpy(lrec + (size_t)k * SPR_GREC_FLOATS, d->rec + (size_t)d->list[first + k] * SPR_GREC_FLOATS, SPR_GREC_FLOATS * sizeof *lrec);
+                lrange[t] = 0, lrange[t + 1] = m;
+            }
             for (int j = j0; j < j0 + 16 && j < H; j++)
                 for (int i = i0; i < i0 + 16 && i < W; i++) {
                     const int y = H - 1 - j;
                     const size_t pix = (size_t)y * W + (size_t)i;
-                    spr_pixel_in px = {.grec = d->rec, .granges = d->range, .glist = d->list, .i = pix, .x = i, .y = y};
+                    spr_pixel_in px = {.grec = lrec, .granges = lrange, .glist = lids, .i = pix, .x = i, .y = y};
+                    if (probed) px.grec = d->rec, px.granges = d->range, px.glist = d->list;
                     if (probe && i == probe->x && y == probe->y) px.probe = probe;
                     float o[4], aux[4], nrm[4];
                     visited += (uint64_t)spr_gauss_pixel(&px, d->prm, d->background, o, aux, nrm);
@@ -69,8 +95,10 @@ spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
                     if (normal && two) memcpy(normal + 4 * pix, nrm, sizeof nrm);
                 }
         }
+        free(lrec), free(lids), free(lrange);
         sw_fp_leave(fp);
     }
+    if (failed) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a tile's Gaussians");
     st->splats = d->n;
     st->generated = visited;
     st->passed = blended;

@@ -66,7 +66,9 @@ static void frame_params(const spr_view *v, int mode, const spr_render_desc *des
 
 spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s)
 {
-    for (size_t i = 0; i < c->n; i++) {
+#pragma omp parallel for schedule(static)
+    for (long li = 0; li < (long)c->n; li++) {
+        const size_t i = (size_t)li;
         if (c->gauss) {
             const float *G = c->gauss + SPR_GAUSS_FLOATS * i;
             memcpy(q + 4 * i, G, 4 * sizeof *q);
