@@ -536,7 +536,7 @@ static void cply_splat(const void *user, size_t i, spr__gauss *g, float *sh)
     for (int k = 0, j = 0; k < 4; k++) g->q[k] = k == big ? sqrt(s2 < 1.0 ? 1.0 - s2 : 0.0) : o3[j++]; /* rot_0..3 = w x y z */
     if (sh) {
         for (int chn = 0; chn < 3; chn++) sh[chn] = (float)((g->rgb[chn] - 0.5) / SPR__SH_C0);
-        const unsigned char *sv = L->sh + i * L->sb;
+        const unsigned char *sv = L->sh_k > 1 ? L->sh + i * L->sb : NULL; /* no sh element: DC only */
         for (int k = 1; k < L->sh_k; k++)
             for (int chn = 0; chn < 3; chn++) {
                 const unsigned v = sv[L->sofs[chn * L->per + k - 1]];
