@@ -269,7 +269,8 @@ static cJSON *explain_json(const char *scene, int x, int y, const char *backend)
     char *argv[] = {"splatref", "explain", "--scene", (char *)scene, "--pixel", pix, "--backend", (char *)backend, "--json", "--quiet", NULL};
     static char big[1 << 22];
     int rc = tu_run(NULL, NULL, 1, argv, big, sizeof big);
-    ck_assert_msg(rc == 0, "explain %s exit %d: %.400s", pix, rc, big);
+    size_t len = strlen(big);
+    ck_assert_msg(rc == 0, "explain %s exit %d: %.400s ... %s", pix, rc, big, len > 1500 ? big + len - 1500 : "");
     cJSON *o = cJSON_Parse(big);
     ck_assert_msg(o != NULL, "explain --json is not JSON: %.400s", big);
     return o;

@@ -713,16 +713,7 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
                     if (is_face && (!strcmp(P->name, "vertex_indices") || !strcmp(P->name, "vertex_index")) && cnt >= 3) {
                         for (int j = 0; j < (int)cnt; j++)
                             if (idx[j] == UINT32_MAX) { r = spr__fail(err, SPR_E_FORMAT, "%s: face %llu: vertex index out of range", path, i); goto fail; }
-                        size_t add = (size_t)cnt - 2;
-                        uint32_t *nt = realloc(mesh->tri, (mesh->nt + add) * 3 * sizeof(uint32_t));
-                        if (!nt) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); goto fail; }
-                        mesh->tri = nt;
-                        for (size_t j = 0; j < add; j++) {
-                            mesh->tri[3 * mesh->nt] = idx[0];
-                            mesh->tri[3 * mesh->nt + 1] = idx[j + 1];
-                            mesh->tri[3 * mesh->nt + 2] = idx[j + 2];
-                            mesh->nt++;
-                        }
+                        if (spr__mesh_fan(mesh, idx, (int)cnt)) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); goto fail; }
                     }
                     continue;
                 }

@@ -69,6 +69,24 @@ void spr__mesh_free(spr__mesh *m)
     memset(m, 0, sizeof *m);
 }
 
+int spr__mesh_fan(spr__mesh *m, const uint32_t *idx, int k)
+{
+    size_t need = m->nt + (size_t)k - 2;
+    if (need > m->cap) {
+        size_t cap = m->cap ? 2 * m->cap : 1024;
+        while (cap < need) cap *= 2;
+        uint32_t *nt = realloc(m->tri, cap * 3 * sizeof *nt);
+        if (!nt) return -1;
+        m->tri = nt;
+        m->cap = cap;
+    }
+    for (int j = 0; j + 2 < k; j++) {
+        uint32_t *t = m->tri + 3 * m->nt++;
+        t[0] = idx[0], t[1] = idx[j + 1], t[2] = idx[j + 2];
+    }
+    return 0;
+}
+
 /* Whitespace tokenizer with line numbers; '#' starts a comment. */
 typedef struct lexer {
     const char *path, *p, *end;
@@ -212,17 +230,7 @@ spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_clo
         }
         skip_space(&lx, 1); /* face colours and the rest of the line are ignored */
         while (lx.p < lx.end && *lx.p != '\n') lx.p++;
-        if (k >= 3) {
-            uint32_t *nt = realloc(mesh->tri, (mesh->nt + (size_t)k - 2) * 3 * sizeof(uint32_t));
-            if (!nt) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); goto fail; }
-            mesh->tri = nt;
-            for (int j = 0; j + 2 < k; j++) {
-                mesh->tri[3 * mesh->nt] = idx[0];
-                mesh->tri[3 * mesh->nt + 1] = idx[j + 1];
-                mesh->tri[3 * mesh->nt + 2] = idx[j + 2];
-                mesh->nt++;
-            }
-        }
+        if (k >= 3 && spr__mesh_fan(mesh, idx, k)) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); goto fail; }
     }
     mesh->nv = c->n;
     c->flags = (has_normal ? SPR_SRC_NORMALS : 0) | (has_color ? SPR_SRC_COLORS | SPR_SRC_ALPHA : 0);

@@ -84,8 +84,13 @@ extern const char *const spr_builtin_names[];
 typedef struct spr__mesh {
     size_t nv, nt;
     uint32_t *tri;  /* 3·nt vertex indices (polygons fanned) */
+    size_t cap;     /* triangles tri has room for */
 } spr__mesh;
 void spr__mesh_free(spr__mesh *m);
+/* Append the polygon idx[0 … k) (k ≥ 3) as the fan idx[0], idx[j+1], idx[j+2];
+ * tri grows geometrically (a realloc per face copies the whole list each time
+ * under an allocator that cannot grow in place).  -1: out of memory. */
+int spr__mesh_fan(spr__mesh *m, const uint32_t *idx, int k);
 spr_result spr__read_file(const char *path, char **buf, size_t *len, spr_error *err);
 /* The same for the readers of spr_load, without the copy: a regular file of
  * SPR__MAP_MIN bytes or more is mapped read-only (the readers never read

@@ -61,7 +61,7 @@ static int opt_index(const spr__args *a, const char *name)
  * choose the same thing another way.  A moved camera is framed again. */
 static const char *const camera_place[] = {"eye", "target", "up", "fov", "ortho", "view-matrix", "projection-matrix", "intrinsics",
                                            "world-to-camera", "cameras", "camera", NULL};
-static const struct { const char *key; const char *const by[8]; } displaced[] = {
+static const struct { const char *key; const char *const by[9]; } displaced[] = {
     {"eye", {"view-matrix", "projection-matrix", "intrinsics", "world-to-camera", "cameras", "camera"}},
     {"target", {"view-matrix", "projection-matrix", "intrinsics", "world-to-camera", "cameras", "camera"}},
     {"up", {"view-matrix", "projection-matrix", "intrinsics", "world-to-camera", "cameras", "camera"}},
