@@ -198,16 +198,42 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
     uint32_t *cnt = r ? NULL : calloc(n + 1, sizeof *cnt);
     if (!r && !cnt) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     const int half = row == NULL; /* whole graph: each pair from one side, then both rows */
-    /* pass 1: how many each searched row finds (queries in grid order: neighbours share cache lines) */
+    /* One query per searched row, in grid order (neighbours share cache
+     * lines): each chunk of QCHUNK queries writes its finds, row after row,
+     * into a buffer of its own (grown geometrically), then every row's finds
+     * are copied to their place: the rows hold what two passes (count, then
+     * fill) would put there, in the same order. */
+    enum { QCHUNK = 1024 };
+    const size_t nchunk = (n + QCHUNK - 1) / QCHUNK;
+    uint32_t **cbuf = r ? NULL : calloc(nchunk, sizeof *cbuf);
+    if (!r && !cbuf) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     if (!r) {
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 1024)
-        for (long q = 0; q < (long)n; q++) {
-            if ((q & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", (size_t)q, 2 * n);
-            const uint32_t i = G.idx[q];
-            if (row && row[i] != want) continue;
-            const double R = half ? 2.0 * f * c->radius[i] : f * ((double)c->radius[i] + b.max_radius);
-            cnt[i] = (uint32_t)grid_query(&G, (size_t)q, R, f, half, keep, user, NULL, 0);
+        int failed = 0;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1) reduction(| : failed)
+        for (long ch = 0; ch < (long)nchunk; ch++) {
+            if (omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", (size_t)ch * QCHUNK, n);
+            size_t used = 0, cap = 0;
+            uint32_t *buf = NULL;
+            const size_t q1 = (size_t)ch * QCHUNK + QCHUNK < n ? (size_t)ch * QCHUNK + QCHUNK : n;
+            for (size_t q = (size_t)ch * QCHUNK; q < q1 && !failed; q++) {
+                const uint32_t i = G.idx[q];
+                if (row && row[i] != want) continue;
+                const double R = half ? 2.0 * f * c->radius[i] : f * ((double)c->radius[i] + b.max_radius);
+                size_t m = grid_query(&G, q, R, f, half, keep, user, buf ? buf + used : NULL, cap - used);
+                if (used + m > cap) { /* did not fit: grow, then the same query again */
+                    size_t nc = cap ? 2 * cap : 4096;
+                    while (nc < used + m) nc *= 2;
+                    uint32_t *nb = realloc(buf, nc * sizeof *nb);
+                    if (!nb) { failed = 1; break; }
+                    buf = nb, cap = nc;
+                    grid_query(&G, q, R, f, half, keep, user, buf + used, m);
+                }
+                cnt[i] = (uint32_t)m;
+                used += m;
+            }
+            cbuf[ch] = buf;
         }
+        if (failed) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     }
     uint64_t *fst = r ? NULL : malloc((n + 1) * sizeof *fst);
     if (!r && !fst) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
@@ -217,16 +243,21 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
         for (size_t i = 0; i < n; i++) fst[i + 1] = fst[i] + cnt[i];
         if (!(found = malloc((fst[n] ? fst[n] : 1) * sizeof *found))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     }
-    if (!r) { /* pass 2: the pairs */
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 1024)
-        for (long q = 0; q < (long)n; q++) {
-            if ((q & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", n + (size_t)q, 2 * n);
-            const uint32_t i = G.idx[q];
-            if (fst[i + 1] == fst[i]) continue;
-            const double R = half ? 2.0 * f * c->radius[i] : f * ((double)c->radius[i] + b.max_radius);
-            grid_query(&G, (size_t)q, R, f, half, keep, user, found + fst[i], (size_t)(fst[i + 1] - fst[i]));
+    if (!r) {
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 16)
+        for (long ch = 0; ch < (long)nchunk; ch++) {
+            size_t off = 0;
+            const size_t q1 = (size_t)ch * QCHUNK + QCHUNK < n ? (size_t)ch * QCHUNK + QCHUNK : n;
+            for (size_t q = (size_t)ch * QCHUNK; q < q1; q++) {
+                const uint32_t i = G.idx[q];
+                if (row && row[i] != want) continue;
+                if (cnt[i]) memcpy(found + fst[i], cbuf[ch] + off, cnt[i] * sizeof *found);
+                off += cnt[i];
+            }
         }
     }
+    for (size_t ch = 0; cbuf && ch < nchunk; ch++) free(cbuf[ch]);
+    free(cbuf);
     free(G.start);
     free(G.idx);
     free(G.s);
@@ -276,7 +307,7 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
     free(fst);
     free(cnt);
     if (r) spr_graph_free(g);
-    spr_progress_report(prog, "neighbour graph", 2 * n, 2 * n);
+    spr_progress_report(prog, "neighbour graph", n, n);
     return r;
 }
 
