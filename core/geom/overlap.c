@@ -103,6 +103,12 @@ void spr_overlap_areas(const spr_cloud *c, size_t i, const uint32_t *js, size_t 
     const float *pi = c->pos + 3 * i;
     for (size_t k = 0; k < m; k++) {
         size_t j = js[k];
+        if (k + 4 < m) { /* the neighbours are scattered over the cloud: their data fetched ahead (a hint, no arithmetic) */
+            size_t jn = js[k + 4];
+            __builtin_prefetch(c->pos + 3 * jn);
+            __builtin_prefetch(c->nrm + 3 * jn);
+            __builtin_prefetch(c->radius + jn);
+        }
         const float *pj = c->pos + 3 * j, *nj = c->nrm + 3 * j;
         double D[3] = {(double)pi[0] - pj[0], (double)pi[1] - pj[1], (double)pi[2] - pj[2]};
         double h0 = D[0] * nj[0] + D[1] * nj[1] + D[2] * nj[2];
