@@ -80,14 +80,40 @@ static int cover_mask(const double *x, const double *y, const double *z, const f
     return hit;
 }
 
-/* Samples of disk i (radius ri) in a stack buffer: the frame is computed once. */
-static void samples(const spr_cloud *c, size_t i, double ri, double (*xs)[3])
+/* Samples of disk i (radius ri, frame e1, e2) as columns x, y, z. */
+static void samples(const spr_cloud *c, size_t i, double ri, const double e1[3], const double e2[3], double *x, double *y, double *z)
 {
     pthread_once(&pattern_once, make_pattern);
-    double e1[3], e2[3];
-    frame(c->nrm + 3 * i, e1, e2);
+    double *col[3] = {x, y, z};
     for (int s = 0; s < SPR_DISK_SAMPLES; s++)
-        for (int k = 0; k < 3; k++) xs[s][k] = c->pos[3 * i + k] + ri * (pattern[s][0] * e1[k] + pattern[s][1] * e2[k]);
+        for (int k = 0; k < 3; k++) col[k][s] = c->pos[3 * i + k] + ri * (pattern[s][0] * e1[k] + pattern[s][1] * e2[k]);
+}
+
+/* The terms of disk i (p_i, radius ri, frame e1, e2) against disk j's plane
+ * (p_j, n_j), with D = p_i − p_j: a sample x = p_i + r_i(u e1 + v e2) has
+ * h = h0 + u a + v b. */
+typedef struct pair_terms { double D[3], h0, a, b, D2; } pair_terms;
+static void pair_terms_of(const float *pi, double ri, const double e1[3], const double e2[3], const float *pj, const float *nj, pair_terms *t)
+{
+    for (int k = 0; k < 3; k++) t->D[k] = (double)pi[k] - pj[k];
+    t->h0 = t->D[0] * nj[0] + t->D[1] * nj[1] + t->D[2] * nj[2];
+    t->a = ri * (e1[0] * nj[0] + e1[1] * nj[1] + e1[2] * nj[2]);
+    t->b = ri * (e2[0] * nj[0] + e2[1] * nj[1] + e2[2] * nj[2]);
+    t->D2 = t->D[0] * t->D[0] + t->D[1] * t->D[1] + t->D[2] * t->D[2];
+}
+
+/* Whole pairs decided without sampling, with a margin far above the rounding
+ * of the per-sample tests (and of unit normals stored as floats): every
+ * sample has u² + v² < 1, so h lies within h0 ± √(a² + b²) and the projected
+ * distance to p_j within |D_⊥| ± r_i.  0: no sample counts; SPR_DISK_SAMPLES:
+ * every one does; -1: the samples decide. */
+static int whole_pair(const pair_terms *t, double ri, double rj, double eps)
+{
+    const double Rh = sqrt(t->a * t->a + t->b * t->b), dperp = sqrt(t->D2 - t->h0 * t->h0 > 0.0 ? t->D2 - t->h0 * t->h0 : 0.0);
+    const double slack = 1e-6 * (sqrt(t->D2) + ri + rj + eps);
+    if (fabs(t->h0) - Rh > eps + slack || dperp - ri > rj + slack) return 0;
+    if (fabs(t->h0) + Rh < eps - slack && dperp + ri < rj - slack) return SPR_DISK_SAMPLES;
+    return -1;
 }
 
 /* A_ij for every j of js: the samples of disk i are x = p_i + r_i(u e1 + v e2),
@@ -109,23 +135,15 @@ void spr_overlap_areas(const spr_cloud *c, size_t i, const uint32_t *js, size_t 
             __builtin_prefetch(c->nrm + 3 * jn);
             __builtin_prefetch(c->radius + jn);
         }
-        const float *pj = c->pos + 3 * j, *nj = c->nrm + 3 * j;
-        double D[3] = {(double)pi[0] - pj[0], (double)pi[1] - pj[1], (double)pi[2] - pj[2]};
-        double h0 = D[0] * nj[0] + D[1] * nj[1] + D[2] * nj[2];
-        double a = ri * (e1[0] * nj[0] + e1[1] * nj[1] + e1[2] * nj[2]), b = ri * (e2[0] * nj[0] + e2[1] * nj[1] + e2[2] * nj[2]);
-        double D2 = D[0] * D[0] + D[1] * D[1] + D[2] * D[2];
-        double c1 = 2.0 * ri * (D[0] * e1[0] + D[1] * e1[1] + D[2] * e1[2]), c2 = 2.0 * ri * (D[0] * e2[0] + D[1] * e2[1] + D[2] * e2[2]);
+        pair_terms t;
+        pair_terms_of(pi, ri, e1, e2, c->pos + 3 * j, c->nrm + 3 * j, &t);
         double rj = c->radius[j], rj2 = rj * rj, ri2 = ri * ri;
-        /* Whole pairs decided without sampling, with a margin far above the
-         * rounding of the per-sample tests: every sample has u² + v² < 1, so
-         * h lies within h0 ± √(a² + b²) and the projected distance to p_j
-         * within |D_⊥| ± r_i. */
-        const double Rh = sqrt(a * a + b * b), dperp = sqrt(D2 - h0 * h0 > 0.0 ? D2 - h0 * h0 : 0.0);
-        const double slack = 1e-6 * (sqrt(D2) + ri + rj + eps);
-        int hit;
-        if (fabs(h0) - Rh > eps + slack || dperp - ri > rj + slack) hit = 0; /* no sample counts */
-        else if (fabs(h0) + Rh < eps - slack && dperp + ri < rj - slack) hit = SPR_DISK_SAMPLES; /* every sample counts */
-        else hit = count_hits(h0, a, b, D2, c1, c2, ri2, rj2, eps);
+        int hit = whole_pair(&t, ri, rj, eps);
+        if (hit < 0) {
+            const double *D = t.D;
+            double c1 = 2.0 * ri * (D[0] * e1[0] + D[1] * e1[1] + D[2] * e1[2]), c2 = 2.0 * ri * (D[0] * e2[0] + D[1] * e2[1] + D[2] * e2[2]);
+            hit = count_hits(t.h0, t.a, t.b, t.D2, c1, c2, ri2, rj2, eps);
+        }
         out[k] = (float)(M_PI * ri2 * hit / SPR_DISK_SAMPLES);
     }
 }
@@ -138,54 +156,27 @@ double spr_overlap_area(const spr_cloud *c, size_t i, size_t j, double eps)
     return a;
 }
 
-/* 1 when disk j (radius rj) can cover no sample of disk i (radius ri, frame
- * e1, e2): the whole-pair bound of spr_overlap_areas, with the same margin far
- * above the rounding of the per-sample test, so dropping j changes no count. */
-static int out_of_reach(const spr_cloud *c, size_t i, double ri, const double e1[3], const double e2[3], size_t j, double rj, double eps)
-{
-    const float *pi = c->pos + 3 * i, *pj = c->pos + 3 * j, *nj = c->nrm + 3 * j;
-    double D[3] = {(double)pi[0] - pj[0], (double)pi[1] - pj[1], (double)pi[2] - pj[2]};
-    double h0 = D[0] * nj[0] + D[1] * nj[1] + D[2] * nj[2];
-    double a = ri * (e1[0] * nj[0] + e1[1] * nj[1] + e1[2] * nj[2]), b = ri * (e2[0] * nj[0] + e2[1] * nj[1] + e2[2] * nj[2]);
-    double D2 = D[0] * D[0] + D[1] * D[1] + D[2] * D[2];
-    const double Rh = sqrt(a * a + b * b), dperp = sqrt(D2 - h0 * h0 > 0.0 ? D2 - h0 * h0 : 0.0);
-    const double slack = 1e-6 * (sqrt(D2) + ri + rj + eps);
-    return fabs(h0) - Rh > eps + slack || dperp - ri > rj + slack;
-}
-
 double spr_clipped_area(const spr_cloud *c, size_t i, double own_scale, const uint32_t *cover, size_t m, double cover_scale,
                         double eps)
 {
     if (!m) return 0.0;
     double ri = (double)c->radius[i] * own_scale;
-    double xs[SPR_DISK_SAMPLES][3];
-    samples(c, i, ri, xs);
-    /* the neighbours that can reach the disk, in the given order (a sample
-     * counts once whichever covers it, so the order does not change the count) */
     double e1[3], e2[3];
     frame(c->nrm + 3 * i, e1, e2);
-    enum { NEAR_MAX = 512 };
-    uint32_t near[NEAR_MAX];
-    const uint32_t *js = cover;
-    size_t nj = m;
-    if (m <= NEAR_MAX) {
-        nj = 0;
-        for (size_t k = 0; k < m; k++) {
-            size_t j = cover[k];
-            if (j != i && !out_of_reach(c, i, ri, e1, e2, j, (double)c->radius[j] * cover_scale, eps)) near[nj++] = (uint32_t)j;
-        }
-        js = near;
-        if (!nj) return 0.0;
-    }
-    double cx[SPR_DISK_SAMPLES], cy[SPR_DISK_SAMPLES], cz[SPR_DISK_SAMPLES];
-    for (int s = 0; s < SPR_DISK_SAMPLES; s++) cx[s] = xs[s][0], cy[s] = xs[s][1], cz[s] = xs[s][2];
+    double x[SPR_DISK_SAMPLES], y[SPR_DISK_SAMPLES], z[SPR_DISK_SAMPLES];
+    samples(c, i, ri, e1, e2, x, y, z);
+    /* a sample counts once whichever neighbour covers it; neighbours that
+     * cannot reach the disk (whole_pair) are passed over */
     unsigned char cov[SPR_DISK_SAMPLES] = {0};
     int hit = 0;
-    for (size_t k = 0; k < nj && hit < SPR_DISK_SAMPLES; k++) {
-        size_t j = js[k];
+    for (size_t k = 0; k < m && hit < SPR_DISK_SAMPLES; k++) {
+        size_t j = cover[k];
         if (j == i) continue;
         double rj = (double)c->radius[j] * cover_scale;
-        hit = cover_mask(cx, cy, cz, c->pos + 3 * j, c->nrm + 3 * j, rj * rj, eps, cov);
+        pair_terms t;
+        pair_terms_of(c->pos + 3 * i, ri, e1, e2, c->pos + 3 * j, c->nrm + 3 * j, &t);
+        if (whole_pair(&t, ri, rj, eps) == 0) continue;
+        hit = cover_mask(x, y, z, c->pos + 3 * j, c->nrm + 3 * j, rj * rj, eps, cov);
     }
     return M_PI * ri * ri * hit / SPR_DISK_SAMPLES;
 }

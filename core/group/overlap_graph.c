@@ -159,6 +159,10 @@ static size_t grid_query(const col_grid *G, size_t q, double R, double f, int ha
     return m;
 }
 
+/* pair_graph's queries run in chunks of QCHUNK grid entries; chunk ch ends at chunk_end(ch, n). */
+enum { QCHUNK = 1024 };
+static size_t chunk_end(size_t ch, size_t n) { return ch * QCHUNK + QCHUNK < n ? ch * QCHUNK + QCHUNK : n; }
+
 static int cmp_u32(const void *a, const void *b)
 {
     uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
@@ -203,7 +207,6 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
      * into a buffer of its own (grown geometrically), then every row's finds
      * are copied to their place: the rows hold what two passes (count, then
      * fill) would put there, in the same order. */
-    enum { QCHUNK = 1024 };
     const size_t nchunk = (n + QCHUNK - 1) / QCHUNK;
     uint32_t **cbuf = r ? NULL : calloc(nchunk, sizeof *cbuf);
     if (!r && !cbuf) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
@@ -214,7 +217,7 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
             if (omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", (size_t)ch * QCHUNK, n);
             size_t used = 0, cap = 0;
             uint32_t *buf = NULL;
-            const size_t q1 = (size_t)ch * QCHUNK + QCHUNK < n ? (size_t)ch * QCHUNK + QCHUNK : n;
+            const size_t q1 = chunk_end((size_t)ch, n);
             for (size_t q = (size_t)ch * QCHUNK; q < q1 && !failed; q++) {
                 const uint32_t i = G.idx[q];
                 if (row && row[i] != want) continue;
@@ -247,7 +250,7 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 16)
         for (long ch = 0; ch < (long)nchunk; ch++) {
             size_t off = 0;
-            const size_t q1 = (size_t)ch * QCHUNK + QCHUNK < n ? (size_t)ch * QCHUNK + QCHUNK : n;
+            const size_t q1 = chunk_end((size_t)ch, n);
             for (size_t q = (size_t)ch * QCHUNK; q < q1; q++) {
                 const uint32_t i = G.idx[q];
                 if (row && row[i] != want) continue;

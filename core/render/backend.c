@@ -112,6 +112,9 @@ spr_result spr_backend_clear(spr_backend *b, int target, const float color[4])
     return b->clear(b, target, color);
 }
 
+/* The blends that weigh by the source's alpha (`over`, plain or premultiplied). */
+static int blends_by_alpha(spr_blend m) { return m == SPR_BLEND_OVER || m == SPR_BLEND_PREMUL; }
+
 spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
 {
     if (!live(b, target)) return bad(b, "draw: no target %d", target);
@@ -123,9 +126,9 @@ spr_result spr_backend_draw(spr_backend *b, int target, const spr_draw_desc *d, 
     if ((unsigned)s->blend >= SPR_BLEND__COUNT) return bad(b, "draw: blend %d unknown", (int)s->blend);
     if ((unsigned)s->blend_alpha >= SPR_BLEND__COUNT) return bad(b, "draw: alpha blend %d unknown", (int)s->blend_alpha);
     if (!has(b, target, SPR_PLANE_TEST)) return bad(b, "draw: target %d has no test plane", target);
-    if ((s->write_mask & SPR_WRITE_OPACITY) && (s->blend_alpha == SPR_BLEND_OVER || s->blend_alpha == SPR_BLEND_PREMUL))
+    if ((s->write_mask & SPR_WRITE_OPACITY) && blends_by_alpha(s->blend_alpha))
         return bad(b, "draw: the opacity plane is replaced or added, not blended `over` (%d)", 0);
-    if ((s->write_mask & SPR_WRITE_NORMAL) && (s->blend == SPR_BLEND_OVER || s->blend == SPR_BLEND_PREMUL || s->output != SPR_OUT_WEIGHTED))
+    if ((s->write_mask & SPR_WRITE_NORMAL) && (blends_by_alpha(s->blend) || s->output != SPR_OUT_WEIGHTED))
         return bad(b, "draw: the normal plane takes weighted output, replaced or added (%d)", 0);
     for (int p = 0; p < SPR_PLANE__COUNT; p++)
         if ((s->write_mask & SPR_PLANE_BIT(p)) && p != SPR_PLANE_TEST && !has(b, target, (spr_plane)p))
@@ -161,8 +164,8 @@ spr_result spr_backend_draw_rects(spr_backend *b, int target, const spr_rect_dra
     if (s->depth_value != SPR_DEPTH_PLAIN && s->depth_value != SPR_DEPTH_EPS_OFFSET)
         return bad(b, "rects: test value %d is not plain or eps-offset", (int)s->depth_value);
     if ((unsigned)s->depth_func >= SPR_FUNC__COUNT) return bad(b, "rects: depth func %d unknown", (int)s->depth_func);
-    if ((unsigned)s->blend >= SPR_BLEND__COUNT || (unsigned)s->blend_alpha >= SPR_BLEND__COUNT || s->blend == SPR_BLEND_OVER ||
-        s->blend_alpha == SPR_BLEND_OVER || s->blend == SPR_BLEND_PREMUL || s->blend_alpha == SPR_BLEND_PREMUL)
+    if ((unsigned)s->blend >= SPR_BLEND__COUNT || (unsigned)s->blend_alpha >= SPR_BLEND__COUNT || blends_by_alpha(s->blend) ||
+        blends_by_alpha(s->blend_alpha))
         return bad(b, "rects: blends are replace, add or sub (%d)", 0);
     if (s->write_mask & ~(unsigned)(SPR_WRITE_COLOR | SPR_WRITE_DEPTH | SPR_WRITE_ID | SPR_WRITE_COUNT))
         return bad(b, "rects: write mask 0x%x: colour, depth, id and count only", (int)s->write_mask);
