@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "spr_overlap.h"
+#include "spr__spatial.h"
 #include "test_util.h"
 
 /* SPEC §5.1's relaxation 1 as written, from splat i's side:
@@ -282,6 +283,156 @@ START_TEST(overlap_area_hand_cases)
 }
 END_TEST
 
+/* The 256-sample count of SPEC §5.2 as it was written before rings were
+ * decided whole (commit cde1253): every sample of the pattern tested, in
+ * the same arithmetic, so its areas are the bits spr_overlap_areas must give. */
+static void sample_loop_frame(const float *n, double e1[3], double e2[3])
+{
+    int k = 0;
+    if (fabsf(n[1]) < fabsf(n[k])) k = 1;
+    if (fabsf(n[2]) < fabsf(n[k])) k = 2;
+    double a[3] = {0, 0, 0};
+    a[k] = 1.0;
+    e1[0] = a[1] * n[2] - a[2] * n[1];
+    e1[1] = a[2] * n[0] - a[0] * n[2];
+    e1[2] = a[0] * n[1] - a[1] * n[0];
+    double l = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (int q = 0; q < 3; q++) e1[q] /= l;
+    e2[0] = n[1] * e1[2] - n[2] * e1[1];
+    e2[1] = n[2] * e1[0] - n[0] * e1[2];
+    e2[2] = n[0] * e1[1] - n[1] * e1[0];
+}
+
+static int sample_loop_count(const spr_cloud *c, size_t i, size_t j, double eps, const double pu[256], const double pv[256])
+{
+    double e1[3], e2[3], ri = c->radius[i], rj = c->radius[j];
+    sample_loop_frame(c->nrm + 3 * i, e1, e2);
+    const float *pi = c->pos + 3 * i, *pj = c->pos + 3 * j, *nj = c->nrm + 3 * j;
+    double D[3];
+    for (int k = 0; k < 3; k++) D[k] = (double)pi[k] - pj[k];
+    double h0 = D[0] * nj[0] + D[1] * nj[1] + D[2] * nj[2];
+    double a = ri * (e1[0] * nj[0] + e1[1] * nj[1] + e1[2] * nj[2]), b = ri * (e2[0] * nj[0] + e2[1] * nj[1] + e2[2] * nj[2]);
+    double D2 = D[0] * D[0] + D[1] * D[1] + D[2] * D[2];
+    double c1 = 2.0 * ri * (D[0] * e1[0] + D[1] * e1[1] + D[2] * e1[2]), c2 = 2.0 * ri * (D[0] * e2[0] + D[1] * e2[1] + D[2] * e2[2]);
+    double ri2 = ri * ri, rj2 = rj * rj;
+    int hit = 0;
+    for (int s = 0; s < 256; s++) {
+        double h = h0 + pu[s] * a + pv[s] * b;
+        double q2 = D2 + pu[s] * c1 + pv[s] * c2 + ri2 * (pu[s] * pu[s] + pv[s] * pv[s]);
+        hit += (fabs(h) <= eps) & (q2 - h * h <= rj2);
+    }
+    return hit;
+}
+
+/* Every ordered pair of a random set (radii over a 50× range, random,
+ * near-parallel and axis normals so that coplanar pairs and exact ties
+ * occur, some centres shared) at five ε: spr_overlap_areas gives the bits
+ * of the plain sample loop. */
+START_TEST(overlap_areas_are_the_sample_loop)
+{
+    double pu[256], pv[256];
+    for (int a = 0; a < 16; a++)
+        for (int b = 0; b < 16; b++) {
+            double rho = sqrt((a + 0.5) / 16.0), th = 2.0 * M_PI * (b + 0.5 * (a & 1) + 0.5) / 16.0;
+            pu[16 * a + b] = rho * cos(th);
+            pv[16 * a + b] = rho * sin(th);
+        }
+    const size_t n = tu_small() ? 300 : 1000;
+    spr_cloud c;
+    double *zero = calloc(3 * n, sizeof *zero);
+    ck_assert(zero);
+    tu_cloud(&c, n, zero, 1.0f);
+    free(zero);
+    uint64_t st = 0x9E3779B97F4A7C15ull;
+#define RND() ((st = st * 6364136223846793005ull + 1442695040888963407ull), (double)(st >> 11) / 9007199254740992.0)
+    for (size_t i = 0; i < n; i++) {
+        if (i % 7 == 6) { /* a shared centre */
+            memcpy(c.pos + 3 * i, c.pos + 3 * (i - 1), 3 * sizeof(float));
+        } else {
+            for (int k = 0; k < 3; k++) c.pos[3 * i + k] = (float)RND();
+            if (i % 5 == 0) c.pos[3 * i + 2] = 0.5f; /* on one plane */
+        }
+        float *nv = c.nrm + 3 * i;
+        const int kind = (int)(i % 3);
+        if (kind == 0) { /* random direction */
+            double z = 2.0 * RND() - 1.0, ph = 2.0 * M_PI * RND(), s = sqrt(1.0 - z * z);
+            nv[0] = (float)(s * cos(ph)), nv[1] = (float)(s * sin(ph)), nv[2] = (float)z;
+        } else if (kind == 1) { /* within about 3° of +z */
+            double x = 0.1 * (RND() - 0.5), y = 0.1 * (RND() - 0.5), l = sqrt(x * x + y * y + 1.0);
+            nv[0] = (float)(x / l), nv[1] = (float)(y / l), nv[2] = (float)(1.0 / l);
+        } else { /* an axis, either sign */
+            const int ax = RND() < 0.6 ? 2 : (int)(2.0 * RND());
+            nv[0] = nv[1] = nv[2] = 0.0f;
+            nv[ax] = RND() < 0.5 ? -1.0f : 1.0f;
+        }
+        c.radius[i] = (float)(0.02 * exp(log(50.0) * RND()));
+    }
+#undef RND
+    const double epss[5] = {1e-4, 0.01, 0.05, 0.3, 2.0};
+    uint32_t *js = malloc(n * sizeof *js);
+    float *got = malloc(n * sizeof *got);
+    ck_assert(js && got);
+    size_t pairs = 0, partial = 0, full = 0, differ = 0;
+    for (int e = 0; e < 5; e++)
+        for (size_t i = 0; i < n; i++) {
+            size_t m = 0;
+            for (size_t j = 0; j < n; j++)
+                if (j != i) js[m++] = (uint32_t)j;
+            spr_overlap_areas(&c, i, js, m, epss[e], got);
+            const double ri = c.radius[i];
+            for (size_t k = 0; k < m; k++) {
+                const int hit = sample_loop_count(&c, i, js[k], epss[e], pu, pv);
+                const float want = (float)(M_PI * (ri * ri) * hit / 256);
+                if (memcmp(&want, &got[k], sizeof want)) {
+                    if (differ < 5) printf("overlap: pair (%zu, %u) eps %g: %.9g, the sample loop %.9g (%d samples)\n", i, js[k], epss[e], got[k], want, hit);
+                    differ++;
+                }
+                pairs++;
+                partial += hit > 0 && hit < 256;
+                full += hit == 256;
+            }
+        }
+    printf("overlap: %zu ordered pairs, %zu partly overlapping, %zu whole; %zu differ from the sample loop\n", pairs, partial, full, differ);
+    ck_assert_uint_eq(differ, 0);
+    ck_assert_uint_gt(partial, pairs / 20); /* the set exercises the boundaries */
+    ck_assert_uint_gt(full, 1000);
+    free(js);
+    free(got);
+    spr_cloud_free(&c);
+}
+END_TEST
+
+/* Morton order (the working copy of the neighbour walks): the corners of
+ * the bounds' cube quantise to 0 or 1023 on each axis, whose bits
+ * interleave z, y, x from the top, so corners sort by z, then y, then x;
+ * two splats on one corner keep their submission order. */
+START_TEST(morton_order_of_cube_corners)
+{
+    /* index: (x, y, z) */
+    const double xyz[] = {1, 1, 1, /* 0 */ 0, 0, 0, /* 1 */ 1, 0, 0, /* 2 */ 0, 1, 0, /* 3 */ 0, 0, 1, /* 4 */
+                          1, 1, 0, /* 5 */ 0, 0, 0, /* 6: on corner 1 */ 1, 0, 1, /* 7 */ 0, 1, 1 /* 8 */};
+    spr_cloud c;
+    tu_cloud(&c, 9, xyz, 0.1f);
+    spr_bounds b;
+    spr_cloud_bounds(&c, &b);
+    uint32_t order[9];
+    spr_error err;
+    ck_assert_int_eq(spr__morton_order(&c, &b, order, &err), SPR_OK);
+    /* by (z, y, x): (0,0,0) 1, 6; (1,0,0) 2; (0,1,0) 3; (1,1,0) 5; (0,0,1) 4; (1,0,1) 7; (0,1,1) 8; (1,1,1) 0 */
+    const uint32_t want[9] = {1, 6, 2, 3, 5, 4, 7, 8, 0};
+    for (int k = 0; k < 9; k++) ck_assert_uint_eq(order[k], want[k]);
+    spr__spatial s;
+    ck_assert_int_eq(spr__spatial_make(&c, &b, 2, &s, &err), SPR_OK);
+    for (int k = 0; k < 9; k++) {
+        ck_assert_uint_eq(s.order[k], want[k]);
+        ck_assert_uint_eq(s.rank[want[k]], (uint32_t)k);
+        ck_assert(memcmp(s.c.pos + 3 * k, c.pos + 3 * want[k], 3 * sizeof(float)) == 0);
+    }
+    spr__spatial_free(&s);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 Suite *make_group_suite(void)
 {
     Suite *s = suite_create("group");
@@ -293,6 +444,8 @@ Suite *make_group_suite(void)
     tcase_add_test(tc, hash_step_and_table);
     tcase_add_test(tc, groups_file_round_trip_and_errors);
     tcase_add_test(tc, overlap_area_hand_cases);
+    tcase_add_test(tc, overlap_areas_are_the_sample_loop);
+    tcase_add_test(tc, morton_order_of_cube_corners);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -7,13 +7,15 @@
 static double pattern[SPR_DISK_SAMPLES][2];
 /* the same pattern as columns u, v and u² + v² (for the vectorised count) */
 static double pat_u[SPR_DISK_SAMPLES], pat_v[SPR_DISK_SAMPLES], pat_w[SPR_DISK_SAMPLES];
+/* ρ_k: the radius of ring k (every sample of the ring has u² + v² = ρ_k², up to rounding) */
+static double ring_rho[SPR_DISK_RINGS];
 static pthread_once_t pattern_once = PTHREAD_ONCE_INIT;
 
 static void make_pattern(void)
 {
     for (int a = 0; a < 16; a++)
         for (int b = 0; b < 16; b++) {
-            double rho = sqrt((a + 0.5) / 16.0), th = 2.0 * M_PI * (b + 0.5 * (a & 1) + 0.5) / 16.0;
+            double rho = ring_rho[a] = sqrt((a + 0.5) / 16.0), th = 2.0 * M_PI * (b + 0.5 * (a & 1) + 0.5) / 16.0;
             pattern[16 * a + b][0] = rho * cos(th);
             pattern[16 * a + b][1] = rho * sin(th);
         }
@@ -25,19 +27,38 @@ static void make_pattern(void)
 }
 
 /* The samples of one pair that count: |h| ≤ ε and |x − p_j|² − h² ≤ r_j²
- * (spr_overlap_areas).  Branch-free over columns so the compiler vectorises
- * it; the count is an integer, so any vector width gives the same number.
- * AVX2 where the CPU has it (no FMA: the same roundings as the scalar loop). */
+ * (spr_overlap_areas), ring by ring.  On ring k every sample has
+ * u² + v² = ρ_k², so h lies within h0 ± ρ_k √(a² + b²) and the projected
+ * distance to p_j within d_⊥ ± ρ_k r_i: a ring wholly outside (or inside)
+ * both tests, by a margin far above their rounding (whole_pair), counts 0
+ * (or 16) without its samples; the others are sampled.  Branch-free within
+ * a ring so the compiler vectorises it; the count is an integer, so any
+ * vector width gives the same number.  AVX2 where the CPU has it (no FMA:
+ * the same roundings as the scalar loop). */
+typedef struct pair_bounds { double ah0, Rh, dperp, slack; } pair_bounds;
 __attribute__((target_clones("avx2", "default")))
-static int count_hits(double h0, double a, double b, double D2, double c1, double c2, double ri2, double rj2, double eps)
+static int count_hits(double h0, double a, double b, double D2, double c1, double c2, double ri, double rj, double eps, const pair_bounds *pb)
 {
-    int hit = 0;
-    for (int s = 0; s < SPR_DISK_SAMPLES; s++) {
-        double h = h0 + pat_u[s] * a + pat_v[s] * b;
-        double q2 = D2 + pat_u[s] * c1 + pat_v[s] * c2 + ri2 * pat_w[s];
-        hit += (fabs(h) <= eps) & (q2 - h * h <= rj2);
+    const double ri2 = ri * ri, rj2 = rj * rj;
+    int64_t hit = 0;
+    for (int k = 0; k < SPR_DISK_RINGS; k++) {
+        const double rho = ring_rho[k];
+        if (pb->ah0 - rho * pb->Rh > eps + pb->slack || pb->dperp - rho * ri > rj + pb->slack) continue;
+        if (pb->ah0 + rho * pb->Rh < eps - pb->slack && pb->dperp + rho * ri < rj - pb->slack) {
+            hit += SPR_DISK_SAMPLES / SPR_DISK_RINGS;
+            continue;
+        }
+        const double *u = pat_u + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS), *v = pat_v + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS),
+                     *w = pat_w + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS);
+        int64_t ring = 0;
+        for (int s = 0; s < SPR_DISK_SAMPLES / SPR_DISK_RINGS; s++) {
+            double h = h0 + u[s] * a + v[s] * b;
+            double q2 = D2 + u[s] * c1 + v[s] * c2 + ri2 * w[s];
+            ring += (fabs(h) <= eps) & (q2 - h * h <= rj2);
+        }
+        hit += ring;
     }
-    return hit;
+    return (int)hit;
 }
 
 static void frame(const float *n, double e1[3], double e2[3])
@@ -107,12 +128,14 @@ static void pair_terms_of(const float *pi, double ri, const double e1[3], const 
  * sample has u² + v² < 1, so h lies within h0 ± √(a² + b²) and the projected
  * distance to p_j within |D_⊥| ± r_i.  0: no sample counts; SPR_DISK_SAMPLES:
  * every one does; -1: the samples decide. */
-static int whole_pair(const pair_terms *t, double ri, double rj, double eps)
+static int whole_pair(const pair_terms *t, double ri, double rj, double eps, pair_bounds *pb)
 {
-    const double Rh = sqrt(t->a * t->a + t->b * t->b), dperp = sqrt(t->D2 - t->h0 * t->h0 > 0.0 ? t->D2 - t->h0 * t->h0 : 0.0);
-    const double slack = 1e-6 * (sqrt(t->D2) + ri + rj + eps);
-    if (fabs(t->h0) - Rh > eps + slack || dperp - ri > rj + slack) return 0;
-    if (fabs(t->h0) + Rh < eps - slack && dperp + ri < rj - slack) return SPR_DISK_SAMPLES;
+    pb->ah0 = fabs(t->h0);
+    pb->Rh = sqrt(t->a * t->a + t->b * t->b);
+    pb->dperp = sqrt(t->D2 - t->h0 * t->h0 > 0.0 ? t->D2 - t->h0 * t->h0 : 0.0);
+    pb->slack = 1e-6 * (sqrt(t->D2) + ri + rj + eps);
+    if (pb->ah0 - pb->Rh > eps + pb->slack || pb->dperp - ri > rj + pb->slack) return 0;
+    if (pb->ah0 + pb->Rh < eps - pb->slack && pb->dperp + ri < rj - pb->slack) return SPR_DISK_SAMPLES;
     return -1;
 }
 
@@ -137,14 +160,15 @@ void spr_overlap_areas(const spr_cloud *c, size_t i, const uint32_t *js, size_t 
         }
         pair_terms t;
         pair_terms_of(pi, ri, e1, e2, c->pos + 3 * j, c->nrm + 3 * j, &t);
-        double rj = c->radius[j], rj2 = rj * rj, ri2 = ri * ri;
-        int hit = whole_pair(&t, ri, rj, eps);
+        double rj = c->radius[j];
+        pair_bounds pb;
+        int hit = whole_pair(&t, ri, rj, eps, &pb);
         if (hit < 0) {
             const double *D = t.D;
             double c1 = 2.0 * ri * (D[0] * e1[0] + D[1] * e1[1] + D[2] * e1[2]), c2 = 2.0 * ri * (D[0] * e2[0] + D[1] * e2[1] + D[2] * e2[2]);
-            hit = count_hits(t.h0, t.a, t.b, t.D2, c1, c2, ri2, rj2, eps);
+            hit = count_hits(t.h0, t.a, t.b, t.D2, c1, c2, ri, rj, eps, &pb);
         }
-        out[k] = (float)(M_PI * ri2 * hit / SPR_DISK_SAMPLES);
+        out[k] = (float)(M_PI * (ri * ri) * hit / SPR_DISK_SAMPLES);
     }
 }
 
@@ -175,7 +199,8 @@ double spr_clipped_area(const spr_cloud *c, size_t i, double own_scale, const ui
         double rj = (double)c->radius[j] * cover_scale;
         pair_terms t;
         pair_terms_of(c->pos + 3 * i, ri, e1, e2, c->pos + 3 * j, c->nrm + 3 * j, &t);
-        if (whole_pair(&t, ri, rj, eps) == 0) continue;
+        pair_bounds pb;
+        if (whole_pair(&t, ri, rj, eps, &pb) == 0) continue;
         hit = cover_mask(x, y, z, c->pos + 3 * j, c->nrm + 3 * j, rj * rj, eps, cov);
     }
     return M_PI * ri * ri * hit / SPR_DISK_SAMPLES;

@@ -13,6 +13,7 @@
 #include "spr_cloud.h"
 
 #define SPR_DISK_SAMPLES 256
+#define SPR_DISK_RINGS 16
 
 /* A_ij of [ZP] Eq. 8: area of disk i within eps of plane j whose projection
  * lies in disk j (rounded to float, as stored in the overlap graph). */

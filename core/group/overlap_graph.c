@@ -4,6 +4,7 @@
  * by WGC, hash collision handling, extended grouping and the metrics. */
 #include "spr_group.h"
 #include "spr_overlap.h"
+#include "spr__spatial.h"
 
 #include <math.h>
 #include <omp.h>
@@ -117,10 +118,11 @@ done:
 }
 
 /* The neighbours of point i (entry q of the grid) within R that meet the
- * pair test (with `half`: only those found from i's side); out gets up to
- * cap of them; returns how many there are. */
-static size_t grid_query(const col_grid *G, size_t q, double R, double f, int half, spr__pair_keep keep, const void *user, uint32_t *out,
-                         size_t cap)
+ * pair test (with `half`: only those found from i's side; keep is asked
+ * with the indices order[] gives); out gets up to cap of them; returns how
+ * many there are. */
+static size_t grid_query(const col_grid *G, size_t q, double R, double f, int half, spr__pair_keep keep, const void *user,
+                         const uint32_t *order, uint32_t *out, size_t cap)
 {
     const float *pi = G->s + 4 * q;
     const uint32_t i = G->idx[q];
@@ -151,7 +153,7 @@ static size_t grid_query(const col_grid *G, size_t q, double R, double f, int ha
                 }
                 const double lim = f * (ri + rj);
                 if (!(d2 < lim * lim)) continue;
-                if (keep && !keep(user, i, j)) continue;
+                if (keep && !keep(user, order[i], order[j])) continue;
                 if (m < cap) out[m] = j;
                 m++;
             }
@@ -169,23 +171,11 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads, const spr_progress *prog,
-                             spr__pair_keep keep, const void *user, spr_graph *g, spr_error *err);
-
-spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
-                                const spr_progress *prog, spr_graph *g, spr_error *err)
-{
-    return pair_graph(c, f, row, want, threads, prog, NULL, NULL, g, err);
-}
-
-spr_result spr__pair_graph_keep(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr__pair_keep keep, const void *user,
-                                spr_graph *g, spr_error *err)
-{
-    return pair_graph(c, f, NULL, 0, threads, prog, keep, user, g, err);
-}
-
-static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads, const spr_progress *prog,
-                             spr__pair_keep keep, const void *user, spr_graph *g, spr_error *err)
+/* The pair graph of cloud c — the spatial copy — in c's indices; the
+ * filters (row, keep) are asked with the indices order[] gives. */
+static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f, const unsigned char *row, unsigned char want,
+                             const uint32_t *order, int nt, const spr_progress *prog, spr__pair_keep keep, const void *user, spr_graph *g,
+                             spr_error *err)
 {
     memset(g, 0, sizeof *g);
     const size_t n = c->n;
@@ -194,9 +184,7 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
         if (!(g->start = calloc(1, sizeof *g->start))) return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
         return SPR_OK;
     }
-    spr_bounds b;
-    spr_cloud_bounds(c, &b);
-    const int nt = threads > 0 ? threads : omp_get_max_threads();
+    const spr_bounds b = *b0;
     col_grid G = {0};
     spr_result r = grid_build(c, &b, f, nt, &G, err);
     uint32_t *cnt = r ? NULL : calloc(n + 1, sizeof *cnt);
@@ -220,16 +208,16 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
             const size_t q1 = chunk_end((size_t)ch, n);
             for (size_t q = (size_t)ch * QCHUNK; q < q1 && !failed; q++) {
                 const uint32_t i = G.idx[q];
-                if (row && row[i] != want) continue;
+                if (row && row[order[i]] != want) continue;
                 const double R = half ? 2.0 * f * c->radius[i] : f * ((double)c->radius[i] + b.max_radius);
-                size_t m = grid_query(&G, q, R, f, half, keep, user, buf ? buf + used : NULL, cap - used);
+                size_t m = grid_query(&G, q, R, f, half, keep, user, order, buf ? buf + used : NULL, cap - used);
                 if (used + m > cap) { /* did not fit: grow, then the same query again */
                     size_t nc = cap ? 2 * cap : 4096;
                     while (nc < used + m) nc *= 2;
                     uint32_t *nb = realloc(buf, nc * sizeof *nb);
                     if (!nb) { failed = 1; break; }
                     buf = nb, cap = nc;
-                    grid_query(&G, q, R, f, half, keep, user, buf + used, m);
+                    grid_query(&G, q, R, f, half, keep, user, order, buf + used, m);
                 }
                 cnt[i] = (uint32_t)m;
                 used += m;
@@ -253,7 +241,7 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
             const size_t q1 = chunk_end((size_t)ch, n);
             for (size_t q = (size_t)ch * QCHUNK; q < q1; q++) {
                 const uint32_t i = G.idx[q];
-                if (row && row[i] != want) continue;
+                if (row && row[order[i]] != want) continue;
                 if (cnt[i]) memcpy(found + fst[i], cbuf[ch] + off, cnt[i] * sizeof *found);
                 off += cnt[i];
             }
@@ -314,6 +302,165 @@ static spr_result pair_graph(const spr_cloud *c, double f, const unsigned char *
     return r;
 }
 
+/* The areas of the rows of graph g over cloud c (the spatial copy, rows
+ * in its order, so neighbours' data lie close), A_ij for every edge, or
+ * only where need(user, order[i], order[j]) says so (−1 elsewhere). */
+static spr_result row_areas(const spr_cloud *c, const spr_graph *g, const uint32_t *order, double eps, int nt, const spr_progress *prog,
+                            spr_area_need need, const void *need_user, float *A_out, spr_error *err)
+{
+    const long n = (long)c->n;
+    uint64_t max_deg = 0;
+    for (long i = 0; need && i < n; i++)
+        if (g->start[i + 1] - g->start[i] > max_deg) max_deg = g->start[i + 1] - g->start[i];
+    int failed = 0;
+#pragma omp parallel num_threads(nt) reduction(| : failed)
+    {
+        uint32_t *js = need ? malloc((max_deg ? max_deg : 1) * sizeof *js) : NULL; /* the needed neighbours of a row */
+        float *as = need ? malloc((max_deg ? max_deg : 1) * sizeof *as) : NULL;
+        failed |= need && (!js || !as);
+#pragma omp for schedule(dynamic, 256)
+        for (long i = 0; i < n; i++) {
+            if ((i & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "overlap areas", (size_t)i, (size_t)n);
+            const uint32_t *adj = g->adj + g->start[i];
+            const size_t deg = (size_t)(g->start[i + 1] - g->start[i]);
+            float *A = A_out + g->start[i];
+            if (!need) {
+                spr_overlap_areas(c, (size_t)i, adj, deg, eps, A);
+                continue;
+            }
+            if (!js || !as) continue;
+            size_t m = 0;
+            for (size_t k = 0; k < deg; k++) {
+                A[k] = -1.0f;
+                if (need(need_user, order[i], order[adj[k]])) js[m++] = adj[k];
+            }
+            spr_overlap_areas(c, (size_t)i, js, m, eps, as); /* per edge: the same arithmetic as the whole row */
+            for (size_t k = 0, q = 0; k < deg && q < m; k++)
+                if (adj[k] == js[q]) A[k] = as[q++];
+        }
+        free(js);
+        free(as);
+    }
+    if (failed) return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas");
+    spr_progress_report(prog, "overlap areas", c->n, c->n);
+    return SPR_OK;
+}
+
+typedef struct edge { uint32_t j; float a; } edge;
+static int by_j(const void *a, const void *b)
+{
+    const edge *p = a, *q = b;
+    return (p->j > q->j) - (p->j < q->j);
+}
+
+/* The graph (and areas) of the spatial copy s in the cloud's indices: row i
+ * is the copy's row rank[i] with every j mapped through order[], ascending. */
+static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, const float *As, int nt, spr_graph *g, float **A,
+                                 spr_error *err)
+{
+    const size_t n = s->c.n;
+    memset(g, 0, sizeof *g);
+    g->n = n;
+    g->start = malloc((n + 1) * sizeof *g->start);
+    if (!g->start) return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+    g->start[0] = 0;
+    uint64_t max_deg = 0;
+    for (size_t i = 0; i < n; i++) {
+        const uint64_t d = gs->start[s->rank[i] + 1] - gs->start[s->rank[i]];
+        g->start[i + 1] = g->start[i] + d;
+        if (d > max_deg) max_deg = d;
+    }
+    const uint64_t w = g->start[n];
+    g->adj = malloc((w ? w : 1) * sizeof *g->adj);
+    float *a = As ? malloc((w ? w : 1) * sizeof *a) : NULL;
+    if (!g->adj || (As && !a)) {
+        free(a);
+        spr_graph_free(g);
+        return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+    }
+    int failed = 0;
+#pragma omp parallel num_threads(nt) reduction(| : failed)
+    {
+        edge *e = malloc((max_deg ? max_deg : 1) * sizeof *e);
+        failed |= !e;
+#pragma omp for schedule(dynamic, 4096)
+        for (long q = 0; q < (long)n; q++) { /* in the copy's order: its rows read in turn, the writes scattered */
+            if (!e) continue;
+            const size_t i = s->order[q];
+            const uint64_t s0 = gs->start[q];
+            const size_t m = (size_t)(gs->start[q + 1] - s0);
+            for (size_t k = 0; k < m; k++) e[k] = (edge){s->order[gs->adj[s0 + k]], As ? As[s0 + k] : 0.0f};
+            if (m > 64) {
+                qsort(e, m, sizeof *e, by_j); /* the j of a row are distinct: any sort gives one order */
+            } else {
+                for (size_t x = 1; x < m; x++) { /* short rows: insertion sort */
+                    edge v = e[x];
+                    size_t y = x;
+                    for (; y > 0 && e[y - 1].j > v.j; y--) e[y] = e[y - 1];
+                    e[y] = v;
+                }
+            }
+            for (size_t k = 0; k < m; k++) {
+                g->adj[g->start[i] + k] = e[k].j;
+                if (a) a[g->start[i] + k] = e[k].a;
+            }
+        }
+        free(e);
+    }
+    if (failed) {
+        free(a);
+        spr_graph_free(g);
+        return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+    }
+    if (A) *A = a;
+    return SPR_OK;
+}
+
+/* Every graph of this file: built on a copy of the cloud in Morton order
+ * (spr__spatial.h; a cloud in no spatial order took twice as long for its
+ * neighbour walks), then put in the cloud's indices.  The pair test and
+ * every area use the same floats in either order, so the graph and its
+ * areas are the bits a search in submission order gives. */
+static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
+                                const spr_progress *prog, spr__pair_keep keep, const void *user, int areas, double eps, spr_area_need need,
+                                const void *need_user, spr_graph *g, float **A, spr_error *err)
+{
+    memset(g, 0, sizeof *g);
+    if (A) *A = NULL;
+    const int nt = threads > 0 ? threads : omp_get_max_threads();
+    spr_bounds b;
+    spr_cloud_bounds(c, &b);
+    spr__spatial s;
+    spr_result r = spr__spatial_make(c, &b, nt, &s, err);
+    if (r) return r;
+    spr_graph gs;
+    r = pair_graph(&s.c, &b, f, row, want, s.order, nt, prog, keep, user, &gs, err);
+    if (r) { spr__spatial_free(&s); return r; }
+    float *As = NULL;
+    if (areas) {
+        const uint64_t w = gs.start[c->n];
+        if (!(As = malloc((w ? w : 1) * sizeof *As))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas");
+        if (!r) r = row_areas(&s.c, &gs, s.order, eps, threads > 0 ? threads : 1, prog, need, need_user, As, err);
+    }
+    if (!r) r = to_cloud_order(&s, &gs, As, nt, g, areas ? A : NULL, err);
+    free(As);
+    spr_graph_free(&gs);
+    spr__spatial_free(&s);
+    return r;
+}
+
+spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
+                                const spr_progress *prog, spr_graph *g, spr_error *err)
+{
+    return spatial_graph(c, f, row, want, threads, prog, NULL, NULL, 0, 0.0, NULL, NULL, g, NULL, err);
+}
+
+spr_result spr__pair_graph_keep(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr__pair_keep keep, const void *user,
+                                spr_graph *g, spr_error *err)
+{
+    return spatial_graph(c, f, NULL, 0, threads, prog, keep, user, 0, 0.0, NULL, NULL, g, NULL, err);
+}
+
 spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
                                    spr_overlap_graph *og, spr_error *err)
 {
@@ -332,47 +479,5 @@ spr_result spr_overlap_graph_build_rows_need(const spr_cloud *c, double eps, con
 {
     memset(og, 0, sizeof *og);
     og->eps = eps;
-    spr_result r = spr__pair_graph_rows(c, 1.0, row, want, threads, prog, &og->g, err);
-    if (r) return r;
-    const spr_graph *g = &og->g;
-    const uint64_t w = g->start[c->n];
-    og->A = malloc((w ? w : 1) * sizeof(float));
-    if (!og->A) { spr_overlap_graph_free(og); return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas"); }
-    const long n = (long)c->n;
-    uint64_t max_deg = 0;
-    for (long i = 0; need && i < n; i++)
-        if (g->start[i + 1] - g->start[i] > max_deg) max_deg = g->start[i + 1] - g->start[i];
-    int failed = 0;
-#pragma omp parallel num_threads(threads > 0 ? threads : 1) reduction(| : failed)
-    {
-        uint32_t *js = need ? malloc((max_deg ? max_deg : 1) * sizeof *js) : NULL; /* the needed neighbours of a row */
-        float *as = need ? malloc((max_deg ? max_deg : 1) * sizeof *as) : NULL;
-        failed |= need && (!js || !as);
-#pragma omp for schedule(dynamic, 256)
-        for (long i = 0; i < n; i++) {
-            if ((i & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "overlap areas", (size_t)i, (size_t)n);
-            const uint32_t *adj = g->adj + g->start[i];
-            const size_t deg = (size_t)(g->start[i + 1] - g->start[i]);
-            float *A = og->A + g->start[i];
-            if (!need) {
-                spr_overlap_areas(c, (size_t)i, adj, deg, eps, A);
-                continue;
-            }
-            if (!js || !as) continue;
-            size_t m = 0;
-            for (size_t k = 0; k < deg; k++) {
-                A[k] = -1.0f;
-                if (need(need_user, (size_t)i, adj[k])) js[m++] = adj[k];
-            }
-            spr_overlap_areas(c, (size_t)i, js, m, eps, as); /* per edge: the same arithmetic as the whole row */
-            for (size_t k = 0, q = 0; k < deg && q < m; k++)
-                if (adj[k] == js[q]) A[k] = as[q++];
-        }
-        free(js);
-        free(as);
-    }
-    if (failed) { spr_overlap_graph_free(og); return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas"); }
-    spr_progress_report(prog, "overlap areas", c->n, c->n);
-    return SPR_OK;
+    return spatial_graph(c, 1.0, row, want, threads, prog, NULL, NULL, 1, eps, need, need_user, &og->g, &og->A, err);
 }
-
