@@ -21,6 +21,7 @@ static const spr__opt bench_opts[] = {
     {"size", "WxH", "image size (default 1024x1024)"},
     {"reps", "N", "renders per configuration, best kept (default 5)"},
     {"points", "N", "size of the armadillo resampling (default 1000000)"},
+    {"gl-device", "N", "GL rows on the N-th EGL device (a GPU driver) instead of the surfaceless platform"},
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
 
@@ -300,11 +301,12 @@ int cmd_bench(int argc, char **argv)
     spr__args a;
     int pr = spr__parse(&a, "bench", bench_opts, "[--scene bunny|armadillo-1m|capture-1m|all] [--size WxH] [--reps N]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    int W = 1024, H = 1024, reps = 5, quiet = spr__flag(&a, "quiet");
+    int W = 1024, H = 1024, reps = 5, quiet = spr__flag(&a, "quiet"), gl_device = -1;
     size_t npts = 1000000;
     const char *scene = spr__get(&a, "scene") ? spr__get(&a, "scene") : "all";
     if ((strcmp(scene, "grouping") && spr__get_wh(&a, "size", &W, &H) < 0) || spr__get_int(&a, "reps", &reps, 1, 100) < 0 ||
-        (strcmp(scene, "bunny") && spr__get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0) || spr__reject_unused(&a))
+        (strcmp(scene, "bunny") && spr__get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0) ||
+        spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || spr__reject_unused(&a))
         return 2;
     if (!strcmp(scene, "grouping")) {
         if (!spr__get(&a, "points")) npts = 1100000;
@@ -316,7 +318,10 @@ int cmd_bench(int argc, char **argv)
         return 2;
     }
     spr_error gerr = {0};
-    bench_gl = spr_gl_create(NULL, &gerr);
+    spr_gl_desc gd;
+    spr_gl_defaults(&gd);
+    gd.device = gl_device;
+    bench_gl = spr_gl_create(&gd, &gerr);
     bench_gl_reason = bench_gl ? NULL : gerr.msg;
     printf("splatref bench: CPU reference on 1 and 2 OpenMP threads and the GL backend [%s], best of %d\n",
            bench_gl ? spr_gl_renderer(bench_gl) : bench_gl_reason, reps);
