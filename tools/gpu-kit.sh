@@ -42,6 +42,7 @@ PKGS="libflann-dev libflann1.9 liblz4-1 liblz4-dev \
 # the -dev packages whose headers try-here hides
 DEV_PKGS="libflann-dev liblz4-dev libpng-dev zlib1g-dev libzstd-dev libqhull-dev libcjson-dev libegl-dev libgl-dev libglx-dev libopengl-dev libgles-dev libglvnd-dev"
 ARCH_LIB=usr/lib/x86_64-linux-gnu
+MODELS="bunny00.off armadillo.off ChineseDragon-10kv.off"
 
 die() { echo "gpu-kit: $*" >&2; exit 1; }
 
@@ -61,8 +62,17 @@ gather() {
   (cd "$kit/debs" && for f in *.deb; do
      printf '%s %s %s\n' "$(dpkg-deb -f "$f" Package)" "$(dpkg-deb -f "$f" Version)" "$(sha256sum "$f" | cut -d' ' -f1)"
    done) >"$kit/MANIFEST.tmp"
+  # the CGAL models the reference scenes and bench read (libcgal-demo's
+  # data.tar.gz, extracted by tools/install-deps.sh)
+  rm -rf "$kit/models"
+  mkdir -p "$kit/models"
+  for m in $MODELS; do
+    [ -f "$here/data/cgal/data/meshes/$m" ] || die "data/cgal/data/meshes/$m missing: run 'sh tools/install-deps.sh' first"
+    cp "$here/data/cgal/data/meshes/$m" "$kit/models/"
+    printf 'model %s (libcgal-demo data.tar.gz, meshes/) %s\n' "$m" "$(sha256sum "$kit/models/$m" | cut -d' ' -f1)" >>"$kit/MANIFEST.tmp"
+  done
   mv "$kit/MANIFEST.tmp" "$kit/MANIFEST"
-  echo "gpu-kit: $(ls "$kit/debs" | wc -l) packages, $(du -sh "$kit/debs" | cut -f1) in .gpu-kit/debs (manifest .gpu-kit/MANIFEST)"
+  echo "gpu-kit: $(ls "$kit/debs" | wc -l) packages, $(du -sh "$kit/debs" | cut -f1) in .gpu-kit/debs, $(ls "$kit/models" | wc -l) models (manifest .gpu-kit/MANIFEST)"
 }
 
 # Unpack one .deb into $2 without dpkg: the ar archive's data.tar.* member.
@@ -96,6 +106,12 @@ run() {
   cc=${CC:-cc}
   command -v "$cc" >/dev/null 2>&1 || die "no C compiler ('$cc'; set CC): the kit brings libraries, not a compiler"
   command -v cmake >/dev/null 2>&1 || die "no cmake on the PATH"
+  for m in $MODELS; do
+    [ -f "$here/data/cgal/data/meshes/$m" ] && continue
+    [ -f "$kit/models/$m" ] || die "model $m neither in data/cgal/data/meshes nor in .gpu-kit/models (gather again)"
+    mkdir -p "$here/data/cgal/data/meshes"
+    cp "$kit/models/$m" "$here/data/cgal/data/meshes/"
+  done
   prefix="$kit/prefix"
   rm -rf "$prefix" "$kit/build"
   mkdir -p "$prefix" "$out"
@@ -121,14 +137,20 @@ run() {
   log="$out/report.txt"
   : >"$log"
   section() { printf '\n== %s\n' "$*" | tee -a "$log"; }
-  step() { # step TITLE command…: run, log its output and exit status
-    section "$1"; shift
+  summary="$out/.summary"
+  : >"$summary"
+  step() { # step TITLE command…: run, log its output and exit status, keep its last lines for the summary
+    section "$1"
+    title=$1
+    shift
     printf '$ %s\n' "$*" >>"$log"
     set +e
-    "$@" >>"$log" 2>&1
+    "$@" >"$out/.step" 2>&1
     rc=$?
     set -e
+    cat "$out/.step" >>"$log"
     printf 'exit %d\n' "$rc" | tee -a "$log"
+    { printf -- '- %s: exit %d\n' "$title" "$rc"; grep -E 'planes bit-exact|planes differ|mismatch|verdict:|reference: [0-9]+ scenes|speed-up|time CPU|renderer|\[' "$out/.step" | grep -v '^reference [a-z]' | tail -n 40 | sed 's/^/    /'; } >>"$summary"
     return 0
   }
   section "machine"
@@ -163,10 +185,9 @@ run() {
   step "parity --random $random" "$bin" parity --random "$random" --gl-device "$device" --report "$out/parity-random" --quiet
   step "reference images" "$bin" reference --gl-device "$device"
   step "bench" "$bin" bench --scene all --reps "$reps" --gl-device "$device" --quiet
-  section "verdicts"
-  grep -E 'BIT-EXACT|MISMATCH|mismatches|differ|failed|verdict|Tier|exit [0-9]' "$log" | tail -40 >>"$log.verdicts" || true
-  cat "$log.verdicts" >>"$log"
-  rm -f "$log.verdicts"
+  section "summary"
+  tee -a "$log" <"$summary"
+  rm -f "$summary" "$out/.step"
   echo "gpu-kit: report in $log"
 }
 
