@@ -197,7 +197,7 @@ try_here() {
   t=$(mktemp -d /tmp/gpu-kit-try.XXXXXX)
   git clone -q "$here" "$t/splatref"
   mkdir -p "$t/splatref/.gpu-kit"
-  cp -r "$kit/debs" "$kit/MANIFEST" "$t/splatref/.gpu-kit/"
+  cp -r "$kit/debs" "$kit/models" "$kit/MANIFEST" "$t/splatref/.gpu-kit/"
   # the headers and pkg-config files of the same packages on this system, hidden
   hide="$t/hide.sh"
   mkdir -p "$t/empty"
