@@ -150,7 +150,7 @@ run() {
     set -e
     cat "$out/.step" >>"$log"
     printf 'exit %d\n' "$rc" | tee -a "$log"
-    { printf -- '- %s: exit %d\n' "$title" "$rc"; grep -E 'planes bit-exact|planes differ|mismatch|verdict:|reference: [0-9]+ scenes|speed-up|time CPU|renderer|\[' "$out/.step" | grep -v '^reference [a-z]' | tail -n 40 | sed 's/^/    /'; } >>"$summary"
+    { printf -- '- %s: exit %d\n' "$title" "$rc"; grep -E '^scene |planes bit-exact|planes differ|mismatch|verdict:|reference: [0-9]+ scenes|speed-up|time CPU|renderer|\[' "$out/.step" | grep -v '^reference [a-z]' | tail -n 40 | sed 's/^/    /'; } >>"$summary"
     return 0
   }
   section "machine"
