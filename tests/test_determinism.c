@@ -131,32 +131,50 @@ static int32_t ref_build(spr_bsp *t, uint32_t first, uint32_t count)
 
 /* The parallel BSP build (selection, spliced subtrees) is the tree above,
  * byte for byte, for 1, 2 and 7 threads. */
-START_TEST(bsp_equals_the_sorting_build_on_any_threads)
+static size_t bsp_matches_the_sorting_build(spr_cloud *c)
 {
-    spr_cloud c = tu_builtin("builtin:sphere", tu_small() ? 60000 : 250000);
     spr_bsp ref = {0};
-    ref.n = c.n;
-    ref.nodes = malloc(c.n * sizeof *ref.nodes); /* ≥ 2n/64 nodes */
-    ref.order = malloc(c.n * sizeof *ref.order);
-    ref.leaf_of = malloc(c.n * sizeof *ref.leaf_of);
-    for (size_t i = 0; i < c.n; i++) ref.order[i] = (uint32_t)i;
-    ref_cloud = &c;
-    ref_build(&ref, 0, (uint32_t)c.n);
+    ref.n = c->n;
+    ref.nodes = malloc(c->n * sizeof *ref.nodes); /* ≥ 2n/64 nodes */
+    ref.order = malloc(c->n * sizeof *ref.order);
+    ref.leaf_of = malloc(c->n * sizeof *ref.leaf_of);
+    for (size_t i = 0; i < c->n; i++) ref.order[i] = (uint32_t)i;
+    ref_cloud = c;
+    ref_build(&ref, 0, (uint32_t)c->n);
     static const int threads[] = {1, 2, 7};
     for (int k = 0; k < 3; k++) {
         omp_set_num_threads(threads[k]);
         spr_bsp t;
         spr_error err;
-        ck_assert_int_eq(spr_bsp_build(&c, &t, &err), SPR_OK);
+        ck_assert_int_eq(spr_bsp_build(c, &t, &err), SPR_OK);
         ck_assert_uint_eq(t.n_nodes, ref.n_nodes);
         ck_assert_mem_eq(t.nodes, ref.nodes, t.n_nodes * sizeof *t.nodes);
-        ck_assert_mem_eq(t.order, ref.order, c.n * sizeof *t.order);
-        ck_assert_mem_eq(t.leaf_of, ref.leaf_of, c.n * sizeof *t.leaf_of);
+        ck_assert_mem_eq(t.order, ref.order, c->n * sizeof *t.order);
+        ck_assert_mem_eq(t.leaf_of, ref.leaf_of, c->n * sizeof *t.leaf_of);
         spr_bsp_free(&t);
     }
     omp_set_num_threads(omp_get_num_procs());
-    printf("bsp: %zu splats, %zu nodes: the parallel build equals the sorting build on 1, 2 and 7 threads\n", c.n, ref.n_nodes);
+    const size_t nodes = ref.n_nodes;
     spr_bsp_free(&ref);
+    return nodes;
+}
+
+START_TEST(bsp_equals_the_sorting_build_on_any_threads)
+{
+    spr_cloud c = tu_builtin("builtin:sphere", tu_small() ? 60000 : 250000);
+    size_t nodes = bsp_matches_the_sorting_build(&c);
+    printf("bsp: %zu splats, %zu nodes: the parallel build equals the sorting build on 1, 2 and 7 threads\n", c.n, nodes);
+    /* the same centres on a grid of 1/8 (ties everywhere: the ids decide),
+     * zeros signed both ways (−0 and +0 compare equal) */
+    size_t zeros = 0;
+    for (size_t i = 0; i < c.n; i++)
+        for (int a = 0; a < 3; a++) {
+            float *v = &c.pos[3 * i + a];
+            *v = roundf(*v * 8.0f) / 8.0f;
+            if (*v == 0.0f) *v = (i & 1) ? -0.0f : 0.0f, zeros++;
+        }
+    nodes = bsp_matches_the_sorting_build(&c);
+    printf("bsp: the same on a 1/8 grid with %zu signed zeros, %zu nodes\n", zeros, nodes);
     spr_cloud_free(&c);
 }
 END_TEST

@@ -2,6 +2,9 @@
 #include "spr_bsp.h"
 
 #include <math.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,6 +29,19 @@ static inline int pt_less(const pt4 *a, const pt4 *b, int axis)
     return a->v[axis] < b->v[axis] || (a->v[axis] == b->v[axis] && a->idx < b->idx);
 }
 
+/* The same order as one unsigned integer: the float's bits made monotone
+ * (negative: all bits flipped; otherwise the sign bit set; −0 first made
+ * +0, which the float comparison calls equal), then the index.  Centres are
+ * finite (spr_cloud_validate). */
+static inline uint64_t pt_key(const pt4 *a, int axis)
+{
+    const float f = a->v[axis] + 0.0f; /* −0 + 0 = +0 */
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    u = (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+    return (uint64_t)u << 32 | a->idx;
+}
+
 static _Thread_local int sort_axis;
 static int pt_cmp(const void *a, const void *b)
 {
@@ -43,8 +59,9 @@ static void pt_insertion(pt4 *v, size_t n, int axis)
 {
     for (size_t i = 1; i < n; i++) {
         pt4 x = v[i];
+        const uint64_t kx = pt_key(&x, axis);
         size_t j = i;
-        while (j > 0 && pt_less(&x, &v[j - 1], axis)) v[j] = v[j - 1], j--;
+        while (j > 0 && kx < pt_key(&v[j - 1], axis)) v[j] = v[j - 1], j--;
         v[j] = x;
     }
 }
@@ -58,19 +75,27 @@ static void pt_select(pt4 *v, size_t n, size_t k, int axis)
     while (hi - lo > 16) {
         if (budget-- == 0) { pt_sort(v + lo, hi - lo, axis); return; }
         size_t mid = lo + (hi - lo) / 2;
-        const pt4 *a = &v[lo], *b = &v[mid], *c = &v[hi - 1], *pp;
+        const pt4 *pp, *a = &v[lo], *b = &v[mid], *c = &v[hi - 1];
         if (pt_less(a, b, axis)) pp = pt_less(b, c, axis) ? b : pt_less(a, c, axis) ? c : a;
         else pp = pt_less(a, c, axis) ? a : pt_less(b, c, axis) ? c : b;
-        const pt4 piv = *pp;
-        /* three-way partition: < piv | piv | > piv (ids make keys distinct) */
-        size_t i = lo, lt = lo, gt = hi;
-        while (i < gt) {
-            if (pt_less(&v[i], &piv, axis)) { pt4 t = v[lt]; v[lt++] = v[i]; v[i++] = t; }
-            else if (pt_less(&piv, &v[i], axis)) { pt4 t = v[--gt]; v[gt] = v[i]; v[i] = t; }
-            else i++;
+
+        /* the ids make every key distinct: two-way partition < piv | ≥ piv,
+         * branch-free (every element swapped, the boundary moved by the
+         * comparison; the branches of a data-dependent partition mispredict
+         * half the time), then the pivot put at the boundary */
+        const uint64_t kp = pt_key(pp, axis);
+        { pt4 t = v[hi - 1]; v[hi - 1] = *pp; *(pt4 *)pp = t; }
+        size_t lt = lo;
+        for (size_t i = lo; i < hi - 1; i++) {
+            const pt4 t = v[i];
+            const size_t less = pt_key(&t, axis) < kp;
+            v[i] = v[lt];
+            v[lt] = t;
+            lt += less;
         }
+        { pt4 t = v[lt]; v[lt] = v[hi - 1]; v[hi - 1] = t; }
         if (k < lt) hi = lt;
-        else if (k >= gt) lo = gt;
+        else if (k > lt) lo = lt + 1;
         else return;
     }
     pt_insertion(v + lo, hi - lo, axis);
@@ -105,11 +130,28 @@ static int32_t add_node(sub_tree *st)
 static int split_axis(const build_ctx *bc, uint32_t first, uint32_t count)
 {
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+#if defined(__SSE2__)
+    /* a pt4 is one 16-byte vector (x y z id): minps/maxps compute a < b ? a : b
+     * per lane, the scalar loop's selection; the id lane is zeroed (its bits
+     * would be denormal floats) and not read */
+    const __m128 keep = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+    __m128 lo4 = _mm_set1_ps(INFINITY), hi4 = _mm_set1_ps(-INFINITY);
+    for (const pt4 *q = bc->pts + first; q < bc->pts + first + count; q++) {
+        const __m128 v = _mm_and_ps(_mm_loadu_ps(q->v), keep);
+        lo4 = _mm_min_ps(v, lo4);
+        hi4 = _mm_max_ps(v, hi4);
+    }
+    float l4[4], h4[4];
+    _mm_storeu_ps(l4, lo4);
+    _mm_storeu_ps(h4, hi4);
+    for (int a = 0; a < 3; a++) lo[a] = l4[a], hi[a] = h4[a];
+#else
     for (const pt4 *q = bc->pts + first; q < bc->pts + first + count; q++)
         for (int a = 0; a < 3; a++) {
-            if (q->v[a] < lo[a]) lo[a] = q->v[a];
-            if (q->v[a] > hi[a]) hi[a] = q->v[a];
+            lo[a] = q->v[a] < lo[a] ? q->v[a] : lo[a];
+            hi[a] = q->v[a] > hi[a] ? q->v[a] : hi[a];
         }
+#endif
     int axis = 0;
     for (int a = 1; a < 3; a++)
         if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
@@ -122,20 +164,29 @@ static float split_at(build_ctx *bc, uint32_t first, uint32_t count, int axis)
 {
     const uint32_t half = count / 2;
     pt_select(bc->pts + first, count, half, axis);
-    float split = INFINITY;
-    for (const pt4 *q = bc->pts + first + half; q < bc->pts + first + count; q++)
-        if (q->v[axis] < split) split = q->v[axis];
-    return split;
+    /* the entry the sort would put at the median: the right half's least
+     * key (its id decides between equal coordinates, −0 and +0 among them) */
+    const pt4 *m = bc->pts + first + half;
+    uint64_t km = pt_key(m, axis);
+    for (const pt4 *q = m + 1; q < bc->pts + first + count; q++) {
+        const uint64_t kq = pt_key(q, axis);
+        if (kq < km) km = kq, m = q;
+    }
+    return m->v[axis];
 }
 
 static void make_leaf(build_ctx *bc, spr_bsp_node *nd, int32_t id, uint32_t first, uint32_t count, int parent_axis)
 {
-    if (parent_axis >= 0) pt_sort(bc->pts + first, count, parent_axis); /* as the parent's full sort left it */
+    if (parent_axis >= 0) { /* as the parent's full sort left it */
+        if (count <= 4 * SPR_BSP_LEAF) pt_insertion(bc->pts + first, count, parent_axis);
+        else pt_sort(bc->pts + first, count, parent_axis);
+    }
     nd->axis = -1;
     nd->first = first;
     nd->count = count;
     double s[3] = {0, 0, 0};
     for (uint32_t k = first; k < first + count; k++) {
+        if (k + 8 < first + count) __builtin_prefetch(bc->c->nrm + 3 * (size_t)bc->pts[k + 8].idx); /* scattered: a hint */
         const uint32_t i = bc->pts[k].idx;
         bc->order[k] = i;
         for (int a = 0; a < 3; a++) s[a] += bc->c->nrm[3 * (size_t)i + a];
