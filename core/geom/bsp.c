@@ -2,6 +2,7 @@
 #include "spr_bsp.h"
 
 #include <math.h>
+#include <omp.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -278,8 +279,11 @@ static int32_t splice(spr_bsp *t, const top_node *tn, int h, sub_tree *jobs, con
     return id;
 }
 
-spr_result spr_bsp_build(const spr_cloud *c, spr_bsp *t, spr_error *err)
+spr_result spr_bsp_build(const spr_cloud *c, spr_bsp *t, spr_error *err) { return spr__bsp_build_threads(c, 0, t, err); }
+
+spr_result spr__bsp_build_threads(const spr_cloud *c, int threads, spr_bsp *t, spr_error *err)
 {
+    const int nt = threads > 0 ? threads : omp_get_max_threads();
     memset(t, 0, sizeof *t);
     t->n = c->n;
     t->order = malloc((c->n ? c->n : 1) * sizeof(uint32_t));
@@ -293,13 +297,13 @@ spr_result spr_bsp_build(const spr_cloud *c, spr_bsp *t, spr_error *err)
     build_ctx bc = {c, t->order, t->leaf_of, pts};
     top_node tn[TOP_NODES];
     memset(tn, 0, sizeof tn);
-#pragma omp parallel
+#pragma omp parallel num_threads(nt)
 #pragma omp single
     build_top(&bc, tn, 1, 0, (uint32_t)c->n, -1, c->n > 4096 ? TOP_DEPTH : 0);
     sub_tree jobs[TOP_NODES];
     memset(jobs, 0, sizeof jobs);
     int failed = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(| : failed)
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1) reduction(| : failed)
     for (int h = 1; h < TOP_NODES; h++)
         if (tn[h].used && tn[h].job) failed |= build(&bc, &jobs[h], tn[h].first, tn[h].count, tn[h].parent_axis) < 0;
     size_t total = 0;

@@ -32,6 +32,8 @@ typedef struct spr_bsp {
 } spr_bsp;
 
 spr_result spr_bsp_build(const spr_cloud *c, spr_bsp *t, spr_error *err);
+/* The same tree on at most `threads` threads (0: OpenMP's default). */
+spr_result spr__bsp_build_threads(const spr_cloud *c, int threads, spr_bsp *t, spr_error *err);
 void spr_bsp_free(spr_bsp *t);
 /* Back-to-front splat order for the view (out: n ids). */
 int spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out); /* −1: out of memory */

@@ -114,12 +114,17 @@ static int by_cell(const void *a, const void *b)
 /* Axes of all splats (BSP leaf normal or own normal). */
 spr_result spr_hash_axes(const spr_cloud *c, spr_hash_axis how, int32_t *axis, spr_error *err)
 {
+    return spr__hash_axes_threads(c, how, 0, axis, err);
+}
+
+spr_result spr__hash_axes_threads(const spr_cloud *c, spr_hash_axis how, int threads, int32_t *axis, spr_error *err)
+{
     if (how == SPR_HASH_AXIS_NORMAL) {
         for (size_t i = 0; i < c->n; i++) axis[i] = spr_hash_axis_of(c->nrm + 3 * i);
         return SPR_OK;
     }
     spr_bsp t;
-    spr_result r = spr_bsp_build(c, &t, err);
+    spr_result r = spr__bsp_build_threads(c, threads, &t, err);
     if (r) return r;
     spr_hash_axes_of_bsp(&t, axis);
     spr_bsp_free(&t);
@@ -217,7 +222,7 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
     } else if (d.axis == SPR_HASH_AXIS_BSP || d.mode != 1) {
         if (!(axis = malloc((c->n ? c->n : 1) * sizeof *axis))) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
         spr_progress_report(&d.progress, "BSP tree", 0, 1);
-        r = spr_hash_axes(c, d.axis, axis, err);
+        r = spr__hash_axes_threads(c, d.axis, d.threads, axis, err);
         spr_progress_report(&d.progress, "BSP tree", 1, 1);
         if (r) { free(axis); return r; }
     }
@@ -235,7 +240,7 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
     if (!axis) {
         if (!(axis = malloc((c->n ? c->n : 1) * sizeof *axis))) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
         if (d.axes) memcpy(axis, d.axes, c->n * sizeof *axis);
-        else if ((r = spr_hash_axes(c, d.axis, axis, err))) { free(axis); return r; }
+        else if ((r = spr__hash_axes_threads(c, d.axis, d.threads, axis, err))) { free(axis); return r; }
     }
 
     /* modes 2/3: the first splat of each cell keeps its group, the later
@@ -272,7 +277,7 @@ spr_result spr_group_hash_update(const spr_cloud *c, const spr_hash_desc *din, i
     unsigned char *state = calloc(c->n ? c->n : 1, 1);
     cell_key *keys = NULL;
     if (!axis || !state) { free(axis); free(state); return spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); }
-    spr_result r = d.axes ? (memcpy(axis, d.axes, c->n * sizeof *axis), SPR_OK) : spr_hash_axes(c, d.axis, axis, err);
+    spr_result r = d.axes ? (memcpy(axis, d.axes, c->n * sizeof *axis), SPR_OK) : spr__hash_axes_threads(c, d.axis, d.threads, axis, err);
     for (size_t k = 0; k < m && !r; k++) {
         if (changed[k] >= c->n) r = spr__fail(err, SPR_E_ARG, "hash update: splat %u beyond the cloud", changed[k]);
         else state[changed[k]] = PENDING;

@@ -83,6 +83,8 @@ typedef struct spr_hash_desc {
 } spr_hash_desc;
 /* Axis of every splat from the BSP leaves' average normals (or own normals). */
 spr_result spr_hash_axes(const spr_cloud *c, spr_hash_axis how, int32_t *axis, spr_error *err);
+/* The same on at most `threads` threads (0: OpenMP's default; the BSP build's). */
+spr_result spr__hash_axes_threads(const spr_cloud *c, spr_hash_axis how, int threads, int32_t *axis, spr_error *err);
 /* The BSP axes from a tree already built (its leaves' normals). */
 struct spr_bsp;
 void spr_hash_axes_of_bsp(const struct spr_bsp *t, int32_t *axis);
