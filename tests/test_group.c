@@ -285,28 +285,12 @@ END_TEST
 
 /* The 256-sample count of SPEC §5.2 as it was written before rings were
  * decided whole (commit cde1253): every sample of the pattern tested, in
- * the same arithmetic, so its areas are the bits spr_overlap_areas must give. */
-static void sample_loop_frame(const float *n, double e1[3], double e2[3])
-{
-    int k = 0;
-    if (fabsf(n[1]) < fabsf(n[k])) k = 1;
-    if (fabsf(n[2]) < fabsf(n[k])) k = 2;
-    double a[3] = {0, 0, 0};
-    a[k] = 1.0;
-    e1[0] = a[1] * n[2] - a[2] * n[1];
-    e1[1] = a[2] * n[0] - a[0] * n[2];
-    e1[2] = a[0] * n[1] - a[1] * n[0];
-    double l = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    for (int q = 0; q < 3; q++) e1[q] /= l;
-    e2[0] = n[1] * e1[2] - n[2] * e1[1];
-    e2[1] = n[2] * e1[0] - n[0] * e1[2];
-    e2[2] = n[0] * e1[1] - n[1] * e1[0];
-}
-
+ * the same arithmetic on the same frame, so its areas are the bits
+ * spr_overlap_areas must give. */
 static int sample_loop_count(const spr_cloud *c, size_t i, size_t j, double eps, const double pu[256], const double pv[256])
 {
     double e1[3], e2[3], ri = c->radius[i], rj = c->radius[j];
-    sample_loop_frame(c->nrm + 3 * i, e1, e2);
+    spr__disk_frame(c->nrm + 3 * i, e1, e2);
     const float *pi = c->pos + 3 * i, *pj = c->pos + 3 * j, *nj = c->nrm + 3 * j;
     double D[3];
     for (int k = 0; k < 3; k++) D[k] = (double)pi[k] - pj[k];

@@ -61,7 +61,7 @@ static int count_hits(double h0, double a, double b, double D2, double c1, doubl
     return (int)hit;
 }
 
-static void frame(const float *n, double e1[3], double e2[3])
+void spr__disk_frame(const float *n, double e1[3], double e2[3])
 {
     /* the axis least aligned with n, crossed with n */
     int k = 0;
@@ -148,7 +148,7 @@ void spr_overlap_areas(const spr_cloud *c, size_t i, const uint32_t *js, size_t 
 {
     pthread_once(&pattern_once, make_pattern);
     double e1[3], e2[3], ri = c->radius[i];
-    frame(c->nrm + 3 * i, e1, e2);
+    spr__disk_frame(c->nrm + 3 * i, e1, e2);
     const float *pi = c->pos + 3 * i;
     for (size_t k = 0; k < m; k++) {
         size_t j = js[k];
@@ -186,7 +186,7 @@ double spr_clipped_area(const spr_cloud *c, size_t i, double own_scale, const ui
     if (!m) return 0.0;
     double ri = (double)c->radius[i] * own_scale;
     double e1[3], e2[3];
-    frame(c->nrm + 3 * i, e1, e2);
+    spr__disk_frame(c->nrm + 3 * i, e1, e2);
     double x[SPR_DISK_SAMPLES], y[SPR_DISK_SAMPLES], z[SPR_DISK_SAMPLES];
     samples(c, i, ri, e1, e2, x, y, z);
     /* a sample counts once whichever neighbour covers it; neighbours that

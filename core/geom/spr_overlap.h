@@ -27,4 +27,8 @@ void spr_overlap_areas(const spr_cloud *c, size_t i, const uint32_t *js, size_t 
 double spr_clipped_area(const spr_cloud *c, size_t i, double own_scale, const uint32_t *cover, size_t m, double cover_scale,
                         double eps);
 
+/* The tangent frame (e1, e2) of a disk with unit normal n that the sample
+ * pattern is laid on (internal; the tests' plain sample loop uses it). */
+void spr__disk_frame(const float *n, double e1[3], double e2[3]);
+
 #endif
