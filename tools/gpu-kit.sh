@@ -7,7 +7,7 @@
 #       Here (Debian 12, apt registry reachable): `apt-get download` (no install)
 #       the packages the build and the GL loader need into .gpu-kit/debs
 #       (ignored by git), with a manifest of names, versions and sha256.
-#   sh tools/gpu-kit.sh run [--random N] [--gl-device N] [--out DIR] [--reps N]
+#   sh tools/gpu-kit.sh run [--random N] [--gl-device N] [--out DIR] [--reps N] [--no-bench]
 #       There (x86-64, as root, a C compiler with OpenMP and CMake ≥ 3.16 on
 #       the PATH; nothing else installed): unpack the packages into
 #       .gpu-kit/prefix, build with that prefix alone on CMake's and
@@ -91,14 +91,15 @@ unpack_deb() {
 }
 
 run() {
-  random=300 device=0 out="$kit/report" reps=3
+  random=300 device=0 out="$kit/report" reps=3 bench=1
   while [ $# -gt 0 ]; do
     case $1 in
       --random) random=$2; shift 2 ;;
       --gl-device) device=$2; shift 2 ;;
       --out) out=$2; shift 2 ;;
       --reps) reps=$2; shift 2 ;;
-      *) die "run: unknown option '$1' (--random N, --gl-device N, --out DIR, --reps N)" ;;
+      --no-bench) bench=0; shift ;;
+      *) die "run: unknown option '$1' (--random N, --gl-device N, --out DIR, --reps N, --no-bench)" ;;
     esac
   done
   [ -d "$kit/debs" ] && ls "$kit/debs"/*.deb >/dev/null 2>&1 || die "no packages in .gpu-kit/debs: run 'sh tools/gpu-kit.sh gather' where apt works, and bring .gpu-kit with the checkout"
@@ -128,7 +129,8 @@ run() {
   fi
   lib="$prefix/$ARCH_LIB"
   mkdir -p "$kit/bin"
-  if command -v pkg-config >/dev/null 2>&1; then pc=$(command -v pkg-config); else
+  # the machine's pkg-config if it has one (GPU_KIT_OWN_PKGCONF=1: the kit's pkgconf regardless)
+  if [ -z "${GPU_KIT_OWN_PKGCONF:-}" ] && command -v pkg-config >/dev/null 2>&1; then pc=$(command -v pkg-config); else
     printf '#!/bin/sh\nLD_LIBRARY_PATH="%s${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" exec "%s" "$@"\n' "$lib" "$prefix/usr/bin/pkgconf" >"$kit/bin/pkg-config"
     chmod +x "$kit/bin/pkg-config"
     pc="$kit/bin/pkg-config"
@@ -159,6 +161,7 @@ run() {
   section "kit"
   cat "$kit/MANIFEST" >>"$log"
   section "build (prefix $prefix only)"
+  echo "pkg-config: $pc" | tee -a "$log"
   # shellcheck disable=SC2086
   cmake -S "$here" -B "$kit/build" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DCMAKE_C_COMPILER="$cc" \
     -DCMAKE_PREFIX_PATH="$prefix/usr" -DCMAKE_INCLUDE_PATH="$prefix/usr/include" -DCMAKE_LIBRARY_PATH="$lib" \
@@ -184,7 +187,7 @@ run() {
   step "default scene, every algorithm (GL on EGL device $device)" "$bin" parity --gl-device "$device" --report "$out/parity-default"
   step "parity --random $random" "$bin" parity --random "$random" --gl-device "$device" --report "$out/parity-random" --quiet
   step "reference images" "$bin" reference --gl-device "$device"
-  step "bench" "$bin" bench --scene all --reps "$reps" --gl-device "$device" --quiet
+  [ $bench = 0 ] || step "bench" "$bin" bench --scene all --reps "$reps" --gl-device "$device" --quiet
   section "summary"
   tee -a "$log" <"$summary"
   rm -f "$summary" "$out/.step"
@@ -223,5 +226,5 @@ case ${1:-} in
   gather) gather ;;
   run) shift; run "$@" ;;
   try-here) shift; try_here "$@" ;;
-  *) echo "usage: sh tools/gpu-kit.sh gather | run [--random N] [--gl-device N] [--out DIR] [--reps N] | try-here [run's options]" >&2; exit 2 ;;
+  *) echo "usage: sh tools/gpu-kit.sh gather | run [--random N] [--gl-device N] [--out DIR] [--reps N] [--no-bench] | try-here [run's options]" >&2; exit 2 ;;
 esac
