@@ -23,6 +23,7 @@ static spr_result sw_set_view(spr_backend *b, const spr_view *v)
     if (!ray) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a %dx%d view", v->width, v->height);
     c->ray = ray;
     c->ray_ok = 0; /* computed by the first draw that needs them: the Gaussian algorithms do not */
+    c->bins.valid = 0;
     return SPR_OK;
 }
 
@@ -120,6 +121,7 @@ static void sw_destroy(spr_backend *b)
     sw_context *c = sw_ctx(b);
     free(c->ray);
     for (int k = 0; k < SW_SCRATCH__COUNT; k++) free(c->scratch[k].p);
+    free(c->bins.indices);
     for (int t = 0; t < c->cap; t++) free_target(&c->targets[t]);
     free(c->targets);
     free(c);

@@ -45,6 +45,20 @@ typedef struct sw_context {
     spr_backend base; /* first: a sw_context is an spr_backend */
     int threads;
     sw_scratch scratch[SW_SCRATCH__COUNT]; /* splat draws' binning (sw_raster.c) */
+    /* What the binning in scratch was made for: a draw of the same splats,
+     * radii and opacity in the same view (pbr2p1's two passes, say) takes
+     * those bins as they are.  Cleared by set_view (the backend contract:
+     * a cloud's arrays do not change between a set_view and its draws). */
+    struct sw_bins_key {
+        int valid;
+        const float *pos, *nrm, *radius, *color, *alpha, *ell;
+        size_t count;
+        int has_indices;
+        float radius_scale, alpha_one;
+        uint32_t id_base, seq_base;
+        uint32_t *indices; /* a copy of the draw's indices */
+        size_t cap;
+    } bins;
     float *ray;       /* 6 per pixel: o0, d (spr_pixel_ray), computed once per view (sw__rays) */
     int ray_ok;       /* ray holds this view's rays */
     sw_target *targets;

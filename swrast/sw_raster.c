@@ -100,6 +100,25 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     *pass_out = passed;
 }
 
+/* 3: tiles in parallel, each in submission order. */
+static spr_result raster_bins(sw_context *c, sw_target *tg, const spr_draw_desc *d, const uint32_t *bin_start, const sw_bin_entry *bin,
+                              int tiles_x, int ntiles, uint64_t *tile_stats, spr_draw_stats *st)
+{
+    sw_draw_job job = {d, bin_start, bin, tiles_x};
+#pragma omp parallel num_threads(c->threads)
+    {
+        unsigned fp = sw_fp_enter();
+#pragma omp for schedule(dynamic, 1)
+        for (int t = 0; t < ntiles; t++) raster_tile(c, tg, &job, t, &tile_stats[2 * t], &tile_stats[2 * t + 1]);
+        sw_fp_leave(fp);
+    }
+    for (int t = 0; t < ntiles; t++) {
+        st->generated += tile_stats[2 * t];
+        st->passed += tile_stats[2 * t + 1];
+    }
+    return SPR_OK;
+}
+
 spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
 {
     sw_context *c = sw_ctx(b);
@@ -113,6 +132,20 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
     st->splats = n;
     if (n == 0) return SPR_OK;
 
+    /* the bins of the last draw when they are this draw's: 1–2c skipped */
+    struct sw_bins_key key = {1, d->cloud->pos, d->cloud->nrm, d->cloud->radius, d->cloud->color, d->cloud->alpha, d->cloud->ell, n,
+                              d->indices != NULL, d->radius_scale, d->alpha, d->id_base, d->seq_base, NULL, 0};
+    struct sw_bins_key *kept = &c->bins;
+    if (kept->valid && kept->pos == key.pos && kept->nrm == key.nrm && kept->radius == key.radius && kept->color == key.color &&
+        kept->alpha == key.alpha && kept->ell == key.ell && kept->count == n && kept->has_indices == key.has_indices &&
+        kept->radius_scale == key.radius_scale && kept->alpha_one == key.alpha_one && kept->id_base == key.id_base &&
+        kept->seq_base == key.seq_base && (!d->indices || !memcmp(kept->indices, d->indices, n * sizeof *d->indices))) {
+        uint64_t *tile_stats = sw_scratch_get(&c->scratch[SW_SCRATCH_STATS], (size_t)ntiles * 2 * sizeof(uint64_t));
+        if (!tile_stats) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory binning %zu splats", n);
+        memset(tile_stats, 0, (size_t)ntiles * 2 * sizeof(uint64_t));
+        return raster_bins(c, tg, d, c->scratch[SW_SCRATCH_BIN_START].p, c->scratch[SW_SCRATCH_BIN].p, tiles_x, ntiles, tile_stats, st);
+    }
+    kept->valid = 0;
     int32_t *rect = sw_scratch_get(&c->scratch[SW_SCRATCH_RECT], n * 4 * sizeof(int32_t));
     uint32_t *counts = sw_scratch_get(&c->scratch[SW_SCRATCH_COUNTS], (size_t)nchunks * ntiles * sizeof(uint32_t));
     uint32_t *bin_start = sw_scratch_get(&c->scratch[SW_SCRATCH_BIN_START], ((size_t)ntiles + 1) * sizeof(uint32_t));
@@ -181,18 +214,20 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
                 for (int tx = rc[0] / SW_TILE; tx <= rc[2] / SW_TILE; tx++) bin[off[ty * tiles_x + tx]++] = be;
         }
     }
-    /* 3: tiles in parallel, each in submission order. */
-    sw_draw_job job = {d, bin_start, bin, tiles_x};
-#pragma omp parallel num_threads(c->threads)
-    {
-        unsigned fp = sw_fp_enter();
-#pragma omp for schedule(dynamic, 1)
-        for (int t = 0; t < ntiles; t++) raster_tile(c, tg, &job, t, &tile_stats[2 * t], &tile_stats[2 * t + 1]);
-        sw_fp_leave(fp);
+    /* the key of these bins, for the next draw */
+    if (d->indices) {
+        if (kept->cap < n) {
+            uint32_t *ni = realloc(kept->indices, n * sizeof *ni);
+            if (ni) kept->indices = ni, kept->cap = n;
+        }
+        if (kept->cap >= n) {
+            memcpy(kept->indices, d->indices, n * sizeof *d->indices);
+            key.indices = kept->indices, key.cap = kept->cap;
+            *kept = key;
+        }
+    } else {
+        key.indices = kept->indices, key.cap = kept->cap;
+        *kept = key;
     }
-    for (int t = 0; t < ntiles; t++) {
-        st->generated += tile_stats[2 * t];
-        st->passed += tile_stats[2 * t + 1];
-    }
-return SPR_OK;
+    return raster_bins(c, tg, d, bin_start, bin, tiles_x, ntiles, tile_stats, st);
 }

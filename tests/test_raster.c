@@ -212,6 +212,53 @@ END_TEST
  * (0.25, 0.5, 0.75, 1) and (0.5, 0, 0.25, 0.5) give (0.375, 0.25, 0.5, 0.75);
  * a splat drawn into the second input at t = 0.5 makes the output depth 0.5
  * there (the nearest), 1 elsewhere. */
+/* A draw of the same splats as the last one in the same view takes its
+ * bins (swrast keeps them); a draw of other splats through the same index
+ * buffer, or after a set_view with the cloud moved, must not.  Hand view
+ * 4×4: a splat of radius 0.2 at a pixel centre covers that pixel alone. */
+START_TEST(kept_bins_only_for_the_same_draw)
+{
+    fixture f;
+    setup(&f, 2);
+    spr_cloud c;
+    const double xyz[6] = {-0.75, -0.75, 0.0, 0.75, 0.75, 0.0}; /* pixel (0, 0) and pixel (3, 3) */
+    tu_cloud(&c, 2, xyz, 0.2f);
+    uint32_t idx[1] = {0};
+    spr_draw_desc d = {.cloud = &c, .indices = idx, .count = 1};
+    state(&d.state);
+    const float zero[4] = {0, 0, 0, 0};
+    int t[4];
+    for (int k = 0; k < 4; k++) {
+        ck_assert_int_eq(spr_backend_target_create(f.b, SPR_PLANES_ALL, &t[k]), SPR_OK);
+        ck_assert_int_eq(spr_backend_clear(f.b, t[k], zero), SPR_OK);
+    }
+    ck_assert_int_eq(spr_backend_draw(f.b, t[0], &d, NULL), SPR_OK); /* splat 0 */
+    ck_assert_int_eq(spr_backend_draw(f.b, t[1], &d, NULL), SPR_OK); /* the same draw: kept bins */
+    idx[0] = 1;
+    ck_assert_int_eq(spr_backend_draw(f.b, t[2], &d, NULL), SPR_OK); /* splat 1, through the same buffer */
+    const int covered[4] = {0, 0, 15, 12}; /* the pixel each draw covers (x + 4y) */
+    for (int k = 0; k < 3; k++) {
+        ck_assert_int_eq(spr_backend_read_plane(f.b, t[k], SPR_PLANE_COUNT, f.count), SPR_OK);
+        for (int i = 0; i < 16; i++) ck_assert_uint_eq(f.count[i], i == covered[k] ? 1u : 0u);
+    }
+    /* the next frame, the same draw as the last, but splat 1 moved to pixel
+     * (0, 3) and the view set again (no target may outlive a view) */
+    c.pos[3] = -0.75f;
+    for (int k = 0; k < 4; k++) spr_backend_target_destroy(f.b, t[k]);
+    spr_backend_target_destroy(f.b, f.t);
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    ck_assert_int_eq(spr_backend_set_view(f.b, &v), SPR_OK);
+    ck_assert_int_eq(spr_backend_target_create(f.b, SPR_PLANES_ALL, &t[3]), SPR_OK);
+    ck_assert_int_eq(spr_backend_clear(f.b, t[3], zero), SPR_OK);
+    ck_assert_int_eq(spr_backend_draw(f.b, t[3], &d, NULL), SPR_OK);
+    ck_assert_int_eq(spr_backend_read_plane(f.b, t[3], SPR_PLANE_COUNT, f.count), SPR_OK);
+    for (int i = 0; i < 16; i++) ck_assert_uint_eq(f.count[i], i == covered[3] ? 1u : 0u);
+    spr_cloud_free(&c);
+    spr_backend_destroy(f.b);
+}
+END_TEST
+
 START_TEST(average_composite)
 {
     fixture f;
@@ -391,6 +438,7 @@ Suite *make_raster_suite(void)
     tcase_add_test(tc, thousands_of_fragments_in_submission_order);
     tcase_add_test(tc, backend_rejects_bad_calls);
     tcase_add_test(tc, average_composite);
+    tcase_add_test(tc, kept_bins_only_for_the_same_draw);
     tcase_add_test(tc, opacity_plane);
     tcase_add_test(tc, splats_across_tile_boundaries);
     suite_add_tcase(s, tc);

@@ -584,6 +584,11 @@ struct spr_backend {
     spr_probe *probe;  /* pixel probe (NULL: none); set by the history backend */
 };
 
+/* Set the view (no target may exist).  A backend may keep what it derived
+ * from a draw's splats until the next set_view (swrast keeps the last
+ * draw's tile bins for a draw of the same splats, radii and opacity, as
+ * pbr2p1's two passes are): the arrays of a cloud drawn in a view must not
+ * change until the view is set again. */
 spr_result spr_backend_set_view(spr_backend *b, const spr_view *v);
 /* A target with the planes of `planes` (SPR_PLANE_BIT mask, or SPR_PLANES_ALL). */
 spr_result spr_backend_target_create(spr_backend *b, unsigned planes, int *out_target);
