@@ -154,32 +154,6 @@ spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int thre
     return SPR_OK;
 }
 
-/* Stable LSD radix sort of n (key, value) pairs by key, ascending, 11 bits a
- * pass; a pass whose digit is the same for every key is skipped (a frame's
- * distances share their sign and most of their exponent). */
-static int radix_sort_u64(uint64_t *key, uint32_t *val, size_t n)
-{
-    uint64_t *k2 = spr__big_alloc(n * sizeof *k2);
-    uint32_t *v2 = spr__big_alloc(n * sizeof *v2);
-    if (!k2 || !v2) { free(k2), free(v2); return -1; }
-    for (int shift = 0; shift < 64; shift += 11) {
-        size_t cnt[2049] = {0};
-        for (size_t i = 0; i < n; i++) cnt[(key[i] >> shift & 2047u) + 1]++;
-        int single = 0;
-        for (int b = 0; b < 2048; b++) single |= cnt[b + 1] == n;
-        if (single) continue;
-        for (int b = 0; b < 2048; b++) cnt[b + 1] += cnt[b];
-        for (size_t i = 0; i < n; i++) {
-            const size_t at = cnt[key[i] >> shift & 2047u]++;
-            k2[at] = key[i], v2[at] = val[i];
-        }
-        memcpy(key, k2, n * sizeof *key);
-        memcpy(val, v2, n * sizeof *val);
-    }
-    free(k2), free(v2);
-    return 0;
-}
-
 spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], uint32_t **order_out, size_t *count, spr_error *err)
 {
     uint64_t *key = spr__big_alloc(c->n * sizeof *key);
@@ -199,7 +173,7 @@ spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double e
         memcpy(&bits, &d, sizeof bits); /* d ≥ 0: the bits order as the values */
         key[m] = ~bits, order[m] = (uint32_t)G, m++; /* farthest first; a stable sort keeps equal distances in file order */
     }
-    const int bad = radix_sort_u64(key, order, m);
+    const int bad = spr__radix_sort_u64(key, order, m);
     free(key);
     if (bad) {
         free(order);

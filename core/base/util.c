@@ -137,3 +137,30 @@ void *spr__big_alloc(size_t bytes)
 #endif
     return p;
 }
+
+/* Stable LSD radix sort of n (key, value) pairs by key, ascending, 11 bits a
+ * pass; a pass whose digit is the same for every key is skipped (a frame's
+ * distances share their sign and most of their exponent; 30-bit Morton codes
+ * take three passes). */
+int spr__radix_sort_u64(uint64_t *key, uint32_t *val, size_t n)
+{
+    uint64_t *k2 = spr__big_alloc(n * sizeof *k2);
+    uint32_t *v2 = spr__big_alloc(n * sizeof *v2);
+    if (!k2 || !v2) { free(k2), free(v2); return -1; }
+    for (int shift = 0; shift < 64; shift += 11) {
+        size_t cnt[2049] = {0};
+        for (size_t i = 0; i < n; i++) cnt[(key[i] >> shift & 2047u) + 1]++;
+        int single = 0;
+        for (int b = 0; b < 2048; b++) single |= cnt[b + 1] == n;
+        if (single) continue;
+        for (int b = 0; b < 2048; b++) cnt[b + 1] += cnt[b];
+        for (size_t i = 0; i < n; i++) {
+            const size_t at = cnt[key[i] >> shift & 2047u]++;
+            k2[at] = key[i], v2[at] = val[i];
+        }
+        memcpy(key, k2, n * sizeof *key);
+        memcpy(val, v2, n * sizeof *val);
+    }
+    free(k2), free(v2);
+    return 0;
+}

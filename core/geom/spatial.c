@@ -1,5 +1,6 @@
 /* spatial.c — Morton order and the spatially ordered working copy. */
 #include "spr__spatial.h"
+#include "spr_util.h"
 
 #include <math.h>
 #include <omp.h>
@@ -17,9 +18,6 @@ static uint32_t spread10(uint32_t x)
     return x;
 }
 
-/* Written here rather than taken from a library: a stable two-pass radix
- * sort of 30-bit keys is twenty lines, and neither libc's qsort (not
- * stable, about ten times slower at 10M keys) nor our dependencies offer one. */
 spr_result spr__morton_order(const spr_cloud *c, const spr_bounds *b, uint32_t *order, spr_error *err)
 {
     const size_t n = c->n;
@@ -27,12 +25,8 @@ spr_result spr__morton_order(const spr_cloud *c, const spr_bounds *b, uint32_t *
     for (int a = 0; a < 3; a++)
         if (b->hi[a] - b->lo[a] > ext) ext = b->hi[a] - b->lo[a];
     const double scale = ext > 0.0 ? 1024.0 / ext : 0.0;
-    uint32_t *key = malloc((n ? n : 1) * sizeof *key), *tk = malloc((n ? n : 1) * sizeof *tk), *ti = malloc((n ? n : 1) * sizeof *ti);
-    size_t *cnt = calloc(1u << 15, sizeof *cnt);
-    if (!key || !tk || !ti || !cnt) {
-        free(key), free(tk), free(ti), free(cnt);
-        return spr__fail(err, SPR_E_NOMEM, "spatial order: out of memory for %zu splats", n);
-    }
+    uint64_t *key = malloc((n ? n : 1) * sizeof *key);
+    if (!key) return spr__fail(err, SPR_E_NOMEM, "spatial order: out of memory for %zu splats", n);
     for (size_t i = 0; i < n; i++) {
         uint32_t code = 0;
         for (int a = 0; a < 3; a++) {
@@ -43,29 +37,9 @@ spr_result spr__morton_order(const spr_cloud *c, const spr_bounds *b, uint32_t *
         key[i] = code;
         order[i] = (uint32_t)i;
     }
-    /* two stable passes of 15 bits, the low half first: ties keep submission order */
-    uint32_t *src_k = key, *src_i = order, *dst_k = tk, *dst_i = ti;
-    for (int pass = 0; pass < 2; pass++) {
-        const int shift = 15 * pass;
-        memset(cnt, 0, (1u << 15) * sizeof *cnt);
-        for (size_t i = 0; i < n; i++) cnt[(src_k[i] >> shift) & 0x7FFFu]++;
-        size_t sum = 0;
-        for (size_t d = 0; d < (1u << 15); d++) {
-            size_t t = cnt[d];
-            cnt[d] = sum;
-            sum += t;
-        }
-        for (size_t i = 0; i < n; i++) {
-            size_t at = cnt[(src_k[i] >> shift) & 0x7FFFu]++;
-            dst_k[at] = src_k[i];
-            dst_i[at] = src_i[i];
-        }
-        uint32_t *t = src_k; src_k = dst_k; dst_k = t;
-        t = src_i; src_i = dst_i; dst_i = t;
-    }
-    /* after two passes the result is back in key/order */
-    free(key), free(tk), free(ti), free(cnt);
-    return SPR_OK;
+    const int bad = spr__radix_sort_u64(key, order, n); /* stable: ties keep submission order */
+    free(key);
+    return bad ? spr__fail(err, SPR_E_NOMEM, "spatial order: out of memory sorting %zu splats", n) : SPR_OK;
 }
 
 spr_result spr__spatial_make(const spr_cloud *c, const spr_bounds *b, int threads, spr__spatial *s, spr_error *err)
