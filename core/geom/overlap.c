@@ -36,16 +36,23 @@ static void make_pattern(void)
  * vector width gives the same number.  AVX2 where the CPU has it (no FMA:
  * the same roundings as the scalar loop). */
 typedef struct pair_bounds { double ah0, Rh, dperp, slack; } pair_bounds;
+/* The samples at radius ρ of the pattern decided together: every one (n),
+ * none (0), or −1 when they must be tested one by one. */
+static inline int decided(const pair_bounds *pb, double rho, double ri, double rj, double eps, int n)
+{
+    if (pb->ah0 - rho * pb->Rh > eps + pb->slack || pb->dperp - rho * ri > rj + pb->slack) return 0;
+    if (pb->ah0 + rho * pb->Rh < eps - pb->slack && pb->dperp + rho * ri < rj - pb->slack) return n;
+    return -1;
+}
 __attribute__((target_clones("avx2", "default")))
 static int count_hits(double h0, double a, double b, double D2, double c1, double c2, double ri, double rj, double eps, const pair_bounds *pb)
 {
     const double ri2 = ri * ri, rj2 = rj * rj;
     int64_t hit = 0;
     for (int k = 0; k < SPR_DISK_RINGS; k++) {
-        const double rho = ring_rho[k];
-        if (pb->ah0 - rho * pb->Rh > eps + pb->slack || pb->dperp - rho * ri > rj + pb->slack) continue;
-        if (pb->ah0 + rho * pb->Rh < eps - pb->slack && pb->dperp + rho * ri < rj - pb->slack) {
-            hit += SPR_DISK_SAMPLES / SPR_DISK_RINGS;
+        const int whole = decided(pb, ring_rho[k], ri, rj, eps, SPR_DISK_SAMPLES / SPR_DISK_RINGS);
+        if (whole >= 0) {
+            hit += whole;
             continue;
         }
         const double *u = pat_u + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS), *v = pat_v + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS),
@@ -134,9 +141,7 @@ static int whole_pair(const pair_terms *t, double ri, double rj, double eps, pai
     pb->Rh = sqrt(t->a * t->a + t->b * t->b);
     pb->dperp = sqrt(t->D2 - t->h0 * t->h0 > 0.0 ? t->D2 - t->h0 * t->h0 : 0.0);
     pb->slack = 1e-6 * (sqrt(t->D2) + ri + rj + eps);
-    if (pb->ah0 - pb->Rh > eps + pb->slack || pb->dperp - ri > rj + pb->slack) return 0;
-    if (pb->ah0 + pb->Rh < eps - pb->slack && pb->dperp + ri < rj - pb->slack) return SPR_DISK_SAMPLES;
-    return -1;
+    return decided(pb, 1.0, ri, rj, eps, SPR_DISK_SAMPLES);
 }
 
 /* A_ij for every j of js: the samples of disk i are x = p_i + r_i(u e1 + v e2),
