@@ -165,14 +165,10 @@ static size_t grid_query(const col_grid *G, size_t q, double R, double f, int ha
 enum { QCHUNK = 1024 };
 static size_t chunk_end(size_t ch, size_t n) { return ch * QCHUNK + QCHUNK < n ? ch * QCHUNK + QCHUNK : n; }
 
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* The pair graph of cloud c — the spatial copy — in c's indices; the
- * filters (row, keep) are asked with the indices order[] gives. */
+/* The pair graph of cloud c — the spatial copy — in c's indices, each row
+ * in the order its pairs were found (the same for any thread count;
+ * to_cloud_order sorts the rows it makes); the filters (row, keep) are
+ * asked with the indices order[] gives. */
 static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f, const unsigned char *row, unsigned char want,
                              const uint32_t *order, int nt, const spr_progress *prog, spr__pair_keep keep, const void *user, spr_graph *g,
                              spr_error *err)
@@ -276,21 +272,6 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
                     g->adj[deg[i]++] = found[k];
                     if (half) g->adj[deg[found[k]]++] = (uint32_t)i;
                 }
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 4096)
-            for (long i = 0; i < (long)n; i++) {
-                uint32_t *a = g->adj + g->start[i];
-                const size_t m = (size_t)(g->start[i + 1] - g->start[i]);
-                if (m > 64) {
-                    qsort(a, m, sizeof *a, cmp_u32);
-                    continue;
-                }
-                for (size_t x = 1; x < m; x++) { /* short rows: insertion sort */
-                    uint32_t v = a[x];
-                    size_t y = x;
-                    for (; y > 0 && a[y - 1] > v; y--) a[y] = a[y - 1];
-                    a[y] = v;
-                }
-            }
         }
         free(deg);
     }
