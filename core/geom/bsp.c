@@ -25,15 +25,10 @@
  * missed the cache once per splat per level). */
 typedef struct pt4 { float v[3]; uint32_t idx; } pt4;
 
-static inline int pt_less(const pt4 *a, const pt4 *b, int axis)
-{
-    return a->v[axis] < b->v[axis] || (a->v[axis] == b->v[axis] && a->idx < b->idx);
-}
-
-/* The same order as one unsigned integer: the float's bits made monotone
- * (negative: all bits flipped; otherwise the sign bit set; −0 first made
- * +0, which the float comparison calls equal), then the index.  Centres are
- * finite (spr_cloud_validate). */
+/* The order of a range along an axis, (coordinate, index), as one unsigned
+ * integer: the float's bits made monotone (negative: all bits flipped;
+ * otherwise the sign bit set; −0 first made +0, which the float comparison
+ * calls equal), then the index.  Centres are finite (spr_cloud_validate). */
 static inline uint64_t pt_key(const pt4 *a, int axis)
 {
     const float f = a->v[axis] + 0.0f; /* −0 + 0 = +0 */
@@ -42,6 +37,8 @@ static inline uint64_t pt_key(const pt4 *a, int axis)
     u = (u & 0x80000000u) ? ~u : (u | 0x80000000u);
     return (uint64_t)u << 32 | a->idx;
 }
+
+static inline int pt_less(const pt4 *a, const pt4 *b, int axis) { return pt_key(a, axis) < pt_key(b, axis); }
 
 static _Thread_local int sort_axis;
 static int pt_cmp(const void *a, const void *b)
