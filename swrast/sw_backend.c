@@ -5,6 +5,9 @@
 #include "spr_fragment.h"
 
 #include <omp.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -62,8 +65,9 @@ static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)
             return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a target");
         }
     }
-    static const float zero[4] = {0, 0, 0, 0};
-    return b->clear(b, t, zero);
+    sw__lists_free(&tg->lists);
+    tg->pending = 1; /* the zero clear, done at the first use unless a clear comes first */
+    return SPR_OK;
 }
 
 /* Buffers stay allocated for the next target of the same size: algorithms
@@ -71,15 +75,45 @@ static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)
  * faulted in serially on every render. */
 static void sw_target_destroy(spr_backend *b, int t) { (void)b; (void)t; }
 
-/* Every plane the target has: colour to `color`, the others to the clear
- * value of the plane table. */
-static spr_result sw_clear(spr_backend *b, int t, const float color[4])
+/* n copies of the ch-channel pixel v (4-byte words) from dst on, in
+ * parallel, with non-temporal stores where SSE2 has them: a cleared plane
+ * (4 to 16 MB a plane at 1024²) does not fit in the caches, and the stores
+ * skip reading each line before writing it. */
+#ifndef SW_FILL_STORE
+#define SW_FILL_STORE _mm_stream_si128
+#endif
+static void fill_plane(uint32_t *dst, long np, int ch, const uint32_t v[4], int threads)
 {
-    sw_context *c = sw_ctx(b);
+    const long words = np * ch;
+#pragma omp parallel num_threads(threads)
+    {
+        const int nt = omp_get_num_threads(), id = omp_get_thread_num();
+        long w0 = words / nt * id, w1 = id == nt - 1 ? words : words / nt * (id + 1);
+        w0 -= w0 % (4 * ch), w1 -= id == nt - 1 ? 0 : w1 % (4 * ch); /* chunks of whole 4-pixel groups: the pattern repeats every 4·ch words */
+        long i = w0;
+#if defined(__SSE2__)
+        for (; i < w1 && ((uintptr_t)(dst + i) & 15u); i++) dst[i] = v[i % ch];
+        /* the 16-byte pattern at word i: ch is 1 or 4, so it is the same at every aligned word */
+        __m128i pat = ch == 4 ? _mm_setr_epi32((int)v[i % 4], (int)v[(i + 1) % 4], (int)v[(i + 2) % 4], (int)v[(i + 3) % 4])
+                              : _mm_set1_epi32((int)v[0]);
+        if (ch == 1 || ch == 4) {
+            for (; i + 4 <= w1; i += 4) SW_FILL_STORE((__m128i *)(dst + i), pat);
+            _mm_sfence();
+        }
+#endif
+        for (; i < w1; i++) dst[i] = v[i % ch];
+    }
+}
+
+/* Every plane of target t: colour to `color`, the others to the clear value
+ * of the plane table. */
+static void clear_now(sw_context *c, int t, const float color[4])
+{
     sw_target *tg = &c->targets[t];
-    const unsigned planes = b->target_planes[t];
-    const long np = (long)b->view.width * b->view.height;
+    const unsigned planes = c->base.target_planes[t];
+    const long np = (long)c->base.view.width * c->base.view.height;
     sw__lists_free(&tg->lists); /* a clear empties the fragment lists too */
+    tg->pending = 0;
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
         if (!(planes & SPR_PLANE_BIT(p))) continue;
         const spr_plane_info *pi = spr_plane_info_of((spr_plane)p);
@@ -90,29 +124,38 @@ static spr_result sw_clear(spr_backend *b, int t, const float color[4])
             else if (spr_plane_type_uint(pi->type)) v[k] = (uint32_t)pi->clear;
             else { float f = (float)pi->clear; memcpy(&v[k], &f, 4); }
         }
-        uint32_t *dst = tg->plane[p];
-        if (ch == 4) {
-#pragma omp parallel for num_threads(c->threads) schedule(static)
-            for (long i = 0; i < np; i++) {
-                dst[4 * i] = v[0];
-                dst[4 * i + 1] = v[1];
-                dst[4 * i + 2] = v[2];
-                dst[4 * i + 3] = v[3];
-            }
-        } else {
-#pragma omp parallel for num_threads(c->threads) schedule(static)
-            for (long i = 0; i < np; i++)
-                for (int k = 0; k < ch; k++) dst[(size_t)ch * i + k] = v[k];
-        }
+        fill_plane(tg->plane[p], np, ch, v, c->threads);
     }
+}
+
+sw_target *sw__target(sw_context *c, int t)
+{
+    sw_target *tg = &c->targets[t];
+    if (tg->pending) {
+        static const float zero[4] = {0, 0, 0, 0};
+        clear_now(c, t, zero);
+    }
+    return tg;
+}
+
+static spr_result sw_clear(spr_backend *b, int t, const float color[4])
+{
+    clear_now(sw_ctx(b), t, color);
     return SPR_OK;
 }
 
 static spr_result sw_read_plane(spr_backend *b, int t, spr_plane p, void *out)
 {
-    sw_target *tg = &sw_ctx(b)->targets[t];
-    size_t np = (size_t)b->view.width * (size_t)b->view.height;
-    memcpy(out, tg->plane[p], np * (size_t)spr_plane_channels(p) * 4);
+    sw_context *c = sw_ctx(b);
+    const sw_target *tg = sw__target(c, t);
+    const size_t bytes = (size_t)b->view.width * (size_t)b->view.height * (size_t)spr_plane_channels(p) * 4, chunk = (size_t)1 << 20;
+    const long chunks = (long)((bytes + chunk - 1) / chunk);
+    /* in parallel: out is often fresh memory, and its page faults are most of the copy */
+#pragma omp parallel for num_threads(c->threads) schedule(static)
+    for (long k = 0; k < chunks; k++) {
+        const size_t o = (size_t)k * chunk;
+        memcpy((char *)out + o, (const char *)tg->plane[p] + o, bytes - o < chunk ? bytes - o : chunk);
+    }
     return SPR_OK;
 }
 

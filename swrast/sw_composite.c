@@ -56,13 +56,13 @@ static const sw_comp_loop comp_loops[SPR_COMP__COUNT] = {
 spr_result sw__composite(spr_backend *b, const spr_composite_desc *cd)
 {
     sw_context *c = sw_ctx(b);
-    sw_target *out = &c->targets[cd->output];
+    sw_target *out = sw__target(c, cd->output);
     const long np = (long)b->view.width * b->view.height;
     const int K = cd->n_inputs;
     const float *color[SPR_MAX_COMPOSITE_INPUTS], *depth[SPR_MAX_COMPOSITE_INPUTS], *opac[SPR_MAX_COMPOSITE_INPUTS];
     const float *normal[SPR_MAX_COMPOSITE_INPUTS];
     for (int k = 0; k < K; k++) {
-        sw_target *in = &c->targets[cd->inputs[k]];
+        sw_target *in = sw__target(c, cd->inputs[k]);
         color[k] = SW_F(in, COLOR);   /* NULL where absent: the prefix op reads lists */
         depth[k] = SW_F(in, DEPTH);
         opac[k] = SW_F(in, OPACITY);   /* NULL where absent: read only by ops whose row says so */

@@ -38,7 +38,7 @@ spr_result sw__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *
 spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st)
 {
     sw_context *c = sw_ctx(b);
-    sw_target *tg = &c->targets[target];
+    sw_target *tg = sw__target(c, target);
     const int W = b->view.width, H = b->view.height;
     const int gx = (int)d->prm[SPR_GPRM_GX], gy = (int)d->prm[SPR_GPRM_GY], two = d->prm[SPR_GPRM_MODE] == SPR_GMODE_2D;
     float *color = SW_F(tg, COLOR), *trans = SW_F(tg, TRANS), *idepth = SW_F(tg, INVDEPTH), *sdepth = SW_F(tg, SURFDEPTH),
@@ -150,7 +150,7 @@ static int row_range(const row_span *rs, int j, int *lo, int *hi)
 spr_result sw__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st)
 {
     sw_context *c = sw_ctx(b);
-    sw_target *tg = &c->targets[target];
+    sw_target *tg = sw__target(c, target);
     const int W = b->view.width, H = b->view.height;
     const int gx = (W + 15) / 16, gy = (H + 15) / 16, nt = gx * gy;
     uint32_t *start = NULL, *bin = NULL;

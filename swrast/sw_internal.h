@@ -18,6 +18,7 @@ typedef struct sw_target {
     void *plane[SPR_PLANE__COUNT];
     size_t pixels;    /* size the buffers were allocated for */
     spr_frag_lists lists; /* fragment lists of the last list draw (first == NULL: none) */
+    int pending;      /* created and not yet cleared: every plane gets the zero clear at its first use (sw__target) */
 } sw_target;
 #define SW_F(t, p) ((float *)(t)->plane[SPR_PLANE_##p])
 #define SW_U(t, p) ((uint32_t *)(t)->plane[SPR_PLANE_##p])
@@ -64,6 +65,11 @@ typedef struct sw_context {
     sw_target *targets;
     int cap;
 } sw_context;
+
+/* Target t for a draw, composite or read: a target just created gets its
+ * zero clear here, unless an explicit clear came first (then the planes are
+ * written once a frame instead of twice). Call it before a parallel region. */
+sw_target *sw__target(sw_context *c, int t);
 
 /* The pixel rays of the view, computed at the first draw of a view that reads them. */
 void sw__rays(sw_context *c);

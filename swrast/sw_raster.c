@@ -122,7 +122,8 @@ static spr_result raster_bins(sw_context *c, sw_target *tg, const spr_draw_desc 
 spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
 {
     sw_context *c = sw_ctx(b);
-    sw_target *tg = &c->targets[target];
+    sw_target *tg = sw__target(c, target);
+    if (d->depth_mask) sw__target(c, d->mask_target); /* read by the tiles: its pending clear first */
     const spr_view *v = &b->view;
     sw__rays(c);
     const size_t n = d->indices ? d->count : d->cloud->n;

@@ -106,7 +106,7 @@ static void run_tiles(sw_context *c, sw_target *tg, const sw_rect_job *job, int 
 spr_result sw__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st)
 {
     sw_context *c = sw_ctx(b);
-    sw_target *tg = &c->targets[target];
+    sw_target *tg = sw__target(c, target);
     const spr_view *v = &b->view;
     sw__rays(c);
     const size_t n = d->indices ? d->count : d->rects->n, np = (size_t)v->width * (size_t)v->height;

@@ -259,6 +259,65 @@ START_TEST(kept_bins_only_for_the_same_draw)
 }
 END_TEST
 
+/* A target reads as cleared when created (colour 0, the other planes their
+ * SPEC values: depth and test +1, id ~0, count 0, the rest 0, transmittance
+ * 1), even on memory kept from a drawn target and never cleared explicitly;
+ * an explicit clear alone gives its colour. The CPU backend clears a new
+ * target at its first use, so a clear that follows the creation writes the
+ * planes once; 37x5 pixels (odd: the fill's heads and tails) on 1 and 2
+ * threads. */
+START_TEST(created_targets_read_as_cleared)
+{
+    const int threads = _i + 1, W = 37, H = 5, np = W * H;
+    spr_error err;
+    spr_view v;
+    tu_hand_view(W, H, &v);
+    spr_backend *b = spr_swrast_create(threads, &err);
+    ck_assert_ptr_nonnull(b);
+    ck_assert_int_eq(spr_backend_set_view(b, &v), SPR_OK);
+    spr_cloud c;
+    tu_cloud(&c, 1, (double[]){0, 0, 0}, 0.9f);
+    int t;
+    ck_assert_int_eq(spr_backend_target_create(b, SPR_PLANES_ALL, &t), SPR_OK);
+    spr_draw_desc d = {.cloud = &c};
+    state(&d.state);
+    spr_draw_stats st;
+    ck_assert_int_eq(spr_backend_draw(b, t, &d, &st), SPR_OK);
+    ck_assert_uint_gt(st.passed, 0);
+    spr_backend_target_destroy(b, t);
+    float *buf = malloc((size_t)np * 4 * sizeof *buf);
+    uint32_t *u = (uint32_t *)buf;
+    /* plane, channels, expected value as float (uint planes: as uint) */
+    static const struct { spr_plane p; int ch; int is_uint; double want; } planes[] = {
+        {SPR_PLANE_COLOR, 4, 0, 0.0}, {SPR_PLANE_DEPTH, 1, 0, 1.0}, {SPR_PLANE_TEST, 1, 0, 1.0}, {SPR_PLANE_ID, 1, 1, 4294967295.0},
+        {SPR_PLANE_COUNT, 1, 1, 0.0}, {SPR_PLANE_OPACITY, 1, 0, 0.0}, {SPR_PLANE_NORMAL, 4, 0, 0.0}, {SPR_PLANE_TRANS, 1, 0, 1.0},
+        {SPR_PLANE_CONTRIB, 1, 1, 0.0}, {SPR_PLANE_INVDEPTH, 1, 0, 0.0}, {SPR_PLANE_SURFDEPTH, 1, 0, 0.0}};
+    for (int round = 0; round < 2; round++) {
+        /* round 0: created only; round 1: created, then cleared to a colour */
+        const float color[4] = {0.25f, 0.5f, 0.75f, 1.0f};
+        ck_assert_int_eq(spr_backend_target_create(b, SPR_PLANES_ALL, &t), SPR_OK); /* the drawn target's memory */
+        if (round) ck_assert_int_eq(spr_backend_clear(b, t, color), SPR_OK);
+        for (size_t q = 0; q < sizeof planes / sizeof *planes; q++) {
+            ck_assert_int_eq(spr_backend_read_plane(b, t, planes[q].p, buf), SPR_OK);
+            for (int i = 0; i < np * planes[q].ch; i++) {
+                if (planes[q].is_uint) ck_assert_msg(u[i] == (uint32_t)planes[q].want, "round %d plane %d word %d: %u", round, (int)planes[q].p, i, u[i]);
+                else {
+                    const float want = round && planes[q].p == SPR_PLANE_COLOR ? color[i % 4] : (float)planes[q].want;
+                    ck_assert_msg(buf[i] == want, "round %d plane %d word %d: %g, not %g", round, (int)planes[q].p, i, buf[i], want);
+                }
+            }
+        }
+        /* drawn after the lazy clear: the fragment sees the cleared depth */
+        ck_assert_int_eq(spr_backend_draw(b, t, &d, &st), SPR_OK);
+        ck_assert_uint_gt(st.passed, 0);
+        spr_backend_target_destroy(b, t);
+    }
+    free(buf);
+    spr_cloud_free(&c);
+    spr_backend_destroy(b);
+}
+END_TEST
+
 START_TEST(average_composite)
 {
     fixture f;
@@ -439,6 +498,7 @@ Suite *make_raster_suite(void)
     tcase_add_test(tc, backend_rejects_bad_calls);
     tcase_add_test(tc, average_composite);
     tcase_add_test(tc, kept_bins_only_for_the_same_draw);
+    tcase_add_loop_test(tc, created_targets_read_as_cleared, 0, 2);
     tcase_add_test(tc, opacity_plane);
     tcase_add_test(tc, splats_across_tile_boundaries);
     suite_add_tcase(s, tc);

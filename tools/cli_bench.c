@@ -22,6 +22,7 @@ static const spr__opt bench_opts[] = {
     {"reps", "N", "renders per configuration, best kept (default 5)"},
     {"points", "N", "size of the armadillo resampling (default 1000000)"},
     {"gl-device", "N", "GL rows on the N-th EGL device (a GPU driver) instead of the surfaceless platform"},
+    {"rows", "LIST", "only the rows of these algorithms (and pbr2p1, the /pbr2p1 column's), comma-separated registry names, e.g. transparent2,domain-overlap (default every row)"},
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
 
@@ -142,8 +143,25 @@ static void bench_capture_load(const spr_cloud *c, int reps, double stream_1t)
  * algorithms of SPEC 10 (the capture scene). */
 typedef enum bench_mode { BENCH_ALL, BENCH_SCALE, BENCH_GAUSS } bench_mode;
 
+static const char *bench_rows; /* --rows: comma-separated algorithm names, NULL for every row */
+
+static int bench_row_listed(spr_algo al)
+{
+    if (!bench_rows || al == SPR_ALGO_PBR2P1) return 1; /* pbr2p1 always: the /pbr2p1 column divides by it */
+    const char *name = spr_algo_name(al);
+    const size_t n = strlen(name);
+    for (const char *p = bench_rows; *p;) {
+        const char *e = strchr(p, ',');
+        const size_t len = e ? (size_t)(e - p) : strlen(p);
+        if (len == n && !strncmp(p, name, n)) return 1;
+        p += len + (e != NULL);
+    }
+    return 0;
+}
+
 static int bench_row_wanted(bench_mode mode, spr_algo al)
 {
+    if (!bench_row_listed(al)) return 0;
     if (mode == BENCH_SCALE) return al == SPR_ALGO_PBR2P1 || al == SPR_ALGO_DEFERRED;
     if (mode == BENCH_GAUSS) return al == SPR_ALGO_PBR2P1 || (spr_algo_info_of(al)->uses & SPR_USES_GAUSS);
     return 1;
@@ -304,10 +322,25 @@ int cmd_bench(int argc, char **argv)
     int W = 1024, H = 1024, reps = 5, quiet = spr__flag(&a, "quiet"), gl_device = -1;
     size_t npts = 1000000;
     const char *scene = spr__get(&a, "scene") ? spr__get(&a, "scene") : "all";
+    bench_rows = spr__get(&a, "rows");
     if ((strcmp(scene, "grouping") && spr__get_wh(&a, "size", &W, &H) < 0) || spr__get_int(&a, "reps", &reps, 1, 100) < 0 ||
         (strcmp(scene, "bunny") && spr__get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0) ||
         spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || spr__reject_unused(&a))
         return 2;
+    if (bench_rows) {
+        for (const char *p = bench_rows;;) {
+            const char *e = strchr(p, ',');
+            char name[64];
+            const size_t len = e ? (size_t)(e - p) : strlen(p);
+            snprintf(name, sizeof name, "%.*s", (int)(len < sizeof name ? len : sizeof name - 1), p);
+            if (len >= sizeof name || spr_algo_from_name(name) < 0) {
+                spr__error(&a, "--rows: '%.*s' is not an algorithm of the registry (splatref render --help lists them)", (int)len, p);
+                return 2;
+            }
+            if (!e) break;
+            p = e + 1;
+        }
+    }
     if (!strcmp(scene, "grouping")) {
         if (!spr__get(&a, "points")) npts = 1100000;
         return cli_bench_grouping(&a, npts, reps, quiet);
