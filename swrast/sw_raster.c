@@ -147,33 +147,43 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
         return raster_bins(c, tg, d, c->scratch[SW_SCRATCH_BIN_START].p, c->scratch[SW_SCRATCH_BIN].p, tiles_x, ntiles, tile_stats, st);
     }
     kept->valid = 0;
-    int32_t *rect = sw_scratch_get(&c->scratch[SW_SCRATCH_RECT], n * 4 * sizeof(int32_t));
+    /* each splat's bin entry, staged in submission order by 1–2a (x0 = −1:
+     * off screen): its attributes are gathered from the cloud once, where
+     * they are read for the rectangle, and 2c copies them sequentially */
+    sw_bin_entry *stage = sw_scratch_get(&c->scratch[SW_SCRATCH_RECT], n * sizeof(sw_bin_entry));
     uint32_t *counts = sw_scratch_get(&c->scratch[SW_SCRATCH_COUNTS], (size_t)nchunks * ntiles * sizeof(uint32_t));
     uint32_t *bin_start = sw_scratch_get(&c->scratch[SW_SCRATCH_BIN_START], ((size_t)ntiles + 1) * sizeof(uint32_t));
     uint64_t *tile_stats = sw_scratch_get(&c->scratch[SW_SCRATCH_STATS], (size_t)ntiles * 2 * sizeof(uint64_t));
     sw_bin_entry *bin = NULL;
-    if (!rect || !counts || !bin_start || !tile_stats) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory binning %zu splats", n);
+    if (!stage || !counts || !bin_start || !tile_stats) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory binning %zu splats", n);
     memset(counts, 0, (size_t)nchunks * ntiles * sizeof(uint32_t));
     memset(tile_stats, 0, (size_t)ntiles * 2 * sizeof(uint64_t));
     const size_t chunk = (n + nchunks - 1) / nchunks;
 
-    /* 1–2a: rectangles and per-chunk tile counts. */
+    /* 1–2a: rectangles and bin entries, and per-chunk tile counts. */
 #pragma omp parallel for num_threads(c->threads) schedule(static, 1)
     for (int ch = 0; ch < nchunks; ch++) {
         uint32_t *cnt = counts + (size_t)ch * ntiles;
         size_t lo = (size_t)ch * chunk, hi = lo + chunk < n ? lo + chunk : n;
+        const spr_cloud *cl = d->cloud;
         for (size_t i = lo; i < hi; i++) {
             uint32_t sid = splat_at(d, i);
             float r = spr_draw_radius(d, sid), el[4];
             spr_draw_ellipse(d, sid, r, el);
-            int32_t *rc = rect + 4 * i;
+            sw_bin_entry *be = stage + i;
             int x0, y0, x1, y1;
-            if (!spr_splat_pixel_rect_ell(v, d->cloud->pos + 3 * (size_t)sid, d->cloud->nrm + 3 * (size_t)sid, el, r,
-                                          &x0, &y0, &x1, &y1)) {
-                rc[0] = -1;
+            if (!spr_splat_pixel_rect_ell(v, cl->pos + 3 * (size_t)sid, cl->nrm + 3 * (size_t)sid, el, r, &x0, &y0, &x1, &y1)) {
+                be->x0 = -1;
                 continue;
             }
-            rc[0] = x0; rc[1] = y0; rc[2] = x1; rc[3] = y1;
+            be->x0 = (int16_t)x0, be->y0 = (int16_t)y0, be->x1 = (int16_t)x1, be->y1 = (int16_t)y1;
+            be->seq = d->seq_base + (uint32_t)i;
+            be->sid = d->id_base + sid;
+            memcpy(be->p, cl->pos + 3 * (size_t)sid, sizeof be->p);
+            memcpy(be->n, cl->nrm + 3 * (size_t)sid, sizeof be->n);
+            memcpy(be->c, cl->color + 3 * (size_t)sid, sizeof be->c);
+            be->r = r;
+            be->alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
             for (int ty = y0 / SW_TILE; ty <= y1 / SW_TILE; ty++)
                 for (int tx = x0 / SW_TILE; tx <= x1 / SW_TILE; tx++) cnt[ty * tiles_x + tx]++;
         }
@@ -197,22 +207,11 @@ spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, s
     for (int ch = 0; ch < nchunks; ch++) {
         uint32_t *off = counts + (size_t)ch * ntiles;
         size_t lo = (size_t)ch * chunk, hi = lo + chunk < n ? lo + chunk : n;
-        const spr_cloud *cl = d->cloud;
         for (size_t i = lo; i < hi; i++) {
-            const int32_t *rc = rect + 4 * i;
-            if (rc[0] < 0) continue;
-            const uint32_t sid = splat_at(d, i);
-            sw_bin_entry be;
-            be.x0 = (int16_t)rc[0], be.y0 = (int16_t)rc[1], be.x1 = (int16_t)rc[2], be.y1 = (int16_t)rc[3];
-            be.seq = d->seq_base + (uint32_t)i;
-            be.sid = d->id_base + sid;
-            memcpy(be.p, cl->pos + 3 * (size_t)sid, sizeof be.p);
-            memcpy(be.n, cl->nrm + 3 * (size_t)sid, sizeof be.n);
-            memcpy(be.c, cl->color + 3 * (size_t)sid, sizeof be.c);
-            be.r = spr_draw_radius(d, sid);
-            be.alpha = d->alpha > 0.0f ? d->alpha : cl->alpha[sid];
-            for (int ty = rc[1] / SW_TILE; ty <= rc[3] / SW_TILE; ty++)
-                for (int tx = rc[0] / SW_TILE; tx <= rc[2] / SW_TILE; tx++) bin[off[ty * tiles_x + tx]++] = be;
+            const sw_bin_entry *be = stage + i;
+            if (be->x0 < 0) continue;
+            for (int ty = be->y0 / SW_TILE; ty <= be->y1 / SW_TILE; ty++)
+                for (int tx = be->x0 / SW_TILE; tx <= be->x1 / SW_TILE; tx++) bin[off[ty * tiles_x + tx]++] = *be;
         }
     }
     /* the key of these bins, for the next draw */
