@@ -16,4 +16,9 @@
  * err filled on failure.  Release with spr_backend_destroy(). */
 spr_backend *spr_swrast_create(int threads, spr_error *err);
 
+/* Draw disk splats pixel by pixel (on != 0) instead of eight pixels of a
+ * row at once (the default): the same operations in the same order, so the
+ * same bits; kept to check the vector path against (test raster). */
+void spr_swrast_scalar(spr_backend *b, int on);
+
 #endif

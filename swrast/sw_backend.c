@@ -25,6 +25,15 @@ static spr_result sw_set_view(spr_backend *b, const spr_view *v)
     float *ray = realloc(c->ray, np * 6 * sizeof(float));
     if (!ray) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a %dx%d view", v->width, v->height);
     c->ray = ray;
+    const int wp = (v->width + 7) / 8 * 8 + 8;
+    if (!c->ray_soa || wp != c->ray_wp || v->height != c->ray_h) { /* the padding stays zero: den = 0, never covered */
+        free(c->ray_soa);
+        c->ray_wp = wp, c->ray_h = v->height;
+        if (!(c->ray_soa = calloc((size_t)wp * (size_t)v->height * 6, sizeof(float)))) {
+            c->ray_wp = 0;
+            return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a %dx%d view", v->width, v->height);
+        }
+    }
     c->ray_ok = 0; /* computed by the first draw that needs them: the Gaussian algorithms do not */
     c->bins.valid = 0;
     return SPR_OK;
@@ -42,6 +51,7 @@ void sw__rays(sw_context *c)
         for (int x = 0; x < W; x++) {
             float *r = ray + 6 * ((size_t)y * W + x);
             spr_pixel_ray(v, x, y, r, r + 3);
+            for (int k = 0; k < 6; k++) c->ray_soa[((size_t)k * H + y) * c->ray_wp + x] = r[k];
         }
         sw_fp_leave(fp);
     }
@@ -163,12 +173,15 @@ static void sw_destroy(spr_backend *b)
 {
     sw_context *c = sw_ctx(b);
     free(c->ray);
+    free(c->ray_soa);
     for (int k = 0; k < SW_SCRATCH__COUNT; k++) free(c->scratch[k].p);
     free(c->bins.indices);
     for (int t = 0; t < c->cap; t++) free_target(&c->targets[t]);
     free(c->targets);
     free(c);
 }
+
+void spr_swrast_scalar(spr_backend *b, int on) { sw_ctx(b)->scalar = on != 0; }
 
 spr_backend *spr_swrast_create(int threads, spr_error *err)
 {

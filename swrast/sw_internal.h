@@ -61,6 +61,10 @@ typedef struct sw_context {
         size_t cap;
     } bins;
     float *ray;       /* 6 per pixel: o0, d (spr_pixel_ray), computed once per view (sw__rays) */
+    float *ray_soa;   /* the same rays as 6 planes (o0 x, y, z, d x, y, z) of H rows of ray_wp floats, for 8 pixels at once */
+    int ray_h;        /* rows of ray_soa */
+    int scalar;       /* spr_swrast_scalar: disks pixel by pixel, not 8 at a time */
+    int ray_wp;       /* row stride of ray_soa: the width rounded up to 8, plus 8 (a block of 8 from any pixel stays in the row) */
     int ray_ok;       /* ray holds this view's rays */
     sw_target *targets;
     int cap;

@@ -11,7 +11,12 @@
  *                 file's order is not spatial: most of the time at 1M+)
  *   3. per tile = for each entry, for each pixel of rect ∩ tile:
  *                 ray–disk test → depth mask → test value → depth test →
- *                 kernel → blend/write  (core/render/arith/, then sw_fixed.h)
+ *                 kernel → blend/write  (core/render/arith/, then sw_fixed.h);
+ *                 a disk's ray test runs on 8 pixels of a row at once
+ *                 (disk_lanes: spr_ray_disk's operations lane by lane, AVX2
+ *                 where the CPU has it, no FMA), the rest pixel by pixel
+ * The bins of 1–2c are kept for the next draw when it draws the same splats
+ * (pbr2p1's two passes).
  * Tiles are disjoint, so the result does not depend on which thread runs
  * which tile; statistics are integer sums.
  */
@@ -45,6 +50,87 @@ static inline uint32_t splat_at(const spr_draw_desc *d, size_t i)
     return d->indices ? d->indices[i] : (uint32_t)i;
 }
 
+/* The fragment of splat `be` at pixel (x, y), which it covers at t with ρ²
+ * (spr_splat_covers' tests, the depth mask aside, passed): the depth mask,
+ * then test value, depth test, kernel and writes. */
+static inline void fragment_at(sw_context *c, const spr_draw_desc *d, const spr_fixed_planes *pl, const float *z_near, float ks,
+                               const sw_bin_entry *be, int x, int y, float t, float rho2, uint64_t *gen, uint64_t *passed)
+{
+    const spr_pass_state *s = &d->state;
+    const size_t pix = (size_t)y * c->base.view.width + x;
+    if (z_near && spr_depth_masked(t, z_near[pix], s->eps_t) != 0) return;
+    const float rho = spr_sqrt(rho2);
+    ++*gen;
+    const float z = spr_test_value(s, t, rho);
+    spr_probe *probe = c->base.probe;
+    if (probe && x == probe->x && y == probe->y) { /* pixel history: the fragment before its depth test */
+        spr_probe_frag f = {be->seq, be->sid, t, rho, z, {0.0f, 0.0f, 0.0f, 0.0f}, 0.0f};
+        spr_fragment_color((int)s->output, (int)s->kernel, ks, rho2, rho, be->c, be->alpha, f.src);
+        f.opacity = spr_fragment_opacity((int)s->output, f.src, be->alpha);
+        spr_probe_add_frag(probe, &f);
+    }
+    if (!spr_fixed_depth(s, pl, pix, z)) return;
+    ++*passed;
+    const unsigned mask = s->write_mask;
+    float src[4] = {0.0f, 0.0f, 0.0f, 0.0f}, op = 0.0f, nw[4];
+    if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY | SPR_WRITE_NORMAL)) {
+        spr_fragment_color((int)s->output, (int)s->kernel, ks, rho2, rho, be->c, be->alpha, src);
+        op = spr_fragment_opacity((int)s->output, src, be->alpha);
+        if (mask & SPR_WRITE_NORMAL) spr_fragment_normal(src, be->n, nw);
+    }
+    spr_fixed_writes(s, pl, pix, t, src, be->sid, &op, mask & SPR_WRITE_NORMAL ? nw : NULL);
+}
+
+#ifdef SW_RASTER_CLONES
+/* given on the command line (empty: the portable path alone, to test it) */
+#elif defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+#define SW_RASTER_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define SW_RASTER_CLONES
+#endif
+typedef float sw_v8f __attribute__((vector_size(32)));
+typedef int32_t sw_v8i __attribute__((vector_size(32)));
+
+/* spr_ray_disk for the 8 pixels (x … x+7, y) at once, lane by lane the same
+ * operations in the same order (IEEE single, no FMA: the lanes are the
+ * scalar function's bits; test raster's disk_lanes_are_the_scalar_test
+ * checks it): bit l of the result is set when pixel x+l is covered (and not
+ * back-facing when culling), with its t and ρ² in t[l], rho2[l]. */
+static inline unsigned disk_lanes(const sw_context *c, int x, int y, const float p[3], const float n[3], float rr, int cull, float t_out[8],
+                                  float rho2_out[8])
+{
+    const size_t plane = (size_t)c->ray_wp * (size_t)c->base.view.height, at = (size_t)y * (size_t)c->ray_wp + (size_t)x;
+    sw_v8f o0, o1, o2, d0, d1, d2;
+    memcpy(&o0, c->ray_soa + at, sizeof o0);
+    memcpy(&o1, c->ray_soa + plane + at, sizeof o1);
+    memcpy(&o2, c->ray_soa + 2 * plane + at, sizeof o2);
+    memcpy(&d0, c->ray_soa + 3 * plane + at, sizeof d0);
+    memcpy(&d1, c->ray_soa + 4 * plane + at, sizeof d1);
+    memcpy(&d2, c->ray_soa + 5 * plane + at, sizeof d2);
+    const sw_v8f den = (d0 * n[0] + d1 * n[1]) + d2 * n[2];
+    const sw_v8f a0 = p[0] - o0, a1 = p[1] - o1, a2 = p[2] - o2;
+    const sw_v8f num = (a0 * n[0] + a1 * n[1]) + a2 * n[2];
+    const sw_v8f t = num / den;
+    const sw_v8f q0 = (o0 + t * d0) - p[0], q1 = (o1 + t * d1) - p[1], q2 = (o2 + t * d2) - p[2];
+    const sw_v8f qq = (q0 * q0 + q1 * q1) + q2 * q2;
+    const sw_v8f rho2 = qq / rr;
+    sw_v8i cov = (den != 0.0f) & (t >= 0.0f) & (t <= 1.0f) & (rho2 <= 1.0f);
+    if (cull) cov &= ~(den > 0.0f);
+    memcpy(t_out, &t, sizeof t);
+    memcpy(rho2_out, &rho2, sizeof rho2);
+#if defined(__SSE__)
+    __m128 lo, hi; /* the lanes' sign bits, four at a time (SSE: every x86-64) */
+    memcpy(&lo, &cov, sizeof lo);
+    memcpy(&hi, (const char *)&cov + sizeof lo, sizeof hi);
+    return (unsigned)_mm_movemask_ps(lo) | (unsigned)_mm_movemask_ps(hi) << 4;
+#else
+    unsigned bits = 0;
+    for (int l = 0; l < 8; l++) bits |= (unsigned)(cov[l] & 1) << l;
+    return bits;
+#endif
+}
+
+SW_RASTER_CLONES
 static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, int tile, uint64_t *gen_out,
                         uint64_t *pass_out)
 {
@@ -52,11 +138,9 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     const spr_pass_state *s = &d->state;
     const int W = c->base.view.width;
     const int tx0 = (tile % job->tiles_x) * SW_TILE, ty0 = (tile / job->tiles_x) * SW_TILE;
-    const unsigned mask = s->write_mask;
     const spr_fixed_planes pl = sw_fixed_planes(tg);
     const float *z_near = d->depth_mask ? SW_F(&c->targets[d->mask_target], DEPTH) : NULL;
     uint64_t gen = 0, passed = 0;
-    spr_probe *probe = c->base.probe;
     const float ks = spr_draw_kernel_scale(d);
     for (uint32_t e = job->bin_start[tile]; e < job->bin_start[tile + 1]; e++) {
         const sw_bin_entry *be = &job->bin[e];
@@ -64,35 +148,38 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
         int x0 = be->x0 > tx0 ? be->x0 : tx0, y0 = be->y0 > ty0 ? be->y0 : ty0;
         int x1 = be->x1 < tx0 + SW_TILE - 1 ? be->x1 : tx0 + SW_TILE - 1;
         int y1 = be->y1 < ty0 + SW_TILE - 1 ? be->y1 : ty0 + SW_TILE - 1;
-        const float *p = be->p, *n = be->n, *col = be->c;
+        const float *p = be->p, *n = be->n;
         const float r = be->r;
-        float e[4] = {0.0f, 0.0f, 0.0f, r};
-        if (d->cloud->ell) spr_draw_ellipse(d, sid - d->id_base, r, e); /* elliptical: looked up, the bin keeps its line */
+        float el[4] = {0.0f, 0.0f, 0.0f, r};
+        if (d->cloud->ell) spr_draw_ellipse(d, sid - d->id_base, r, el); /* elliptical: looked up, the bin keeps its line */
+        if (el[3] == r && !c->scalar) { /* a disk (spr_ray_ellipse takes spr_ray_disk): 8 pixels of a row at once */
+            const float rr = r * r;
+            enum { BATCH = 8 }; /* blocks tested before their fragments: their divisions overlap */
+            float t[BATCH][8], rho2[BATCH][8];
+            unsigned bits[BATCH];
+            int bx[BATCH], by[BATCH], nb = 0;
+            for (int y = y0; y <= y1; y++)
+                for (int x = x0; x <= x1; x += 8) {
+                    bits[nb] = disk_lanes(c, x, y, p, n, rr, s->cull_backfaces, t[nb], rho2[nb]);
+                    if (x1 - x < 7) bits[nb] &= (2u << (x1 - x)) - 1u; /* lanes past x1 */
+                    bx[nb] = x, by[nb] = y;
+                    if (++nb < BATCH && !(y == y1 && x + 8 > x1)) continue;
+                    for (int k = 0; k < nb; k++)
+                        for (unsigned m = bits[k]; m; m &= m - 1) {
+                            const int l = __builtin_ctz(m);
+                            fragment_at(c, d, &pl, z_near, ks, be, bx[k] + l, by[k], t[k][l], rho2[k][l], &gen, &passed);
+                        }
+                    nb = 0;
+                }
+            continue;
+        }
         for (int y = y0; y <= y1; y++) {
             for (int x = x0; x <= x1; x++) {
                 size_t pix = (size_t)y * W + x;
                 const float *ray = c->ray + 6 * pix;
                 float t, rho2, rho;
-                if (!spr_splat_covers(ray, ray + 3, p, n, e, r, s->cull_backfaces, z_near != NULL, z_near ? z_near[pix] : 0.0f,
-                                      s->eps_t, &t, &rho2, &rho))
-                    continue;
-                gen++;
-                const float z = spr_test_value(s, t, rho);
-                if (probe && x == probe->x && y == probe->y) { /* pixel history: the fragment before its depth test */
-                    spr_probe_frag f = {be->seq, sid, t, rho, z, {0.0f, 0.0f, 0.0f, 0.0f}, 0.0f};
-                    spr_fragment_color((int)s->output, (int)s->kernel, ks, rho2, rho, col, be->alpha, f.src);
-                    f.opacity = spr_fragment_opacity((int)s->output, f.src, be->alpha);
-                    spr_probe_add_frag(probe, &f);
-                }
-                if (!spr_fixed_depth(s, &pl, pix, z)) continue;
-                passed++;
-                float src[4] = {0.0f, 0.0f, 0.0f, 0.0f}, op = 0.0f, nw[4];
-                if (mask & (SPR_WRITE_COLOR | SPR_WRITE_OPACITY | SPR_WRITE_NORMAL)) {
-                    spr_fragment_color((int)s->output, (int)s->kernel, ks, rho2, rho, col, be->alpha, src);
-                    op = spr_fragment_opacity((int)s->output, src, be->alpha);
-                    if (mask & SPR_WRITE_NORMAL) spr_fragment_normal(src, n, nw);
-                }
-                spr_fixed_writes(s, &pl, pix, t, src, sid, &op, mask & SPR_WRITE_NORMAL ? nw : NULL);
+                if (!spr_splat_covers(ray, ray + 3, p, n, el, r, s->cull_backfaces, 0, 0.0f, s->eps_t, &t, &rho2, &rho)) continue;
+                fragment_at(c, d, &pl, z_near, ks, be, x, y, t, rho2, &gen, &passed);
             }
         }
     }

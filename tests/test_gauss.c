@@ -633,12 +633,7 @@ static void expect_exact(const char *label, const spr_view *v, const spr_cloud *
     exact_cases++;
 }
 
-/* A generated Gaussian scene: n Gaussians in a box before the camera, of one kind (rng: an LCG, fixed seed). */
-static double lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(*s >> 11) / 9007199254740992.0;
-}
+/* A generated Gaussian scene: n Gaussians in a box before the camera, of one kind (rng: tu_uniform, fixed seed). */
 
 enum { KIND_MIXED, KIND_NEEDLES, KIND_HUGE, KIND_BORDERS, KIND_NEAR, KIND_DEEP, KIND__COUNT };
 static void gauss_scene(int kind, size_t n, uint64_t seed, spr_cloud *c)
@@ -651,25 +646,25 @@ static void gauss_scene(int kind, size_t n, uint64_t seed, spr_cloud *c)
     for (size_t i = 0; i < n; i++) {
         float *G = c->gauss + SPR_GAUSS_FLOATS * i;
         double q[4], l = 0.0;
-        for (int k = 0; k < 4; k++) q[k] = lcg(&s) - 0.5, l += q[k] * q[k];
+        for (int k = 0; k < 4; k++) q[k] = tu_uniform(&s) - 0.5, l += q[k] * q[k];
         for (int k = 0; k < 4; k++) G[k] = (float)(q[k] / sqrt(l));
         for (int k = 0; k < 3; k++) {
-            c->pos[3 * i + k] = (float)(2.0 * lcg(&s) - 1.0);
-            G[4 + k] = (float)(0.02 + 0.2 * lcg(&s));
+            c->pos[3 * i + k] = (float)(2.0 * tu_uniform(&s) - 1.0);
+            G[4 + k] = (float)(0.02 + 0.2 * tu_uniform(&s));
         }
-        c->alpha[i] = (float)lcg(&s);
-        for (int k = 0; k < 48; k++) c->sh[48 * i + k] = (float)((lcg(&s) - 0.5) * (k < 3 ? 3.0 : 0.6));
+        c->alpha[i] = (float)tu_uniform(&s);
+        for (int k = 0; k < 48; k++) c->sh[48 * i + k] = (float)((tu_uniform(&s) - 0.5) * (k < 3 ? 3.0 : 0.6));
         switch (kind) {
-        case KIND_NEEDLES: G[4] = (float)(1e-4 * (1.0 + lcg(&s))), G[5] = (float)(1e-4 * lcg(&s) + 1e-6); break; /* two axes all but 0 */
-        case KIND_HUGE: if (i % 7 == 0) G[4] = G[5] = G[6] = (float)(3.0 + 5.0 * lcg(&s)); break;                 /* larger than the view */
+        case KIND_NEEDLES: G[4] = (float)(1e-4 * (1.0 + tu_uniform(&s))), G[5] = (float)(1e-4 * tu_uniform(&s) + 1e-6); break; /* two axes all but 0 */
+        case KIND_HUGE: if (i % 7 == 0) G[4] = G[5] = G[6] = (float)(3.0 + 5.0 * tu_uniform(&s)); break;                 /* larger than the view */
         case KIND_BORDERS: /* centres on the tiles' edges (16-pixel lines of a 96 × 80 view at f = 80 from z = 4): x = k·0.8 */
-            c->pos[3 * i] = (float)(0.8 * (double)((int)(lcg(&s) * 7) - 3) + 0.5 * 4.0 / 80.0);
-            c->pos[3 * i + 1] = (float)(0.8 * (double)((int)(lcg(&s) * 5) - 2));
+            c->pos[3 * i] = (float)(0.8 * (double)((int)(tu_uniform(&s) * 7) - 3) + 0.5 * 4.0 / 80.0);
+            c->pos[3 * i + 1] = (float)(0.8 * (double)((int)(tu_uniform(&s) * 5) - 2));
             break;
-        case KIND_NEAR: c->pos[3 * i + 2] = (float)(3.7 + 0.4 * lcg(&s)); break;  /* around the near plane (t.z 0.3 … −0.1) */
+        case KIND_NEAR: c->pos[3 * i + 2] = (float)(3.7 + 0.4 * tu_uniform(&s)); break;  /* around the near plane (t.z 0.3 … −0.1) */
         case KIND_DEEP: /* a stack along the axis, opaque: the stop rule fires */
-            c->pos[3 * i] = (float)(0.05 * (lcg(&s) - 0.5)), c->pos[3 * i + 1] = (float)(0.05 * (lcg(&s) - 0.5));
-            c->alpha[i] = (float)(0.5 + 0.5 * lcg(&s));
+            c->pos[3 * i] = (float)(0.05 * (tu_uniform(&s) - 0.5)), c->pos[3 * i + 1] = (float)(0.05 * (tu_uniform(&s) - 0.5));
+            c->alpha[i] = (float)(0.5 + 0.5 * tu_uniform(&s));
             break;
         default: break;
         }

@@ -1,6 +1,7 @@
 /* test_raster.c — the CPU backend on tiny scenes (SPEC §2, §3.2–§3.4). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include "spr_fragment.h"
 #include "test_util.h"
 
@@ -318,6 +319,99 @@ START_TEST(created_targets_read_as_cleared)
 }
 END_TEST
 
+/* Disks are drawn eight pixels of a row at once (sw_raster.c's disk_lanes,
+ * a lane-by-lane copy of spr_ray_disk); drawn pixel by pixel through
+ * spr_ray_disk itself (spr_swrast_scalar) every plane must be the same
+ * bits.  4000 random splats (radii over 150x: under a pixel to 20 pixels
+ * wide, normals any way, so culling drops some), a perspective 61x47 view
+ * (odd: blocks past the row's end), three draws: a plain depth-tested one,
+ * an additive eps-offset one with culling, and one masked by the first's
+ * depth (SPEC 6.2 step 2). */
+START_TEST(disk_lanes_are_the_scalar_test)
+{
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    cam.eye[2] = 3.0;
+    cam.fov_deg = 40.0;
+    cam.near_plane = 1.0;
+    cam.far_plane = 5.0;
+    cam.width = 61;
+    cam.height = 47;
+    spr_view v;
+    spr_error err;
+    ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+    const size_t n = 4000;
+    spr_cloud c;
+    ck_assert_int_eq(spr_cloud_alloc(&c, n), SPR_OK);
+    uint64_t st = 20261202u;
+    for (size_t i = 0; i < n; i++) {
+        double nn[3], l = 0.0;
+        for (int k = 0; k < 3; k++) c.pos[3 * i + k] = (float)(2.0 * tu_uniform(&st) - 1.0);
+        do {
+            l = 0.0;
+            for (int k = 0; k < 3; k++) nn[k] = 2.0 * tu_uniform(&st) - 1.0, l += nn[k] * nn[k];
+        } while (l < 1e-4 || l > 1.0);
+        for (int k = 0; k < 3; k++) c.nrm[3 * i + k] = (float)(nn[k] / sqrt(l));
+        c.radius[i] = (float)(0.002 * pow(150.0, tu_uniform(&st)));
+        for (int k = 0; k < 3; k++) c.color[3 * i + k] = (float)tu_uniform(&st);
+        c.alpha[i] = (float)(0.05 + 0.95 * tu_uniform(&st));
+    }
+    uint32_t half[2000];
+    for (uint32_t i = 0; i < 2000; i++) half[i] = 2 * i + 1;
+    float *plane[2][2][SPR_PLANE__COUNT];
+    uint64_t generated[2] = {0, 0};
+    const size_t np = (size_t)v.width * v.height;
+    for (int scalar = 0; scalar < 2; scalar++) {
+        spr_backend *b = spr_swrast_create(2, &err);
+        ck_assert_ptr_nonnull(b);
+        spr_swrast_scalar(b, scalar);
+        ck_assert_int_eq(spr_backend_set_view(b, &v), SPR_OK);
+        int t[2];
+        for (int k = 0; k < 2; k++) ck_assert_int_eq(spr_backend_target_create(b, SPR_PLANES_OPAQUE | SPR_PLANE_BIT(SPR_PLANE_OPACITY), &t[k]), SPR_OK);
+        spr_draw_stats ds;
+        spr_draw_desc d = {.cloud = &c, .indices = half, .count = 2000};
+        state(&d.state);
+        ck_assert_int_eq(spr_backend_draw(b, t[0], &d, &ds), SPR_OK);
+        generated[scalar] += ds.generated;
+        d.indices = NULL;
+        d.count = 0;
+        d.state.depth_value = SPR_DEPTH_EPS_OFFSET;
+        d.state.eps_t = 0.01f;
+        d.state.cull_backfaces = 1;
+        spr_pass_state_blend(&d.state, SPR_BLEND_ADD);
+        ck_assert_int_eq(spr_backend_draw(b, t[1], &d, &ds), SPR_OK);
+        generated[scalar] += ds.generated;
+        d.depth_mask = 1;
+        d.mask_target = t[0];
+        d.state.cull_backfaces = 0;
+        d.state.output = SPR_OUT_ALPHA;
+        ck_assert_int_eq(spr_backend_draw(b, t[1], &d, &ds), SPR_OK);
+        generated[scalar] += ds.generated;
+        for (int k = 0; k < 2; k++)
+            for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+                plane[scalar][k][p] = NULL;
+                if (!((SPR_PLANES_OPAQUE | SPR_PLANE_BIT(SPR_PLANE_OPACITY)) & SPR_PLANE_BIT(p))) continue;
+                plane[scalar][k][p] = malloc(np * 4 * sizeof(float));
+                ck_assert_int_eq(spr_backend_read_plane(b, t[k], (spr_plane)p, plane[scalar][k][p]), SPR_OK);
+            }
+        spr_backend_destroy(b);
+    }
+    ck_assert_uint_eq(generated[0], generated[1]);
+    ck_assert_uint_gt(generated[0], 20000);
+    for (int k = 0; k < 2; k++)
+        for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+            if (!plane[0][k][p]) continue;
+            const size_t words = np * (size_t)spr_plane_channels((spr_plane)p);
+            for (size_t i = 0; i < words; i++)
+                ck_assert_msg(!memcmp(&plane[0][k][p][i], &plane[1][k][p][i], 4), "target %d plane %d word %zu: %a (8 at once) vs %a (one by one)", k, p, i,
+                              plane[0][k][p][i], plane[1][k][p][i]);
+            free(plane[0][k][p]);
+            free(plane[1][k][p]);
+        }
+    spr_cloud_free(&c);
+}
+END_TEST
+
 START_TEST(average_composite)
 {
     fixture f;
@@ -499,6 +593,7 @@ Suite *make_raster_suite(void)
     tcase_add_test(tc, average_composite);
     tcase_add_test(tc, kept_bins_only_for_the_same_draw);
     tcase_add_loop_test(tc, created_targets_read_as_cleared, 0, 2);
+    tcase_add_test(tc, disk_lanes_are_the_scalar_test);
     tcase_add_test(tc, opacity_plane);
     tcase_add_test(tc, splats_across_tile_boundaries);
     suite_add_tcase(s, tc);

@@ -33,6 +33,12 @@ void tu_cloud(spr_cloud *c, size_t n, const double *xyz, float r)
     }
 }
 
+double tu_uniform(uint64_t *s)
+{
+    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*s >> 11) / 9007199254740992.0;
+}
+
 void tu_set_color(spr_cloud *c, size_t i, float r, float g, float b)
 {
     c->color[3 * i] = r;

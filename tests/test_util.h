@@ -17,6 +17,8 @@
 void tu_hand_view(int W, int H, spr_view *v);
 /* Cloud of n splats with the given positions; normals +z, radius r, colour white. */
 void tu_cloud(spr_cloud *c, size_t n, const double *xyz, float r);
+/* Uniform in [0, 1) from the LCG state *s (a fixed seed: the same values on every machine). */
+double tu_uniform(uint64_t *s);
 void tu_set_color(spr_cloud *c, size_t i, float r, float g, float b);
 /* Render on a fresh CPU backend with `threads`; ck_assert on failure. */
 void tu_render(const spr_view *v, const spr_cloud *c, const spr_render_desc *d, int threads, spr_render_result *out);

@@ -12,7 +12,9 @@
  * C through spr_arith_c.h; the build embeds the very same bytes into every
  * GLSL program of the GL backend, after glbackend/gl_prelude.glsl, which
  * gives the macros below their GLSL meaning.  Nothing here is retyped
- * anywhere else.
+ * anywhere else, but for one copy: swrast/sw_raster.c's disk_lanes runs
+ * spr_ray_disk on 8 pixels at once, operation for operation, and test
+ * raster's disk_lanes_are_the_scalar_test holds it to this file's bits.
  *
  * The common subset, and why:
  *   - scalar float and int, fixed-size arrays, if, for, return; no vectors,
