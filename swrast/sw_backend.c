@@ -27,6 +27,7 @@ static spr_result sw_set_view(spr_backend *b, const spr_view *v)
     c->ray = ray;
     const int wp = (v->width + 7) / 8 * 8 + 8;
     if (!c->ray_soa || wp != c->ray_wp || v->height != c->ray_h) { /* the padding stays zero: den = 0, never covered */
+        c->ray_ok = 0;
         free(c->ray_soa);
         c->ray_wp = wp, c->ray_h = v->height;
         if (!(c->ray_soa = calloc((size_t)wp * (size_t)v->height * 6, sizeof(float)))) {
@@ -34,7 +35,15 @@ static spr_result sw_set_view(spr_backend *b, const spr_view *v)
             return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a %dx%d view", v->width, v->height);
         }
     }
-    c->ray_ok = 0; /* computed by the first draw that needs them: the Gaussian algorithms do not */
+    /* what the rays are made of (spr_pixel_ray): the same bits as the last
+     * view's keep them (a frame set again in the same view: bench, step) */
+    float key[18];
+    memcpy(key, v->M, sizeof v->M);
+    key[16] = v->ndc_sx, key[17] = v->ndc_sy;
+    const int same = c->ray_ok && !memcmp(key, c->ray_key, sizeof key) && np == c->ray_np;
+    memcpy(c->ray_key, key, sizeof key);
+    c->ray_np = np;
+    c->ray_ok = same; /* else computed by the first draw that needs them: the Gaussian algorithms do not */
     c->bins.valid = 0;
     return SPR_OK;
 }

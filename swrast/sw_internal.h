@@ -66,6 +66,8 @@ typedef struct sw_context {
     int scalar;       /* spr_swrast_scalar: disks pixel by pixel, not 8 at a time */
     int ray_wp;       /* row stride of ray_soa: the width rounded up to 8, plus 8 (a block of 8 from any pixel stays in the row) */
     int ray_ok;       /* ray holds this view's rays */
+    float ray_key[18];/* the M, ndc_sx and ndc_sy the rays were made from */
+    size_t ray_np;    /* and the pixels */
     sw_target *targets;
     int cap;
 } sw_context;

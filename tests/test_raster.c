@@ -412,6 +412,48 @@ START_TEST(disk_lanes_are_the_scalar_test)
 }
 END_TEST
 
+/* The CPU backend keeps its pixel rays while the view is set again with the
+ * same matrices; another view of the same size must get its own: 4x1
+ * pixels, orthographic, view height 0.5 (4 x 0.5 = 2 wide: pixel centres at
+ * x = -0.75, -0.25, 0.25, 0.75) or 1 (centres -1.5, -0.5, 0.5, 1.5); a disk
+ * at x = 0.6, y = 0 of radius 0.2 covers pixel 3 in the first, 2 in the
+ * second. */
+START_TEST(rays_follow_the_view)
+{
+    spr_error err;
+    spr_backend *b = spr_swrast_create(1, &err);
+    ck_assert_ptr_nonnull(b);
+    spr_cloud c;
+    tu_cloud(&c, 1, (double[]){0.6, 0.0, 0.0}, 0.2f);
+    spr_draw_desc d = {.cloud = &c};
+    state(&d.state);
+    uint32_t count[16];
+    for (int round = 0; round < 3; round++) {
+        spr_camera_desc cam;
+        spr_camera_defaults(&cam);
+        cam.eye[2] = 2.0;
+        cam.ortho_height = round == 1 ? 1.0 : 0.5; /* 0.5, 1, then 0.5 again */
+        cam.fov_deg = 0.0;
+        cam.near_plane = 1.0;
+        cam.far_plane = 3.0;
+        cam.width = 4;
+        cam.height = 1;
+        spr_view v;
+        ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+        ck_assert_int_eq(spr_backend_set_view(b, &v), SPR_OK);
+        int t;
+        ck_assert_int_eq(spr_backend_target_create(b, SPR_PLANES_ALL, &t), SPR_OK);
+        ck_assert_int_eq(spr_backend_draw(b, t, &d, NULL), SPR_OK);
+        ck_assert_int_eq(spr_backend_read_plane(b, t, SPR_PLANE_COUNT, count), SPR_OK);
+        const int want = round == 1 ? 2 : 3;
+        for (int x = 0; x < 4; x++) ck_assert_msg(count[x] == (x == want ? 1u : 0u), "round %d pixel %d: %u", round, x, count[x]);
+        spr_backend_target_destroy(b, t);
+    }
+    spr_cloud_free(&c);
+    spr_backend_destroy(b);
+}
+END_TEST
+
 START_TEST(average_composite)
 {
     fixture f;
@@ -594,6 +636,7 @@ Suite *make_raster_suite(void)
     tcase_add_test(tc, kept_bins_only_for_the_same_draw);
     tcase_add_loop_test(tc, created_targets_read_as_cleared, 0, 2);
     tcase_add_test(tc, disk_lanes_are_the_scalar_test);
+    tcase_add_test(tc, rays_follow_the_view);
     tcase_add_test(tc, opacity_plane);
     tcase_add_test(tc, splats_across_tile_boundaries);
     suite_add_tcase(s, tc);
