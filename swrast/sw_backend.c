@@ -206,6 +206,7 @@ spr_backend *spr_swrast_create(int threads, spr_error *err)
     c->threads = threads ? threads : omp_get_num_procs();
     spr_backend *b = &c->base;
     b->name = "cpu";
+    b->host_threads = c->threads;
     b->set_view = sw_set_view;
     b->target_create = sw_target_create;
     b->target_destroy = sw_target_destroy;

@@ -6,6 +6,7 @@
 #include "spr_fragment.h"
 #include "spr_image.h"
 #include "test_util.h"
+#include <omp.h>
 
 /* Hand camera, 4×4: splat A at z = 0 (t = 0.5) red, splat B at z = zb blue,
  * both r = 0.5 around the axis, so both cover pixels (1..2, 1..2) with the
@@ -116,6 +117,40 @@ START_TEST(transparent1_culls_within_a_layer_and_blends_back_to_front)
             spr_render_result_free(&r);
             spr_cloud_free(&c);
         }
+}
+END_TEST
+
+/* A frame's host work (the back-to-front order here) runs on the CPU
+ * backend's own thread count, its host_threads, through OpenMP's default,
+ * which spr_render restores: the caller's default is the same afterwards,
+ * and the image the same on 1 and 3 threads. */
+START_TEST(frame_host_work_on_the_backend_threads)
+{
+    spr_error err;
+    spr_backend *b1 = spr_swrast_create(1, &err), *b3 = spr_swrast_create(3, &err);
+    ck_assert_ptr_nonnull(b1);
+    ck_assert_ptr_nonnull(b3);
+    ck_assert_int_eq(b1->host_threads, 1);
+    ck_assert_int_eq(b3->host_threads, 3);
+    spr_view v;
+    tu_hand_view(4, 4, &v);
+    spr_cloud c;
+    two_layers(&c, 0.25);
+    spr_render_desc d = {.algo = SPR_ALGO_TRANSPARENT1, .eps = 0.1, .alpha = 0.5f};
+    const int caller = omp_get_max_threads();
+    omp_set_num_threads(5);
+    spr_render_result r1, r3;
+    ck_assert_int_eq(spr_render(b1, &v, &c, &d, &r1, &err), SPR_OK);
+    ck_assert_int_eq(omp_get_max_threads(), 5);
+    ck_assert_int_eq(spr_render(b3, &v, &c, &d, &r3, &err), SPR_OK);
+    ck_assert_int_eq(omp_get_max_threads(), 5);
+    ck_assert_mem_eq(r1.rgba, r3.rgba, 16 * 4 * sizeof(float));
+    omp_set_num_threads(caller);
+    spr_render_result_free(&r1);
+    spr_render_result_free(&r3);
+    spr_cloud_free(&c);
+    spr_backend_destroy(b1);
+    spr_backend_destroy(b3);
 }
 END_TEST
 
@@ -289,6 +324,7 @@ Suite *make_algo_suite(void)
     tcase_add_test(tc, pbr2p1_blends_inside_eps_only);
     tcase_add_test(tc, zbuffer_keeps_the_nearest_splat);
     tcase_add_test(tc, transparent1_culls_within_a_layer_and_blends_back_to_front);
+    tcase_add_test(tc, frame_host_work_on_the_backend_threads);
     tcase_add_test(tc, transparent2_with_opaque_splats_is_deferred);
     tcase_add_test(tc, deferred_composite_inside_and_beyond_eps);
     tcase_add_test(tc, deferred_composite_unequal_weights);

@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -304,6 +305,9 @@ spr_result spr_stream_check(spr_algo algo, size_t n, spr_error *err)
     return SPR_OK;
 }
 
+static spr_result render_frame(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
+                                    spr_render_result *out, spr_error *err);
+
 spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
                       spr_render_result *out, spr_error *err)
 {
@@ -318,6 +322,22 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     if (src && src->n != cloud->n) return spr__fail(err, SPR_E_ARG, "render: the stream has %zu splats, the cloud %zu", src->n, cloud->n);
     spr_result r;
     if (src && (r = spr_stream_check(desc->algo, cloud->n, err))) return r;
+    /* the frame's host work (view-dependent colours, orders, tile lists) on
+     * the backend's host thread count: OpenMP's default for regions that do
+     * not name one, restored on the way out */
+    const int omp_default = omp_get_max_threads();
+    if (b->host_threads > 0) omp_set_num_threads(b->host_threads);
+    r = render_frame(b, view, cloud, desc, out, err);
+    omp_set_num_threads(omp_default);
+    return r;
+}
+
+static spr_result render_frame(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
+                                    spr_render_result *out, spr_error *err)
+{
+    const spr_algo_info *ai = spr_algo_info_of(desc->algo);
+    const spr_cloud_source *src = desc->source;
+    spr_result r;
     spr_cloud viewed;
     float *sh_color = NULL;
     if (cloud->sh && cloud->sh_k > 1 && !(ai->uses & SPR_USES_GAUSS)) { /* view-dependent colours (--sh-degree): this view's, once per frame on the host, drawn by every backend */

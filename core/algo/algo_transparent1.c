@@ -35,9 +35,9 @@ static spr_result back_to_front(spr__run *run, const spr_view *v, uint32_t *out)
         if (kept && kept->n != c->n)
             return spr__fail(run->err, SPR_E_ARG, "render: the BSP tree is for %zu splats, the model has %zu", kept->n, c->n);
         spr_bsp t;
-        spr_result r = kept ? SPR_OK : spr_bsp_build(c, &t, run->err);
+        spr_result r = kept ? SPR_OK : spr__bsp_build_threads(c, run->b->host_threads, &t, run->err);
         if (r) return r;
-        if (spr_bsp_back_to_front(kept ? kept : &t, c, v, out)) r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
+        if (spr__bsp_back_to_front_threads(kept ? kept : &t, c, v, run->b->host_threads, out)) r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory", spr_algo_name(run->desc->algo));
         if (!kept) spr_bsp_free(&t);
         return r;
     }

@@ -210,7 +210,7 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
         gd.q = q, gd.s = s, gd.color = col;
         r = spr__run_gauss_preprocess(run, &gd, rec);
     }
-    const int threads = 0; /* the lists do not depend on it */
+    const int threads = run->b->host_threads; /* the lists do not depend on it */
     double t0 = spr_now_ms();
     if (!r && mode != 2) r = spr__gauss_tiles(rec, n, (int)gd.prm[SPR_GPRM_GX], (int)gd.prm[SPR_GPRM_GY], threads, &range, &list, run->err);
     size_t count = 0;

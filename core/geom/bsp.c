@@ -372,6 +372,12 @@ static void leaf_far_first(const spr_bsp *t, const spr_cloud *c, const double ey
 
 int spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out)
 {
+    return spr__bsp_back_to_front_threads(t, c, v, 0, out);
+}
+
+int spr__bsp_back_to_front_threads(const spr_bsp *t, const spr_cloud *c, const spr_view *v, int threads, uint32_t *out)
+{
+    if (threads <= 0) threads = omp_get_max_threads();
     double eye[3], dir[3];
     eye_of(v, eye, dir);
     /* 1. the leaves in back-to-front order (a walk of the inner nodes), each
@@ -405,7 +411,7 @@ int spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *
     /* 2. each leaf sorted by depth into its place, leaves in parallel (each
      *    writes its own range: the same order on any number of threads) */
     const long nleaves = (long)nl;
-#pragma omp parallel
+#pragma omp parallel num_threads(threads)
     {
         depth_item *items = malloc(SPR_BSP_LEAF * 2 * sizeof *items + sizeof *items);
 #pragma omp for schedule(dynamic, 64)

@@ -37,5 +37,7 @@ spr_result spr__bsp_build_threads(const spr_cloud *c, int threads, spr_bsp *t, s
 void spr_bsp_free(spr_bsp *t);
 /* Back-to-front splat order for the view (out: n ids). */
 int spr_bsp_back_to_front(const spr_bsp *t, const spr_cloud *c, const spr_view *v, uint32_t *out); /* −1: out of memory */
+/* The same order on at most `threads` threads (0: OpenMP's default). */
+int spr__bsp_back_to_front_threads(const spr_bsp *t, const spr_cloud *c, const spr_view *v, int threads, uint32_t *out);
 
 #endif

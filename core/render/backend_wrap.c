@@ -63,6 +63,7 @@ void spr__wrap_init(spr__wrap *w, spr_backend *inner, void (*destroy)(spr_backen
     w->inner = inner;
     spr_backend *b = &w->base;
     b->name = inner->name; /* the planes are the inner backend's */
+    b->host_threads = inner->host_threads;
     b->set_view = w_set_view;
     b->target_create = spr__wrap_target_create;
     b->target_destroy = w_target_destroy;

@@ -582,6 +582,8 @@ struct spr_backend {
     unsigned *target_planes; /* plane mask of each handle; 0 = no such target (free slot) */
     spr_error err;     /* last failure, one line */
     spr_probe *probe;  /* pixel probe (NULL: none); set by the history backend */
+    int host_threads;  /* threads for a frame's host work (back-to-front orders, Gaussian tile lists): the CPU
+                          backend's own count, so its one-thread frames are one thread throughout; 0 = OpenMP's default */
 };
 
 /* Set the view (no target may exist).  A backend may keep what it derived
