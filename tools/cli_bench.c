@@ -195,8 +195,15 @@ static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, 
                load_ms > 0 ? "loading/sampling" : "loading", load_ms > 0 ? load_ms : 0.0, (load_ms > 0 ? load_ms : 0.0) / floor_ms[0], group_ms,
                group_ms / floor_ms[1]);
     if (!scale) bench_capture_load(&s->cloud, reps, floor_ms[0]);
+    /* which of the table's inputs the wanted rows read (--rows) */
+    int want_rects = 0, want_order = 0;
+    for (int al = 0; al < SPR_ALGO__COUNT; al++)
+        if (bench_row_wanted(mode, (spr_algo)al)) {
+            want_rects |= (spr_algo_info_of((spr_algo)al)->uses & SPR_USES_RECTS) != 0;
+            want_order |= (spr_algo_info_of((spr_algo)al)->uses & SPR_USES_ORDER) != 0;
+        }
     /* the domain pipeline (SPEC 7) for the domain-* rows: its phases timed */
-    if (!scale) {
+    if (!scale && want_rects) {
         spr_decomp_desc dd;
         spr_decomp_defaults(&dd);
         dd.progress = spr__progress(quiet);
@@ -230,8 +237,8 @@ static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, 
     /* the BSP tree of the transparent algorithms' order: preprocessing, as the hash axes ([ZP] §5.2.1) */
     spr_bsp bsp = {0};
     double t0b = spr_now_ms();
-    if (!scale && spr_bsp_build(&s->cloud, &bsp, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); spr_envmap_free(&sky); return -1; }
-    if (!scale) printf("  BSP tree (kept across frames for the back-to-front orders): %.0f ms = %.1fx stream (2 threads)\n", spr_now_ms() - t0b,
+    if (!scale && want_order && spr_bsp_build(&s->cloud, &bsp, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); spr_envmap_free(&sky); return -1; }
+    if (!scale && want_order) printf("  BSP tree (kept across frames for the back-to-front orders): %.0f ms = %.1fx stream (2 threads)\n", spr_now_ms() - t0b,
                        (spr_now_ms() - t0b) / floor_ms[1]);
     int rc = 0;
     int done[N_ROWS] = {0};
