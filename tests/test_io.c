@@ -19,6 +19,37 @@ static void check_loaded(const char *rel, size_t n, unsigned must_flags, unsigne
     spr_cloud_free(&c);
 }
 
+/* The bounds of 200,000 splats (walked in parallel chunks) are those of
+ * one walk in order, by hand: x is +0 at splat 70,000 and −0 at splat
+ * 150,000 (later, another chunk) and 1 elsewhere, so lo.x is the first
+ * seen, +0; y runs 0 … 199,999 so lo.y = 0 and hi.y = 199,999; z is −0 at
+ * splat 10 and +0 at 190,000 (hi.z = 0 and the first seen, −0); radii 1
+ * but 0.5 at splat 123,456 and 3 at 199,999: mean (199,998 + 3.5)/200,000,
+ * the in-order double sum being exact here. */
+START_TEST(bounds_are_one_walk_in_order)
+{
+    const size_t n = 200000;
+    spr_cloud c;
+    ck_assert_int_eq(spr_cloud_alloc(&c, n), SPR_OK);
+    for (size_t i = 0; i < n; i++) {
+        c.pos[3 * i] = i == 70000 ? 0.0f : i == 150000 ? -0.0f : 1.0f;
+        c.pos[3 * i + 1] = (float)i;
+        c.pos[3 * i + 2] = i == 10 ? -0.0f : i == 190000 ? 0.0f : -1.0f;
+        c.radius[i] = i == 123456 ? 0.5f : i == n - 1 ? 3.0f : 1.0f;
+    }
+    spr_bounds b;
+    spr_cloud_bounds(&c, &b);
+    ck_assert(b.lo[0] == 0.0 && !signbit(b.lo[0]));
+    ck_assert(b.hi[0] == 1.0);
+    ck_assert(b.lo[1] == 0.0 && b.hi[1] == 199999.0);
+    ck_assert(b.lo[2] == -1.0);
+    ck_assert(b.hi[2] == 0.0 && signbit(b.hi[2]));
+    ck_assert(b.min_radius == 0.5 && b.max_radius == 3.0);
+    ck_assert_msg(b.mean_radius == (199998.0 + 3.5) / 200000.0, "mean %.17g", b.mean_radius);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 START_TEST(cgal_meshes)
 {
     check_loaded("meshes/bunny00.off", 37706, SPR_SRC_FACES, SPR_SRC_NORMALS | SPR_SRC_RADII);
@@ -409,6 +440,7 @@ Suite *make_io_suite(void)
     TCase *tc = tcase_create("io");
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, cgal_meshes);
+    tcase_add_test(tc, bounds_are_one_walk_in_order);
     tcase_add_test(tc, cgal_point_files);
     tcase_add_test(tc, pca_normals_on_a_sphere_point_out);
     tcase_add_test(tc, ply_both_endiannesses_and_round_trip);

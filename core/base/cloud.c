@@ -128,11 +128,12 @@ void spr_bounds_begin(spr_bounds_acc *a)
     a->n = 0;
 }
 
-void spr_bounds_add(spr_bounds_acc *a, const spr_cloud *c)
+/* lo/hi of the centres and min/max of the radii over splats [i0, i1): the
+ * strict comparisons of one walk in order, so a tie (−0 and +0) keeps the
+ * first seen. */
+static void bounds_range(const spr_cloud *c, size_t i0, size_t i1, spr_bounds *b)
 {
-    spr_bounds *b = &a->b;
-    double sum = a->sum;
-    for (size_t i = 0; i < c->n; i++) {
+    for (size_t i = i0; i < i1; i++) {
         for (int k = 0; k < 3; k++) {
             double v = c->pos[3 * i + k];
             if (v < b->lo[k]) b->lo[k] = v;
@@ -141,8 +142,37 @@ void spr_bounds_add(spr_bounds_acc *a, const spr_cloud *c)
         double r = c->radius[i];
         if (r > b->max_radius) b->max_radius = r;
         if (r < b->min_radius) b->min_radius = r;
-        sum += r;
     }
+}
+
+void spr_bounds_add(spr_bounds_acc *a, const spr_cloud *c)
+{
+    /* the extremes in contiguous chunks in parallel, merged in chunk order
+     * with the same strict comparisons: the numbers of one walk in order */
+    enum { CHUNKS = 16 };
+    spr_bounds part[CHUNKS];
+    const size_t step = (c->n + CHUNKS - 1) / CHUNKS;
+#pragma omp parallel for schedule(static, 1) if (c->n >= ((size_t)1 << 16))
+    for (int ch = 0; ch < CHUNKS; ch++) {
+        spr_bounds *p = &part[ch];
+        for (int k = 0; k < 3; k++) p->lo[k] = INFINITY, p->hi[k] = -INFINITY;
+        p->max_radius = 0.0, p->min_radius = INFINITY;
+        const size_t i0 = (size_t)ch * step < c->n ? (size_t)ch * step : c->n, i1 = i0 + step < c->n ? i0 + step : c->n;
+        bounds_range(c, i0, i1, p);
+    }
+    spr_bounds *b = &a->b;
+    for (int ch = 0; ch < CHUNKS; ch++) {
+        const spr_bounds *p = &part[ch];
+        for (int k = 0; k < 3; k++) {
+            if (p->lo[k] < b->lo[k]) b->lo[k] = p->lo[k];
+            if (p->hi[k] > b->hi[k]) b->hi[k] = p->hi[k];
+        }
+        if (p->max_radius > b->max_radius) b->max_radius = p->max_radius;
+        if (p->min_radius < b->min_radius) b->min_radius = p->min_radius;
+    }
+    /* the radii's sum in order, one double rounding after another (ε is twice their mean) */
+    double sum = a->sum;
+    for (size_t i = 0; i < c->n; i++) sum += c->radius[i];
     a->sum = sum;
     a->n += c->n;
 }
