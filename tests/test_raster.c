@@ -329,17 +329,9 @@ END_TEST
  * depth (SPEC 6.2 step 2). */
 START_TEST(disk_lanes_are_the_scalar_test)
 {
-    spr_camera_desc cam;
-    spr_camera_defaults(&cam);
-    cam.eye[2] = 3.0;
-    cam.fov_deg = 40.0;
-    cam.near_plane = 1.0;
-    cam.far_plane = 5.0;
-    cam.width = 61;
-    cam.height = 47;
     spr_view v;
     spr_error err;
-    ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+    tu_view(3.0, 40.0, 0.0, 1.0, 5.0, 61, 47, &v);
     const size_t n = 4000;
     spr_cloud c;
     ck_assert_int_eq(spr_cloud_alloc(&c, n), SPR_OK);
@@ -429,17 +421,8 @@ START_TEST(rays_follow_the_view)
     state(&d.state);
     uint32_t count[16];
     for (int round = 0; round < 3; round++) {
-        spr_camera_desc cam;
-        spr_camera_defaults(&cam);
-        cam.eye[2] = 2.0;
-        cam.ortho_height = round == 1 ? 1.0 : 0.5; /* 0.5, 1, then 0.5 again */
-        cam.fov_deg = 0.0;
-        cam.near_plane = 1.0;
-        cam.far_plane = 3.0;
-        cam.width = 4;
-        cam.height = 1;
         spr_view v;
-        ck_assert_int_eq(spr_view_make(&cam, &v, &err), SPR_OK);
+        tu_view(2.0, 0.0, round == 1 ? 1.0 : 0.5, 1.0, 3.0, 4, 1, &v); /* view heights 0.5, 1, then 0.5 again */
         ck_assert_int_eq(spr_backend_set_view(b, &v), SPR_OK);
         int t;
         ck_assert_int_eq(spr_backend_target_create(b, SPR_PLANES_ALL, &t), SPR_OK);

@@ -8,20 +8,22 @@
 #include <string.h>
 #include <string.h>
 
-void tu_hand_view(int W, int H, spr_view *v)
+void tu_view(double eye_z, double fov_deg, double ortho_height, double near_plane, double far_plane, int W, int H, spr_view *v)
 {
     spr_camera_desc c;
     spr_camera_defaults(&c);
-    c.eye[2] = 2.0;
-    c.ortho_height = 2.0;
-    c.fov_deg = 0.0;
-    c.near_plane = 1.0;
-    c.far_plane = 3.0;
+    c.eye[2] = eye_z;
+    c.ortho_height = ortho_height;
+    c.fov_deg = fov_deg;
+    c.near_plane = near_plane;
+    c.far_plane = far_plane;
     c.width = W;
     c.height = H;
     spr_error err;
     ck_assert_int_eq(spr_view_make(&c, v, &err), SPR_OK);
 }
+
+void tu_hand_view(int W, int H, spr_view *v) { tu_view(2.0, 0.0, 2.0, 1.0, 3.0, W, H, v); }
 
 void tu_cloud(spr_cloud *c, size_t n, const double *xyz, float r)
 {

@@ -15,6 +15,8 @@
 #include "spr_swrast.h"
 
 void tu_hand_view(int W, int H, spr_view *v);
+/* A view from (0, 0, eye_z) at the origin: perspective with fov_deg > 0, else orthographic ortho_height high. */
+void tu_view(double eye_z, double fov_deg, double ortho_height, double near_plane, double far_plane, int W, int H, spr_view *v);
 /* Cloud of n splats with the given positions; normals +z, radius r, colour white. */
 void tu_cloud(spr_cloud *c, size_t n, const double *xyz, float r);
 /* Uniform in [0, 1) from the LCG state *s (a fixed seed: the same values on every machine). */
