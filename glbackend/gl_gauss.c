@@ -1,17 +1,26 @@
 /* gl_gauss.c — the Gaussian splatting references on GL (SPEC §10), every
  * float operation in the shared arithmetic run on the GPU:
  *
- *   preprocess  a compute program (gl_gauss_pre.comp), one invocation per
+ *   preprocess  a fragment program (gl_gauss_pre.frag), one fragment per
  *               Gaussian over shader storage; the records read back for the
  *               host's sorting (core/algo/gauss.c);
- *   raster      a compute program (gl_gauss_raster.comp), one work group
- *               per 16×16 tile, storing the target's planes as images (the
- *               Gaussian planes are never colour attachments: llvmpipe has
- *               8, the fragment-written planes use 6);
+ *   raster      a fragment program (gl_gauss_raster.frag), one fragment per
+ *               pixel walking its 16×16 tile's list, storing the target's
+ *               planes as images (the Gaussian planes are never colour
+ *               attachments: llvmpipe has 8, the fragment-written planes
+ *               use 6);
  *   draw        gauss-blend: instanced quads over the Gaussians' boxes in the
  *               host's order (gl_splat.vert, gl_gauss_blend.frag), blended
  *               by GL (ONE, ONE_MINUS_SRC_ALPHA) — measured to round as the
  *               reference's spr_blend1 does (PARITY.md, tests/test_gl.c).
+ * The first two draw one triangle over an attachment-less framebuffer
+ * rather than dispatching compute work: llvmpipe 22.3 runs fragments with
+ * denormals flushed to zero (FTZ/DAZ), as the reference's threads do, but
+ * compute invocations with denormals kept (measured: 1e-30/1e10 is
+ * 1.0e-40 in a compute shader, 0 in a fragment), so a compute program
+ * differs from the reference wherever a value falls below 2^-126 (a
+ * 10^12-scale scene's opacity compensation, parity --random seed
+ * 20261205 scene 481).
  * Records, tile ranges and lists reach the programs through buffer
  * textures (the reason: gl_prelude.glsl).  Programs are linked on first use.
  */
@@ -45,6 +54,21 @@ static spr_result texture_of(gl_context *c, GLuint *tex, GLenum fmt, GLuint buf,
     return SPR_OK;
 }
 
+/* One triangle over an attachment-less framebuffer of w × h pixels (no
+ * depth, stencil or blending applies: the programs only store), then the
+ * view's viewport again. */
+static void draw_bare(gl_context *c, int w, int h)
+{
+    if (!c->gfbo) glCreateFramebuffers(1, &c->gfbo);
+    glNamedFramebufferParameteri(c->gfbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, w);
+    glNamedFramebufferParameteri(c->gfbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, c->gfbo);
+    glViewport(0, 0, w, h);
+    glBindVertexArray(c->vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glViewport(0, 0, c->base.view.width, c->base.view.height);
+}
+
 spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec)
 {
     gl_context *c = gl_ctx(b);
@@ -72,11 +96,15 @@ spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *
     glUniform1ui(glGetUniformLocation(p, "u_n"), (GLuint)d->n);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->gbuf[GL_GBUF_IN]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->gbuf[GL_GBUF_REC]);
-    const size_t per = (size_t)65535 * 256; /* work groups a dispatch may have, times their size */
-    for (size_t base = 0; base < d->n; base += per) {
-        const size_t m = d->n - base < per ? d->n - base : per;
+    GLint maxw = 0, maxh = 0;
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &maxw);
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &maxh);
+    const size_t width = maxw < 4096 ? (size_t)maxw : 4096, rows = (size_t)maxh; /* Gaussian base + y·width + x */
+    glUniform1ui(glGetUniformLocation(p, "u_width"), (GLuint)width);
+    for (size_t base = 0; base < d->n; base += width * rows) {
+        const size_t m = d->n - base < width * rows ? d->n - base : width * rows;
         glUniform1ui(glGetUniformLocation(p, "u_base"), (GLuint)base);
-        glDispatchCompute((GLuint)((m + 255) / 256), 1, 1);
+        draw_bare(c, (int)(m < width ? m : width), (int)((m + width - 1) / width));
     }
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glGetNamedBufferSubData(c->gbuf[GL_GBUF_REC], 0, (GLsizeiptr)rbytes, rec);
@@ -125,7 +153,7 @@ spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c->gbuf[GL_GBUF_COUNT]);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     gl__probe_begin(c);
-    glDispatchCompute((GLuint)gx, (GLuint)gy, 1);
+    draw_bare(c, (int)d->prm[SPR_GPRM_W], (int)d->prm[SPR_GPRM_H]);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     if (b->probe && (r = gl__probe_end(c, b->probe->n_frags))) {
@@ -181,6 +209,8 @@ void gl__gauss_free(gl_context *c)
 {
     glDeleteBuffers(GL_GBUF__COUNT, c->gbuf);
     glDeleteTextures(3, c->gtex);
+    if (c->gfbo) glDeleteFramebuffers(1, &c->gfbo);
+    c->gfbo = 0;
     for (int k = 0; k < GL_GPROG__COUNT; k++)
         if (c->gprog[k]) glDeleteProgram(c->gprog[k]);
     memset(c->gbuf, 0, sizeof c->gbuf);

@@ -83,6 +83,7 @@ typedef struct gl_context {
     GLuint gbuf[GL_GBUF__COUNT];
     size_t gcap[GL_GBUF__COUNT];
     GLuint gtex[3];     /* records, tile ranges, tile lists as buffer textures (units 10, 11, 12) */
+    GLuint gfbo;        /* the Gaussian programs' attachment-less framebuffer (its size set per draw) */
     int probe_programs; /* programs built with SPR_PROBE (spr_gl_desc.probe) */
     GLuint probe_buf;   /* their records (gl_prelude.glsl) */
 } gl_context;

@@ -57,12 +57,7 @@ layout(binding = 12) uniform usamplerBuffer u_glist;   /* the tiles' sorted list
  * 16 words a record: kind, two integers, then float bits. */
 layout(std430, binding = 6) coherent buffer SprProbe { uint spr_probe_n; uint spr_probe_pad0; uint spr_probe_pad1; uint spr_probe_pad2; uint spr_probe_rec[]; };
 uniform ivec2 u_probe;
-#ifdef SPR_COMPUTE
-ivec2 spr_probe_xy; /* compute programs: the invocation's pixel, set by main */
-bool spr_probe_here() { return spr_probe_xy == u_probe; }
-#else
 bool spr_probe_here() { return ivec2(gl_FragCoord.xy) == u_probe; }
-#endif
 uint spr_probe_slot()
 {
     uint i = atomicAdd(spr_probe_n, 1u);

@@ -25,7 +25,7 @@
 
 /* The embedded files (generated gl_sources.c). */
 extern const char *const spr__src_arith_parts[]; /* core/render/arith/, in ORDER (generated gl_arith_parts.c) */
-extern const char spr__src_gauss_pre_comp[], spr__src_gauss_raster_comp[], spr__src_gauss_blend_frag[];
+extern const char spr__src_gauss_pre_frag[], spr__src_gauss_raster_frag[], spr__src_gauss_blend_frag[];
 extern const char spr__src_prelude[], spr__src_splat_vert[], spr__src_splat_frag[],
     spr__src_full_vert[], spr__src_composite_frag[], spr__src_rect_frag[];
 
@@ -123,12 +123,11 @@ static const char *const comp_fn[SPR_COMP__COUNT] = {
 #undef GL__FN
 };
 
-/* op ≥ 0: a composite program for that op; fragment 2: a compute program. */
+/* op ≥ 0: a composite program for that op. */
 static char *assemble(const char *main_src, int fragment, int op, int probe)
 {
     strbuf b = {0};
     sb_add(&b, "#version 450 core\n");
-    if (fragment == 2) sb_add(&b, "#define SPR_COMPUTE 1\n");
     if (fragment) {
         if (probe) sb_add(&b, "#define SPR_PROBE 1\n");
         add_constants(&b);
@@ -235,28 +234,15 @@ spr_result gl__build_programs(gl_context *c, spr_error *err)
     return SPR_OK;
 }
 
-/* A compute program of one main file, the shared text before it. */
-static GLuint link_compute(const char *main_src, int probe, const char *name, spr_error *err)
-{
-    char *cs = assemble(main_src, 2, -1, probe);
-    if (!cs) {
-        spr__fail(err, SPR_E_NOMEM, "gl: out of memory assembling %s", name);
-        return 0;
-    }
-    GLuint sh = compile(GL_COMPUTE_SHADER, cs, name, err);
-    free(cs);
-    if (!sh) return 0;
-    return link_shaders(&sh, 1, name, err);
-}
-
 spr_result gl__gauss_program(gl_context *c, int which, spr_error *err)
 {
     if (c->gprog[which]) return SPR_OK;
     static const char *const names[GL_GPROG__COUNT] = {"gauss preprocess", "gauss raster", "gauss blend"};
-    static const char *const need[GL_GPROG__COUNT][5] = {{"u_g", "u_n", "u_base", NULL}, {"u_g", "u_bg", "u_layer", "u_has", NULL},
+    static const char *const need[GL_GPROG__COUNT][5] = {{"u_g", "u_n", "u_base", "u_width", NULL}, {"u_g", "u_bg", "u_layer", "u_has", NULL},
                                                           {"u_g", "u_size", NULL}};
-    GLuint p = which == GL_GPROG_PRE      ? link_compute(spr__src_gauss_pre_comp, 0, names[which], err)
-               : which == GL_GPROG_RASTER ? link_compute(spr__src_gauss_raster_comp, c->probe_programs, names[which], err)
+    /* fragment programs all three: llvmpipe flushes denormals in fragments, not in compute invocations (PARITY.md rule 6) */
+    GLuint p = which == GL_GPROG_PRE      ? link(spr__src_full_vert, spr__src_gauss_pre_frag, -1, 0, names[which], err)
+               : which == GL_GPROG_RASTER ? link(spr__src_full_vert, spr__src_gauss_raster_frag, -1, c->probe_programs, names[which], err)
                                           : link(spr__src_splat_vert, spr__src_gauss_blend_frag, -1, c->probe_programs, names[which], err);
     if (!p) return err->code;
     for (int k = 0; need[which][k]; k++)

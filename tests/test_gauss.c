@@ -784,6 +784,56 @@ START_TEST(history_names_the_stop)
 }
 END_TEST
 
+/* PARITY.md rule 6 in the Gaussian passes: a value below 2^-126 is 0 on
+ * both backends (the reference's threads flush; llvmpipe flushes in
+ * fragment programs, not in compute invocations: a compute program made
+ * the first case 2.7e-20, parity --random seed 20261205 scene 481). */
+START_TEST(subnormals_flush_on_both_backends)
+{
+    float g[SPR_GPRM_COUNT];
+    identity_params(g, 16, 16, 100.0);
+    const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, t[3] = {0, 0, 0};
+    spr_view v;
+    pinhole_view(16, 16, 100.0, 100.0, 8.0, 8.0, R, t, &v);
+    spr_backend *b[2] = {cpu, gl};
+    /* preprocessing, --gauss-aa of gsplat (no floor): σ = 5e-12 at z = 5, J = 20: P0 = P3 = 400·2.5e-23 = 1e-20,
+     * det₀ = P0·P3 = 1e-40 < 2^-126 flushes to 0, so o·sqrt(det₀/det) = 0 (kept, it would be 0.8·sqrt(1e-40/0.09) = 2.7e-20) */
+    g[SPR_GPRM_AA] = 1.0f, g[SPR_GPRM_AA_MIN] = 0.0f;
+    const float mu[3] = {0.0f, 0.0f, 5.0f}, q[4] = {1, 0, 0, 0}, sg[3] = {5e-12f, 5e-12f, 5e-12f}, o = 0.8f, c[3] = {0.2f, 0.4f, 0.6f};
+    spr_gauss_desc gd = {.n = 1, .mu = mu, .q = q, .s = sg, .opacity = &o, .color = c};
+    memcpy(gd.prm, g, sizeof g);
+    float rec[2][SPR_GREC_FLOATS];
+    for (int k = 0; k < 2; k++) {
+        ck_assert_int_eq(spr_backend_set_view(b[k], &v), SPR_OK);
+        ck_assert_msg(spr_backend_gauss_preprocess(b[k], &gd, rec[k]) == SPR_OK, "%s", b[k]->err.msg);
+        ck_assert_float_eq(rec[k][SPR_GREC_CULL], SPR_GCULL_NONE);
+        ck_assert_msg(rec[k][SPR_GREC_OPACITY] == 0.0f, "%s: opacity %.9g, not flushed", b[k]->name, (double)rec[k][SPR_GREC_OPACITY]);
+    }
+    ck_assert(memcmp(rec[0], rec[1], sizeof rec[0]) == 0);
+    /* the pixel loop: colour 2e-38 at α = 0.5, T = 1: c·α·T = 1e-38 < 2^-126 is 0; green 0.25·0.5 = 0.125; background 0 */
+    identity_params(g, 16, 16, 100.0);
+    float one[SPR_GREC_FLOATS];
+    const float half[1] = {0.5f}, col[1][3] = {{2e-38f, 0.25f, 1.0f}};
+    stack_records(one, 1, half, col);
+    const uint32_t range[2] = {0, 1}, list[1] = {0};
+    spr_gauss_raster_desc rd = {.rec = one, .n = 1, .range = range, .list = list};
+    memcpy(rd.prm, g, sizeof g);
+    for (int k = 0; k < 2; k++) {
+        int tg = -1;
+        spr_draw_stats st = {0};
+        ck_assert_int_eq(spr_backend_target_create(b[k], SPR_PLANES_GAUSS3D, &tg), SPR_OK);
+        ck_assert_msg(spr_backend_gauss_raster(b[k], tg, &rd, &st) == SPR_OK, "%s", b[k]->err.msg);
+        float px[16 * 16 * 4];
+        ck_assert_int_eq(spr_backend_read_plane_f(b[k], tg, SPR_PLANE_COLOR, px), SPR_OK);
+        const float *at = px + 4 * (13 * 16 + 3); /* pixel (3, 2): plane row 13 */
+        ck_assert_msg(at[0] == 0.0f, "%s: red %.9g, not flushed", b[k]->name, (double)at[0]);
+        ck_assert_float_eq(at[1], 0.125f);
+        ck_assert_float_eq(at[3], 0.5f);
+        spr_backend_target_destroy(b[k], tg);
+    }
+}
+END_TEST
+
 Suite *make_gauss_gl_suite(void)
 {
     Suite *s = suite_create("gauss_gl");
@@ -792,6 +842,7 @@ Suite *make_gauss_gl_suite(void)
     tcase_add_unchecked_fixture(tc, gl_setup, gl_teardown);
     tcase_add_test(tc, gauss_parity_captures_and_generated);
     tcase_add_test(tc, history_names_the_stop);
+    tcase_add_test(tc, subnormals_flush_on_both_backends);
     suite_add_tcase(s, tc);
     return s;
 }
