@@ -114,9 +114,13 @@ static int gauss_scene(rscene *s, uint64_t *st, spr_error *err)
               faint = chance(st, 0.3);
     s->gauss_aa = chance(st, 0.3);
     s->flavor = chance(st, 0.3) ? SPR_FLAVOR_GSPLAT : SPR_FLAVOR_INRIA;
-    char f[160];
-    snprintf(f, sizeof f, "gaussians SH%d%s%s%s%s%s%s%s%s", deg, needles ? " needles" : "", huge ? " huge" : "", borders ? " tile-borders" : "",
-             near ? " near" : "", deep ? " deep-stack" : "", faint ? " faint" : "", s->gauss_aa ? " aa" : "",
+    /* the subnormal feature draws from a stream of its own (forked from the state, which it does not advance), so a
+     * scene without it is the scene its seed and index gave before the feature existed */
+    uint64_t sub_st = *st ^ 0x9e3779b97f4a7c15u;
+    const int subnormal = chance(&sub_st, 0.2);
+    char f[176];
+    snprintf(f, sizeof f, "gaussians SH%d%s%s%s%s%s%s%s%s%s", deg, needles ? " needles" : "", huge ? " huge" : "", borders ? " tile-borders" : "",
+             near ? " near" : "", deep ? " deep-stack" : "", faint ? " faint" : "", subnormal ? " subnormal" : "", s->gauss_aa ? " aa" : "",
              s->flavor == SPR_FLAVOR_GSPLAT ? " gsplat" : "");
     feature(s, f);
     const spr_pinhole *p = &s->view.cv;
@@ -150,6 +154,8 @@ static int gauss_scene(rscene *s, uint64_t *st, spr_error *err)
         }
         if (huge && chance(st, 0.15))
             for (int a = 0; a < 3; a++) s->g_logs[3 * k + a] = (float)log(1.0 + 6.0 * spr__uniform01(st));
+        if (subnormal && chance(&sub_st, 0.3)) /* σ = r·10^−(8…12): the projected covariance about 1e-20, its products about 2^-126 */
+            for (int a = 0; a < 3; a++) s->g_logs[3 * k + a] = (float)log(r * pow(10.0, -8.0 - 4.0 * spr__uniform01(&sub_st)));
         double q[4], l = 0.0;
         do {
             l = 0.0;
