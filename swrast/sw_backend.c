@@ -14,6 +14,7 @@
 static void free_target(sw_target *t)
 {
     for (int p = 0; p < SPR_PLANE__COUNT; p++) free(t->plane[p]);
+    free(t->tpend);
     sw__lists_free(&t->lists);
     memset(t, 0, sizeof *t);
 }
@@ -67,6 +68,27 @@ void sw__rays(sw_context *c)
     c->ray_ok = 1;
 }
 
+/* A clear of every plane (colour to `color`, the others to the clear value
+ * of the plane table) recorded, every tile pending; the fragment lists
+ * emptied at once. */
+static void pend_all(sw_target *tg, const float color[4])
+{
+    sw__lists_free(&tg->lists);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
+        if (!(tg->planes & SPR_PLANE_BIT(p))) continue;
+        const spr_plane_info *pi = spr_plane_info_of((spr_plane)p);
+        for (int k = 0; k < pi->channels; k++) {
+            if (p == SPR_PLANE_COLOR) memcpy(&tg->pval[p][k], &color[k], 4);
+            else if (spr_plane_type_uint(pi->type)) tg->pval[p][k] = (uint32_t)pi->clear;
+            else { float f = (float)pi->clear; memcpy(&tg->pval[p][k], &f, 4); }
+        }
+    }
+    memset(tg->tpend, 1, tg->ntiles);
+    tg->pending = 1;
+    tg->zero_clear = color[0] == 0.0f && color[1] == 0.0f && color[2] == 0.0f && color[3] == 0.0f && !signbit(color[0]) &&
+                     !signbit(color[1]) && !signbit(color[2]) && !signbit(color[3]);
+}
+
 static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)
 {
     sw_context *c = sw_ctx(b);
@@ -84,8 +106,19 @@ static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)
             return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a target");
         }
     }
-    sw__lists_free(&tg->lists);
-    tg->pending = 1; /* the zero clear, done at the first use unless a clear comes first */
+    const size_t ntiles = sw__tiles(&b->view);
+    if (tg->ntiles != ntiles) {
+        free(tg->tpend);
+        tg->ntiles = 0;
+        if (!(tg->tpend = malloc(ntiles))) {
+            free_target(tg);
+            return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a target");
+        }
+        tg->ntiles = ntiles;
+    }
+    tg->planes = planes;
+    static const float zero[4] = {0, 0, 0, 0};
+    pend_all(tg, zero); /* the zero clear, done tile by tile at the first use unless a clear comes first */
     return SPR_OK;
 }
 
@@ -124,42 +157,50 @@ static void fill_plane(uint32_t *dst, long np, int ch, const uint32_t v[4], int 
     }
 }
 
-/* Every plane of target t: colour to `color`, the others to the clear value
- * of the plane table. */
-static void clear_now(sw_context *c, int t, const float color[4])
+void sw__tile_fill(const sw_context *c, sw_target *tg, int tile)
 {
-    sw_target *tg = &c->targets[t];
-    const unsigned planes = c->base.target_planes[t];
-    const long np = (long)c->base.view.width * c->base.view.height;
-    sw__lists_free(&tg->lists); /* a clear empties the fragment lists too */
-    tg->pending = 0;
+    if (!tg->pending || !tg->tpend[tile]) return;
+    const int W = c->base.view.width, H = c->base.view.height, tiles_x = (W + SW_TILE - 1) / SW_TILE;
+    const int x0 = tile % tiles_x * SW_TILE, y0 = tile / tiles_x * SW_TILE;
+    const int x1 = x0 + SW_TILE < W ? x0 + SW_TILE : W, y1 = y0 + SW_TILE < H ? y0 + SW_TILE : H;
     for (int p = 0; p < SPR_PLANE__COUNT; p++) {
-        if (!(planes & SPR_PLANE_BIT(p))) continue;
-        const spr_plane_info *pi = spr_plane_info_of((spr_plane)p);
-        const int ch = pi->channels;
-        uint32_t v[4];
-        for (int k = 0; k < ch; k++) {
-            if (p == SPR_PLANE_COLOR) memcpy(&v[k], &color[k], 4);
-            else if (spr_plane_type_uint(pi->type)) v[k] = (uint32_t)pi->clear;
-            else { float f = (float)pi->clear; memcpy(&v[k], &f, 4); }
+        if (!(tg->planes & SPR_PLANE_BIT(p))) continue;
+        const int ch = spr_plane_channels((spr_plane)p);
+        const uint32_t *v = tg->pval[p];
+        for (int y = y0; y < y1; y++) {
+            uint32_t *q = (uint32_t *)tg->plane[p] + ((size_t)y * W + x0) * (size_t)ch;
+            if (ch == 1)
+                for (int x = 0; x < x1 - x0; x++) q[x] = v[0];
+            else
+                for (int x = 0; x < x1 - x0; x++)
+                    for (int k = 0; k < ch; k++) q[ch * x + k] = v[k];
         }
-        fill_plane(tg->plane[p], np, ch, v, c->threads);
     }
+    tg->tpend[tile] = 0;
 }
 
 sw_target *sw__target(sw_context *c, int t)
 {
     sw_target *tg = &c->targets[t];
-    if (tg->pending) {
-        static const float zero[4] = {0, 0, 0, 0};
-        clear_now(c, t, zero);
+    if (!tg->pending) return tg;
+    size_t left = 0;
+    for (size_t k = 0; k < tg->ntiles; k++) left += tg->tpend[k];
+    if (left == tg->ntiles) { /* all of it: plane by plane, streaming */
+        const long np = (long)c->base.view.width * c->base.view.height;
+        for (int p = 0; p < SPR_PLANE__COUNT; p++)
+            if (tg->planes & SPR_PLANE_BIT(p)) fill_plane(tg->plane[p], np, spr_plane_channels((spr_plane)p), tg->pval[p], c->threads);
+        memset(tg->tpend, 0, tg->ntiles);
+    } else if (left) {
+#pragma omp parallel for num_threads(c->threads) schedule(dynamic, 4)
+        for (long k = 0; k < (long)tg->ntiles; k++) sw__tile_fill(c, tg, (int)k);
     }
+    tg->pending = 0;
     return tg;
 }
 
 static spr_result sw_clear(spr_backend *b, int t, const float color[4])
 {
-    clear_now(sw_ctx(b), t, color);
+    pend_all(&sw_ctx(b)->targets[t], color);
     return SPR_OK;
 }
 
@@ -184,6 +225,7 @@ static void sw_destroy(spr_backend *b)
     free(c->ray);
     free(c->ray_soa);
     for (int k = 0; k < SW_SCRATCH__COUNT; k++) free(c->scratch[k].p);
+    for (int p = 0; p < SPR_PLANE__COUNT; p++) free(c->zband[p]);
     free(c->bins.indices);
     for (int t = 0; t < c->cap; t++) free_target(&c->targets[t]);
     free(c->targets);

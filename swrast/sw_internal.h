@@ -18,7 +18,17 @@ typedef struct sw_target {
     void *plane[SPR_PLANE__COUNT];
     size_t pixels;    /* size the buffers were allocated for */
     spr_frag_lists lists; /* fragment lists of the last list draw (first == NULL: none) */
-    int pending;      /* created and not yet cleared: every plane gets the zero clear at its first use (sw__target) */
+    /* A clear is done lazily, tile by tile (SW_TILE² pixels of the tile grid):
+     * creation or spr_backend_clear only records the pattern; a splat draw
+     * fills the tiles it draws into just before it draws (the lines then in
+     * cache), a composite the tiles it reads just before it reads them, and
+     * any other use every tile still pending (sw__target). */
+    int pending;      /* some tile may still be pending */
+    int zero_clear;   /* the pending clear is the zero clear (colour 0, every other plane its table value) */
+    unsigned planes;  /* the target's planes */
+    uint8_t *tpend;   /* per tile of the grid: 1 = not yet filled with pval */
+    size_t ntiles;    /* tiles tpend was allocated for */
+    uint32_t pval[SPR_PLANE__COUNT][4]; /* the pending clear of every plane, one pixel's words */
 } sw_target;
 #define SW_F(t, p) ((float *)(t)->plane[SPR_PLANE_##p])
 #define SW_U(t, p) ((uint32_t *)(t)->plane[SPR_PLANE_##p])
@@ -70,12 +80,26 @@ typedef struct sw_context {
     size_t ray_np;    /* and the pixels */
     sw_target *targets;
     int cap;
+    /* A band of SW_TILE rows of the zero clear, per plane a composite reads
+     * (colour, depth, opacity, normal): a composite reads an input's tile
+     * still pending the zero clear from here, not from the input's memory
+     * (sw_composite.c); zband_w is the width it was made for. */
+    float *zband[SPR_PLANE__COUNT];
+    int zband_w;
 } sw_context;
 
-/* Target t for a draw, composite or read: a target just created gets its
- * zero clear here, unless an explicit clear came first (then the planes are
- * written once a frame instead of twice). Call it before a parallel region. */
+/* Target t for a draw, composite or read with every pending tile filled
+ * (the planes are written once a frame, not at creation and again at a
+ * clear). Call it before a parallel region. */
 sw_target *sw__target(sw_context *c, int t);
+/* Tile `tile` of tg filled with its pending clear if it is still pending:
+ * from the one thread that then draws into or reads that tile. */
+void sw__tile_fill(const sw_context *c, sw_target *tg, int tile);
+/* Tiles of the view's grid. */
+static inline size_t sw__tiles(const spr_view *v)
+{
+    return (size_t)((v->width + SW_TILE - 1) / SW_TILE) * (size_t)((v->height + SW_TILE - 1) / SW_TILE);
+}
 
 /* The pixel rays of the view, computed at the first draw of a view that reads them. */
 void sw__rays(sw_context *c);

@@ -144,6 +144,7 @@ static void raster_tile(sw_context *c, sw_target *tg, const sw_draw_job *job, in
     const float *z_near = d->depth_mask ? SW_F(&c->targets[d->mask_target], DEPTH) : NULL;
     uint64_t gen = 0, passed = 0;
     const float ks = spr_draw_kernel_scale(d);
+    if (job->bin_start[tile] < job->bin_start[tile + 1]) sw__tile_fill(c, tg, tile); /* its pending clear, into the cache it is drawn in */
     for (uint32_t e = job->bin_start[tile]; e < job->bin_start[tile + 1]; e++) {
         const sw_bin_entry *be = &job->bin[e];
         const uint32_t sid = be->sid;
@@ -211,8 +212,8 @@ static spr_result raster_bins(sw_context *c, sw_target *tg, const spr_draw_desc 
 spr_result sw__draw_splats(spr_backend *b, int target, const spr_draw_desc *d, spr_draw_stats *st)
 {
     sw_context *c = sw_ctx(b);
-    sw_target *tg = sw__target(c, target);
-    if (d->depth_mask) sw__target(c, d->mask_target); /* read by the tiles: its pending clear first */
+    sw_target *tg = &c->targets[target]; /* a pending tile is filled where a tile with splats is drawn (raster_tile) */
+    if (d->depth_mask) sw__target(c, d->mask_target); /* read by the tiles: its pending tiles first */
     const spr_view *v = &b->view;
     sw__rays(c);
     const size_t n = d->indices ? d->count : d->cloud->n;

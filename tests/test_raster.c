@@ -260,6 +260,79 @@ START_TEST(kept_bins_only_for_the_same_draw)
 }
 END_TEST
 
+/* A composite reads a tile no draw touched as cleared: the CPU backend
+ * clears tile by tile where a draw or a composite gets there, and reads an
+ * input's tile still pending the zero clear from a band of that clear.
+ * 100x70 pixels (4 x 3 tiles, the last ones partial): target A drawn near
+ * the centre, B never drawn, C cleared to a colour and drawn elsewhere; the
+ * deferred composite of (A, B, C) and of (A, B) equals the one over inputs
+ * read (so filled) first, bit for bit, and by hand where nothing was drawn:
+ * C's colour over its weight 1, or the background; A still reads as
+ * cleared after the composite. */
+START_TEST(pending_tiles_composite_as_cleared)
+{
+    const int threads = _i + 1, W = 100, H = 70, np = W * H;
+    spr_error err;
+    spr_view v;
+    tu_hand_view(W, H, &v);
+    spr_cloud a, cc;
+    tu_cloud(&a, 1, (double[]){0, 0, 0}, 0.08f);
+    tu_cloud(&cc, 1, (double[]){0.9, 0.6, 0}, 0.08f);
+    tu_set_color(&cc, 0, 0.0f, 1.0f, 0.0f);
+    const float c_color[4] = {0.25f, 0.5f, 0.75f, 1.0f}, bg[3] = {0.1f, 0.2f, 0.3f};
+    float *out[2][2], *depth[2][2];
+    for (int side = 0; side < 2; side++) { /* side 1: every input read (its tiles filled) before the composites */
+        spr_backend *b = spr_swrast_create(threads, &err);
+        ck_assert_ptr_nonnull(b);
+        ck_assert_int_eq(spr_backend_set_view(b, &v), SPR_OK);
+        int t[4];
+        for (int k = 0; k < 3; k++) ck_assert_int_eq(spr_backend_target_create(b, SPR_PLANES_OPAQUE, &t[k]), SPR_OK);
+        ck_assert_int_eq(spr_backend_target_create(b, SPR_PLANES_IMAGE, &t[3]), SPR_OK);
+        ck_assert_int_eq(spr_backend_clear(b, t[2], c_color), SPR_OK);
+        spr_draw_desc d = {.cloud = &a};
+        state(&d.state);
+        spr_draw_stats st;
+        ck_assert_int_eq(spr_backend_draw(b, t[0], &d, &st), SPR_OK);
+        ck_assert_uint_gt(st.passed, 0);
+        d.cloud = &cc;
+        ck_assert_int_eq(spr_backend_draw(b, t[2], &d, &st), SPR_OK);
+        ck_assert_uint_gt(st.passed, 0);
+        float *buf = malloc((size_t)np * 4 * sizeof *buf);
+        if (side)
+            for (int k = 0; k < 3; k++) ck_assert_int_eq(spr_backend_read_plane(b, t[k], SPR_PLANE_COLOR, buf), SPR_OK);
+        for (int pass = 0; pass < 2; pass++) {
+            spr_composite_desc cd = {.op = SPR_COMP_DEFERRED, .inputs = t, .n_inputs = pass ? 2 : 3, .output = t[3], .eps_t = 0.1f,
+                                     .background = {bg[0], bg[1], bg[2]}};
+            ck_assert_int_eq(spr_backend_composite(b, &cd), SPR_OK);
+            out[side][pass] = malloc((size_t)np * 4 * sizeof(float));
+            depth[side][pass] = malloc((size_t)np * sizeof(float));
+            ck_assert_int_eq(spr_backend_read_plane(b, t[3], SPR_PLANE_COLOR, out[side][pass]), SPR_OK);
+            ck_assert_int_eq(spr_backend_read_plane(b, t[3], SPR_PLANE_DEPTH, depth[side][pass]), SPR_OK);
+        }
+        /* A after the composites: cleared where its splat is not */
+        ck_assert_int_eq(spr_backend_read_plane(b, t[0], SPR_PLANE_DEPTH, buf), SPR_OK);
+        ck_assert_float_eq(buf[0], 1.0f);
+        ck_assert_float_eq(buf[np - 1], 1.0f);
+        ck_assert_float_lt(buf[35 * W + 50], 1.0f);
+        ck_assert_int_eq(spr_backend_read_plane(b, t[0], SPR_PLANE_ID, buf), SPR_OK);
+        ck_assert_uint_eq(((uint32_t *)buf)[np - 1], 0xffffffffu);
+        free(buf);
+        spr_backend_destroy(b);
+    }
+    for (int pass = 0; pass < 2; pass++) {
+        ck_assert(memcmp(out[0][pass], out[1][pass], (size_t)np * 4 * sizeof(float)) == 0);
+        ck_assert(memcmp(depth[0][pass], depth[1][pass], (size_t)np * sizeof(float)) == 0);
+        /* pixel (2, 68), a corner no splat reaches: every input at its clear depth 1 */
+        const int i = 68 * W + 2;
+        for (int ch = 0; ch < 3; ch++) ck_assert_float_eq(out[0][pass][4 * i + ch], pass ? bg[ch] : c_color[ch]);
+        ck_assert_float_eq(depth[0][pass][i], 1.0f);
+        for (int side = 0; side < 2; side++) free(out[side][pass]), free(depth[side][pass]);
+    }
+    spr_cloud_free(&a);
+    spr_cloud_free(&cc);
+}
+END_TEST
+
 /* A target reads as cleared when created (colour 0, the other planes their
  * SPEC values: depth and test +1, id ~0, count 0, the rest 0, transmittance
  * 1), even on memory kept from a drawn target and never cleared explicitly;
@@ -618,6 +691,7 @@ Suite *make_raster_suite(void)
     tcase_add_test(tc, average_composite);
     tcase_add_test(tc, kept_bins_only_for_the_same_draw);
     tcase_add_loop_test(tc, created_targets_read_as_cleared, 0, 2);
+    tcase_add_loop_test(tc, pending_tiles_composite_as_cleared, 0, 2);
     tcase_add_test(tc, disk_lanes_are_the_scalar_test);
     tcase_add_test(tc, rays_follow_the_view);
     tcase_add_test(tc, opacity_plane);
