@@ -74,19 +74,13 @@ void sw__rays(sw_context *c)
 static void pend_all(sw_target *tg, const float color[4])
 {
     sw__lists_free(&tg->lists);
-    for (int p = 0; p < SPR_PLANE__COUNT; p++) {
-        if (!(tg->planes & SPR_PLANE_BIT(p))) continue;
-        const spr_plane_info *pi = spr_plane_info_of((spr_plane)p);
-        for (int k = 0; k < pi->channels; k++) {
-            if (p == SPR_PLANE_COLOR) memcpy(&tg->pval[p][k], &color[k], 4);
-            else if (spr_plane_type_uint(pi->type)) tg->pval[p][k] = (uint32_t)pi->clear;
-            else { float f = (float)pi->clear; memcpy(&tg->pval[p][k], &f, 4); }
-        }
-    }
+    for (int p = 0; p < SPR_PLANE__COUNT; p++)
+        if (tg->planes & SPR_PLANE_BIT(p))
+            for (int k = 0; k < spr_plane_channels((spr_plane)p); k++) tg->pval[p][k] = sw__clear_word((spr_plane)p, color, k);
     memset(tg->tpend, 1, tg->ntiles);
     tg->pending = 1;
-    tg->zero_clear = color[0] == 0.0f && color[1] == 0.0f && color[2] == 0.0f && color[3] == 0.0f && !signbit(color[0]) &&
-                     !signbit(color[1]) && !signbit(color[2]) && !signbit(color[3]);
+    static const float zero[4] = {0, 0, 0, 0};
+    tg->zero_clear = !memcmp(color, zero, sizeof zero); /* bit for bit: −0 is another clear */
 }
 
 static spr_result sw_target_create(spr_backend *b, unsigned planes, int *out)

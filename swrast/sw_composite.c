@@ -56,7 +56,7 @@ typedef struct sw_comp_io {
                         const int tile = band * tiles_x + tx;                                                     \
                         for (int k = 0; k < K; k++) {                                                             \
                             const sw_target *in = io->in[k];                                                      \
-                            const int z = io->banded && in->pending && in->zero_clear && in->tpend[tile];         \
+                            const int z = in->pending && in->zero_clear && in->tpend[tile]; /* never when not banded */ \
                             col[k] = !io->color[k] ? NULL : z ? zb[SPR_PLANE_COLOR] : io->color[k] + 4 * base;     \
                             dep[k] = !io->depth[k] ? NULL : z ? zb[SPR_PLANE_DEPTH] : io->depth[k] + base;         \
                             opa[k] = !io->opac[k] ? NULL : z ? zb[SPR_PLANE_OPACITY] : io->opac[k] + base;         \
@@ -105,8 +105,11 @@ static spr_result zero_band(sw_context *c)
         const size_t n = (size_t)W * SW_TILE * (size_t)pi->channels;
         free(c->zband[p]);
         if (!(c->zband[p] = malloc(n * sizeof(float)))) return spr__fail(&c->base.err, SPR_E_NOMEM, "cpu: out of memory for a composite");
-        const float v = p == SPR_PLANE_COLOR ? 0.0f : (float)pi->clear; /* the zero clear (pend_all) of a float plane */
-        for (size_t k = 0; k < n; k++) c->zband[p][k] = v;
+        static const float zero[4] = {0, 0, 0, 0};
+        for (size_t k = 0; k < n; k++) {
+            const uint32_t w = sw__clear_word(p, zero, (int)(k % (size_t)pi->channels)); /* the zero clear, as pend_all records it */
+            memcpy(&c->zband[p][k], &w, 4);
+        }
     }
     c->zband_w = W;
     return SPR_OK;

@@ -4,6 +4,7 @@
 
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 #include "spr_backend.h"
 #include "spr_arith_c.h"
 #if defined(__SSE__)
@@ -20,9 +21,10 @@ typedef struct sw_target {
     spr_frag_lists lists; /* fragment lists of the last list draw (first == NULL: none) */
     /* A clear is done lazily, tile by tile (SW_TILE² pixels of the tile grid):
      * creation or spr_backend_clear only records the pattern; a splat draw
-     * fills the tiles it draws into just before it draws (the lines then in
-     * cache), a composite the tiles it reads just before it reads them, and
-     * any other use every tile still pending (sw__target). */
+     * fills the tiles it draws into just before it draws, a composite reads
+     * a tile pending the zero clear from the context's zband (and fills
+     * those of another clear), and any other use fills every tile still
+     * pending (sw__target). */
     int pending;      /* some tile may still be pending */
     int zero_clear;   /* the pending clear is the zero clear (colour 0, every other plane its table value) */
     unsigned planes;  /* the target's planes */
@@ -95,6 +97,17 @@ sw_target *sw__target(sw_context *c, int t);
 /* Tile `tile` of tg filled with its pending clear if it is still pending:
  * from the one thread that then draws into or reads that tile. */
 void sw__tile_fill(const sw_context *c, sw_target *tg, int tile);
+/* Word k of one pixel of plane p cleared with colour `color` (the colour
+ * plane) or the plane table's clear value (every other plane). */
+static inline uint32_t sw__clear_word(spr_plane p, const float color[4], int k)
+{
+    const spr_plane_info *pi = spr_plane_info_of(p);
+    uint32_t w;
+    if (p == SPR_PLANE_COLOR) memcpy(&w, &color[k], 4);
+    else if (spr_plane_type_uint(pi->type)) w = (uint32_t)pi->clear;
+    else { float f = (float)pi->clear; memcpy(&w, &f, 4); }
+    return w;
+}
 /* Tiles of the view's grid. */
 static inline size_t sw__tiles(const spr_view *v)
 {
