@@ -363,6 +363,8 @@ START_TEST(overlap_areas_are_the_sample_loop)
             for (size_t j = 0; j < n; j++)
                 if (j != i) js[m++] = (uint32_t)j;
             spr_overlap_areas(&c, i, js, m, epss[e], got);
+            spr_overlap_row row;
+            spr_overlap_row_init(&row, &c, i, epss[e]);
             const double ri = c.radius[i];
             for (size_t k = 0; k < m; k++) {
                 const int hit = sample_loop_count(&c, i, js[k], epss[e], pu, pv);
@@ -371,12 +373,30 @@ START_TEST(overlap_areas_are_the_sample_loop)
                     if (differ < 5) printf("overlap: pair (%zu, %u) eps %g: %.9g, the sample loop %.9g (%d samples)\n", i, js[k], epss[e], got[k], want, hit);
                     differ++;
                 }
+                if (spr_overlap_row_positive(&row, js[k]) != (want > 0.0f)) { /* the early-exit test: A > 0 exactly */
+                    if (differ < 5) printf("overlap: pair (%zu, %u) eps %g: positive %d, the sample loop %.9g\n", i, js[k], epss[e], !(want > 0.0f), want);
+                    differ++;
+                }
                 pairs++;
                 partial += hit > 0 && hit < 256;
                 full += hit == 256;
             }
         }
-    printf("overlap: %zu ordered pairs, %zu partly overlapping, %zu whole; %zu differ from the sample loop\n", pairs, partial, full, differ);
+    /* disks so small that one sample's area is 0 in float: A is 0 whatever
+     * the count, and so is the early-exit test */
+    size_t tiny = 0;
+    for (size_t i = 3; i < n; i += 97) {
+        const float keep = c.radius[i];
+        c.radius[i] = 1e-23f;
+        spr_overlap_row row;
+        spr_overlap_row_init(&row, &c, i, 2.0);
+        for (size_t j = 0; j < n; j++)
+            if (j != i && spr_overlap_row_positive(&row, j) != (spr_overlap_area(&c, i, j, 2.0) > 0.0)) differ++;
+        c.radius[i] = keep;
+        tiny++;
+    }
+    printf("overlap: %zu ordered pairs, %zu partly overlapping, %zu whole (%zu rows of a tiny disk); %zu differ from the sample loop\n", pairs,
+           partial, full, tiny, differ);
     ck_assert_uint_eq(differ, 0);
     ck_assert_uint_gt(partial, pairs / 20); /* the set exercises the boundaries */
     ck_assert_uint_gt(full, 1000);

@@ -416,11 +416,13 @@ int cli_bench_grouping(spr__args *a, size_t npts, int reps, int quiet)
     ld.progress = spr__progress(quiet);
     spr_error err = {0};
     char path[1200];
+    ld.radius_rho = 0.55; /* the radius rule of docs/grouping.md, whose degrees match [ZP]'s Dragon */
     snprintf(path, sizeof path, "%s/meshes/armadillo.off", cli_data_dir());
     spr_cloud c;
     if (spr_sample_mesh(path, npts, 1, &ld, &c, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
     int32_t *lab = malloc(c.n * sizeof *lab), *axes = malloc(c.n * sizeof *axes);
-    printf("grouping benchmark: armadillo resampled to %zu points, best of %d, single-threaded hash, 2-thread neighbour graph and WGC\n", c.n, reps);
+    printf("grouping benchmark: armadillo resampled to %zu points (radii %.2f d_8, as docs/grouping.md), best of %d, single-threaded hash, "
+           "2-thread neighbour graph and WGC\n", c.n, ld.radius_rho, reps);
     double t_stream = 1e300, t_hash = 1e300, t_hash_normal = 1e300, t_bsp = 1e300, sum = 0.0;
     for (int r = 0; r < reps; r++) {
         double t = spr_cloud_stream_ms(&c, 1, &sum); /* the hash is single-threaded: the floor on one thread */
@@ -449,6 +451,36 @@ int cli_bench_grouping(spr__args *a, size_t npts, int reps, int quiet)
     printf("  hash mode 1, axes from a kept BSP      %9.1f ms   ratio to streaming %.2f\n", t_hash, t_hash / t_stream);
     printf("  hash mode 1, axis from own normal      %9.1f ms   ratio to streaming %.2f\n", t_hash_normal, t_hash_normal / t_stream);
     printf("  (BSP build and leaf axes, once         %9.1f ms)\n", t_bsp);
+    /* [ZP] Table 3: each mode on one thread with the BSP built in the call
+     * (mode 3: collisions handled nearer the default eye than the model's
+     * centre, as tools/grouping-tables.sh) */
+    static const double zp_ms[3] = {190.0, 580.0, 330.0};
+    spr_camera_desc cam;
+    spr_camera_defaults(&cam);
+    spr_bounds cb;
+    spr_cloud_bounds(&c, &cb);
+    spr_camera_frame(&cam, &cb);
+    double near_dist = 0.0;
+    for (int k = 0; k < 3; k++) near_dist += (0.5 * (cb.lo[k] + cb.hi[k]) - cam.eye[k]) * (0.5 * (cb.lo[k] + cb.hi[k]) - cam.eye[k]);
+    near_dist = sqrt(near_dist);
+    printf("  [ZP] Table 3, one thread, BSP built in the call (Dragon 1.1M, 2006 desktop: 190 / 580 / 330 ms)\n");
+    for (int mode = 1; mode <= 3; mode++) {
+        double best = 1e300;
+        for (int r = 0; r < reps; r++) {
+            spr_hash_desc hd;
+            spr_hash_defaults(&hd);
+            hd.mode = mode;
+            hd.threads = 1;
+            memcpy(hd.eye, cam.eye, sizeof hd.eye);
+            hd.near_dist = near_dist;
+            spr_group_stats st;
+            const double t0 = spr_now_ms();
+            if (spr_group_hash(&c, &hd, lab, &st, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
+            const double t = spr_now_ms() - t0;
+            if (t < best) best = t;
+        }
+        printf("  hash mode %d                            %9.1f ms   ratio to [ZP] %.2f\n", mode, best, best / zp_ms[mode - 1]);
+    }
     /* WGC against the neighbour graph alone */
     double t0 = spr_now_ms();
     spr_bounds b;
@@ -472,6 +504,11 @@ int cli_bench_grouping(spr__args *a, size_t npts, int reps, int quiet)
     printf("  neighbour graph (grid of columns, all pairs)   %9.1f ms\n", t_graph);
     printf("  WGC K=8 (graph %.0f, colouring %.0f, optimisation %.0f)  %9.1f ms   ratio to the graph %.2f\n", st.ms_graph, st.ms_color,
            st.ms_optimise, t_wgc, t_wgc / t_graph);
+    wd.threads = 1; /* [ZP] §6.1's "about 4.6 s" for WGC's basic grouping: one run, one thread */
+    t0 = spr_now_ms();
+    if (spr_group_wgc(&c, &wd, lab, &st, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); return 2; }
+    t_wgc = spr_now_ms() - t0;
+    printf("  WGC K=8, one thread, one run             %9.1f ms   ratio to [ZP]'s 4.6 s %.2f\n", t_wgc, t_wgc / 4600.0);
     free(lab);
     free(axes);
     spr_cloud_free(&c);

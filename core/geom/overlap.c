@@ -44,6 +44,21 @@ static inline int decided(const pair_bounds *pb, double rho, double ri, double r
     if (pb->ah0 + rho * pb->Rh < eps - pb->slack && pb->dperp + rho * ri < rj - pb->slack) return n;
     return -1;
 }
+/* The samples of ring k that count, one by one (branch-free, so the
+ * compiler vectorises it inside its callers' clones). */
+static inline int64_t ring_hits(int k, double h0, double a, double b, double D2, double c1, double c2, double ri2, double rj2, double eps)
+{
+    const double *u = pat_u + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS), *v = pat_v + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS),
+                 *w = pat_w + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS);
+    int64_t ring = 0;
+    for (int s = 0; s < SPR_DISK_SAMPLES / SPR_DISK_RINGS; s++) {
+        double h = h0 + u[s] * a + v[s] * b;
+        double q2 = D2 + u[s] * c1 + v[s] * c2 + ri2 * w[s];
+        ring += (fabs(h) <= eps) & (q2 - h * h <= rj2);
+    }
+    return ring;
+}
+
 __attribute__((target_clones("avx2", "default")))
 static int count_hits(double h0, double a, double b, double D2, double c1, double c2, double ri, double rj, double eps, const pair_bounds *pb)
 {
@@ -51,21 +66,23 @@ static int count_hits(double h0, double a, double b, double D2, double c1, doubl
     int64_t hit = 0;
     for (int k = 0; k < SPR_DISK_RINGS; k++) {
         const int whole = decided(pb, ring_rho[k], ri, rj, eps, SPR_DISK_SAMPLES / SPR_DISK_RINGS);
-        if (whole >= 0) {
-            hit += whole;
-            continue;
-        }
-        const double *u = pat_u + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS), *v = pat_v + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS),
-                     *w = pat_w + k * (SPR_DISK_SAMPLES / SPR_DISK_RINGS);
-        int64_t ring = 0;
-        for (int s = 0; s < SPR_DISK_SAMPLES / SPR_DISK_RINGS; s++) {
-            double h = h0 + u[s] * a + v[s] * b;
-            double q2 = D2 + u[s] * c1 + v[s] * c2 + ri2 * w[s];
-            ring += (fabs(h) <= eps) & (q2 - h * h <= rj2);
-        }
-        hit += ring;
+        hit += whole >= 0 ? whole : ring_hits(k, h0, a, b, D2, c1, c2, ri2, rj2, eps);
     }
     return (int)hit;
+}
+
+/* Whether a sample of the pair counts, ring by ring as count_hits, stopping
+ * at the first ring with a hit: the same per-sample arithmetic, so it says
+ * "none" exactly when count_hits counts 0. */
+__attribute__((target_clones("avx2", "default")))
+static int any_hit(double h0, double a, double b, double D2, double c1, double c2, double ri, double rj, double eps, const pair_bounds *pb)
+{
+    const double ri2 = ri * ri, rj2 = rj * rj;
+    for (int k = 0; k < SPR_DISK_RINGS; k++) {
+        const int whole = decided(pb, ring_rho[k], ri, rj, eps, SPR_DISK_SAMPLES / SPR_DISK_RINGS);
+        if (whole > 0 || (whole < 0 && ring_hits(k, h0, a, b, D2, c1, c2, ri2, rj2, eps))) return 1;
+    }
+    return 0;
 }
 
 void spr__disk_frame(const float *n, double e1[3], double e2[3])
@@ -175,6 +192,39 @@ void spr_overlap_areas(const spr_cloud *c, size_t i, const uint32_t *js, size_t 
         }
         out[k] = (float)(M_PI * (ri * ri) * hit / SPR_DISK_SAMPLES);
     }
+}
+
+void spr_overlap_row_init(spr_overlap_row *row, const spr_cloud *c, size_t i, double eps)
+{
+    pthread_once(&pattern_once, make_pattern);
+    row->c = c;
+    row->i = i;
+    row->eps = eps;
+    row->ri = c->radius[i];
+    spr__disk_frame(c->nrm + 3 * i, row->e1, row->e2);
+    /* a sample's area as out[] of spr_overlap_areas rounds it for one hit */
+    row->tiny = !((float)(M_PI * (row->ri * row->ri) * 1 / SPR_DISK_SAMPLES) > 0.0f);
+}
+
+int spr_overlap_row_positive(const spr_overlap_row *row, size_t j)
+{
+    const spr_cloud *c = row->c;
+    if (row->tiny) { /* one sample's area rounds to 0: count them all */
+        const uint32_t jj = (uint32_t)j;
+        float a;
+        spr_overlap_areas(c, row->i, &jj, 1, row->eps, &a);
+        return a > 0.0f;
+    }
+    const double ri = row->ri, *e1 = row->e1, *e2 = row->e2;
+    pair_terms t;
+    pair_terms_of(c->pos + 3 * row->i, ri, e1, e2, c->pos + 3 * j, c->nrm + 3 * j, &t);
+    const double rj = c->radius[j];
+    pair_bounds pb;
+    const int hit = whole_pair(&t, ri, rj, row->eps, &pb);
+    if (hit >= 0) return hit > 0;
+    const double *D = t.D;
+    const double c1 = 2.0 * ri * (D[0] * e1[0] + D[1] * e1[1] + D[2] * e1[2]), c2 = 2.0 * ri * (D[0] * e2[0] + D[1] * e2[1] + D[2] * e2[2]);
+    return any_hit(t.h0, t.a, t.b, t.D2, c1, c2, ri, rj, row->eps, &pb);
 }
 
 double spr_overlap_area(const spr_cloud *c, size_t i, size_t j, double eps)

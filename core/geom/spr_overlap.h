@@ -20,6 +20,17 @@
 double spr_overlap_area(const spr_cloud *c, size_t i, size_t j, double eps);
 /* A_ij for the m splats js[] at once (the same arithmetic, one frame). */
 void spr_overlap_areas(const spr_cloud *c, size_t i, const uint32_t *js, size_t m, double eps, float *out);
+/* Whether A_ij > 0 (spr_overlap_areas' float), found without counting
+ * every sample: it stops at the first ring with a sample that counts.  A
+ * row holds disk i's frame for its tests against several j. */
+typedef struct spr_overlap_row {
+    const spr_cloud *c;
+    size_t i;
+    double eps, ri, e1[3], e2[3];
+    int tiny; /* one sample's area rounds to 0 in float: the areas are counted */
+} spr_overlap_row;
+void spr_overlap_row_init(spr_overlap_row *row, const spr_cloud *c, size_t i, double eps);
+int spr_overlap_row_positive(const spr_overlap_row *row, size_t j);
 
 /* Clipped(p_i, r_i·own_scale, k) of [ZP] §4.4.2: the area of disk i (radius
  * r_i·own_scale) where some splat of cover[0..m) (radius r_j·cover_scale)

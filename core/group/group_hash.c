@@ -14,6 +14,7 @@
 #include "spr_bsp.h"
 #include "spr_group.h"
 #include "spr_overlap.h"
+#include "spr__group.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -101,14 +102,82 @@ int spr_hash_table(int64_t x, int64_t y, int K, int s)
 }
 
 /* A collision is two splats in one (x, y) entry of the hash table (SPEC
- * §5.3: "the first splat of each (x,y) cell"), whatever their axes. */
-typedef struct cell_key { int64_t x, y; uint32_t i; } cell_key;
-static int by_cell(const void *a, const void *b)
+ * §5.3: "the first splat of each (x,y) cell"), whatever their axes.  One
+ * pass in submission order over a set of the cells seen so far finds every
+ * later splat of a cell, without sorting the cells (a sort of 1.1M keys
+ * cost as much as the rest of mode 1).  The set is a bitmap over the cells'
+ * bounding rectangle when that is at most 64 bits a splat (a resampled
+ * model: a few megabytes, in cache), else an open-addressing table (linear
+ * probing, at most half full).  Written here: the set holds two integers a
+ * key and needs no deletion, less than any library's interface asks. */
+typedef struct cell_set {
+    int64_t x0, y0;
+    uint64_t w, *bits;      /* bitmap: bit (y − y0)·w + (x − x0) */
+    int64_t (*key)[2];      /* else the table */
+    unsigned char *used;
+    size_t mask;
+} cell_set;
+
+/* A set sized for the cells cell[0 … n) (min/max: their rectangle). */
+static int cell_set_init(cell_set *cs, const int64_t (*cell)[2], size_t n)
 {
-    const cell_key *p = a, *q = b;
-    if (p->x != q->x) return p->x < q->x ? -1 : 1;
-    if (p->y != q->y) return p->y < q->y ? -1 : 1;
-    return (p->i > q->i) - (p->i < q->i);
+    memset(cs, 0, sizeof *cs);
+    int64_t lo[2] = {INT64_MAX, INT64_MAX}, hi[2] = {INT64_MIN, INT64_MIN};
+    for (size_t i = 0; i < n; i++)
+        for (int a = 0; a < 2; a++) {
+            lo[a] = cell[i][a] < lo[a] ? cell[i][a] : lo[a];
+            hi[a] = cell[i][a] > hi[a] ? cell[i][a] : hi[a];
+        }
+    /* the spans as unsigned differences: no overflow for any int64 range */
+    const uint64_t w = n ? (uint64_t)hi[0] - (uint64_t)lo[0] + 1 : 1, h = n ? (uint64_t)hi[1] - (uint64_t)lo[1] + 1 : 1;
+    const uint64_t budget = 64 * (uint64_t)n + 65536;
+    if (w && h && w <= budget && h <= budget / w) {
+        cs->x0 = lo[0], cs->y0 = lo[1], cs->w = w;
+        return (cs->bits = calloc((w * h + 63) / 64, sizeof *cs->bits)) != NULL;
+    }
+    size_t cap = 16;
+    while (cap < 2 * n) cap *= 2;
+    cs->mask = cap - 1;
+    cs->key = malloc(cap * sizeof *cs->key);
+    cs->used = calloc(cap, 1);
+    return cs->key && cs->used;
+}
+
+static void cell_set_free(cell_set *cs)
+{
+    free(cs->bits);
+    free(cs->key);
+    free(cs->used);
+}
+
+/* The table slot of (x, y): where it is, else the empty slot it would take. */
+static size_t cell_set_slot(const cell_set *cs, int64_t x, int64_t y)
+{
+    uint64_t h = ((uint64_t)x * 0x9E3779B97F4A7C15ull) ^ ((uint64_t)y * 0xC2B2AE3D27D4EB4Full);
+    h ^= h >> 29;
+    size_t s = (size_t)h & cs->mask;
+    while (cs->used[s] && (cs->key[s][0] != x || cs->key[s][1] != y)) s = (s + 1) & cs->mask;
+    return s;
+}
+
+/* Whether (x, y) is in the set; with add, put it there too. */
+static int cell_set_test(cell_set *cs, const int64_t cell[2], int add)
+{
+    if (cs->bits) {
+        const uint64_t b = ((uint64_t)cell[1] - (uint64_t)cs->y0) * cs->w + ((uint64_t)cell[0] - (uint64_t)cs->x0);
+        const uint64_t m = 1ull << (b & 63);
+        const int had = (cs->bits[b >> 6] & m) != 0;
+        if (add) cs->bits[b >> 6] |= m;
+        return had;
+    }
+    const size_t s = cell_set_slot(cs, cell[0], cell[1]);
+    const int had = cs->used[s];
+    if (add && !had) {
+        cs->used[s] = 1;
+        cs->key[s][0] = cell[0];
+        cs->key[s][1] = cell[1];
+    }
+    return had;
 }
 
 /* Axes of all splats (BSP leaf normal or own normal). */
@@ -145,65 +214,128 @@ static int handles_collision(const spr_hash_desc *d, const spr_cloud *c, size_t 
     return sqrt(q) < d->near_dist;
 }
 
-/* Group of minimal total overlap with placed neighbours (A over og's edges from v). */
-static int least_overlap(const spr_overlap_graph *og, size_t v, const int32_t *label, const unsigned char *placed, int K,
-                         int table)
+enum { PLACED = 0, PENDING = 1, PENDING_COLLIDES = 2 };
+
+/* When pending splat i is placed, the placed splats are those placed from
+ * the start and the pending ones before it: its only neighbours that count. */
+static int placed_before(const void *user, size_t i, size_t j)
 {
+    const unsigned char *state = user;
+    return state[j] == PLACED || j < i;
+}
+
+/* Whether group k's placed neighbours adj[0 … m) of row's splat overlap it:
+ * Σ A > 0. */
+static int group_overlaps(const spr_overlap_row *row, const uint32_t *adj, size_t m, const int32_t *lab, int k)
+{
+    for (size_t e = 0; e < m; e++)
+        if (lab[adj[e]] == k && spr_overlap_row_positive(row, adj[e])) return 1;
+    return 0;
+}
+
+typedef struct area_edge { uint32_t j; int32_t g; float a; } area_edge;
+
+/* The group of least total overlap Σ A_vj with v's placed neighbours adj[0
+ * … m) (indices of the copy sp, labels lab in its order), ties: the table
+ * group if minimal, else the smallest k.  Not every area is needed: a
+ * group with no placed neighbour sums to exactly 0, the least possible, so
+ * when there is one the answer is the table group if its sum is 0, else
+ * the smallest group whose sum is 0; a sum is 0 when none of its areas is
+ * positive, found without counting every sample.  Only a row whose every
+ * group has a placed neighbour sums its areas, in the cloud's index order
+ * (order: copy → cloud) as a full overlap graph's row would.  a, buf: room
+ * for m areas and edges. */
+static int least_overlap(const spr_cloud *sp, const uint32_t *order, const uint32_t *adj, size_t m, size_t v, const int32_t *lab, int K,
+                         int table, double eps, float *a, area_edge *buf)
+{
+    size_t cnt[SPR_MAX_GROUPS] = {0};
+    for (size_t e = 0; e < m; e++) cnt[lab[adj[e]]]++;
+    if (!cnt[table]) return table;
+    int empty = -1;
+    for (int k = 0; k < K && empty < 0; k++)
+        if (!cnt[k]) empty = k;
+    if (empty >= 0) {
+        spr_overlap_row row;
+        spr_overlap_row_init(&row, sp, v, eps);
+        if (!group_overlaps(&row, adj, m, lab, table)) return table;
+        for (int k = 0; k < empty; k++)
+            if (k != table && !group_overlaps(&row, adj, m, lab, k)) return k;
+        return empty;
+    }
+    spr_overlap_areas(sp, v, adj, m, eps, a);
+    for (size_t e = 0; e < m; e++) { /* insertion by cloud index: rows are short */
+        const area_edge x = {order[adj[e]], lab[adj[e]], a[e]};
+        size_t y = e;
+        for (; y > 0 && buf[y - 1].j > x.j; y--) buf[y] = buf[y - 1];
+        buf[y] = x;
+    }
     double sum[SPR_MAX_GROUPS];
     for (int k = 0; k < K; k++) sum[k] = 0.0;
-    for (uint64_t e = og->g.start[v]; e < og->g.start[v + 1]; e++) {
-        uint32_t j = og->g.adj[e];
-        if (placed[j]) sum[label[j]] += og->A[e];
-    }
+    for (size_t e = 0; e < m; e++) sum[buf[e].g] += buf[e].a;
     int best = table;
     for (int k = 0; k < K; k++)
         if (sum[k] < sum[best]) best = k;
     return best;
 }
 
-static int same_cell(const cell_key *a, const cell_key *b) { return a->x == b->x && a->y == b->y; }
-
-enum { PLACED = 0, PENDING = 1, PENDING_COLLIDES = 2 };
-
-/* When pending splat i is placed, the placed splats are those placed from
- * the start and the pending ones before it: the only areas it reads. */
-static int placed_before(const void *user, size_t i, uint32_t j)
-{
-    const unsigned char *state = user;
-    return state[j] == PLACED || j < i;
-}
-
 /* Place the pending splats in submission order, after every placed one: a
  * colliding splat takes the group of least total overlap A with the splats
  * placed before it (ties: its table group if minimal, else the smallest k);
- * the others keep their table group. */
+ * the others keep their table group.  The rows and areas are those of the
+ * Morton-ordered copy (a colliding splat's neighbours lie close there). */
 static spr_result place_pending(const spr_cloud *c, spr_hash_desc *d, int32_t *label, const unsigned char *state,
                                 spr_group_stats *st, spr_error *err)
 {
     size_t colliding = 0;
     for (size_t i = 0; i < c->n; i++) colliding += state[i] == PENDING_COLLIDES;
     if (!colliding) return SPR_OK;
-    unsigned char *placed = malloc(c->n);
-    if (!placed) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
-    for (size_t i = 0; i < c->n; i++) placed[i] = state[i] == PLACED;
-    spr_overlap_graph og;
-    double t1 = spr_now_ms();
     if (!(d->eps > 0.0)) d->eps = spr_cloud_default_eps(c); /* a full pass: only when collisions need areas */
-    /* neighbours and areas only for the colliding splats: mode 3 does
-     * collision work only for the splats nearer than its threshold */
-    spr_result r = spr_overlap_graph_build_rows_need(c, d->eps, state, PENDING_COLLIDES, d->threads, &d->progress, placed_before, state, &og, err);
+    /* the colliding rows only (mode 3: those nearer than its threshold),
+     * each with its neighbours placed before it */
+    spr__spatial sp;
+    spr_graph g;
+    double t1 = spr_now_ms();
+    spr_result r = spr__pair_graph_spatial(c, 1.0, state, PENDING_COLLIDES, d->threads, &d->progress, placed_before, state, &sp, &g, err);
     st->ms_graph = spr_now_ms() - t1;
-    for (size_t i = 0; !r && i < c->n; i++) {
-        if (state[i] == PLACED) continue;
-        if (state[i] == PENDING_COLLIDES) {
-            int g = least_overlap(&og, i, label, placed, d->K, label[i]);
-            st->displaced += g != label[i];
-            label[i] = g;
+    if (r) return r;
+    uint64_t max_deg = 1;
+    for (size_t q = 0; q < c->n; q++)
+        if (g.start[q + 1] - g.start[q] > max_deg) max_deg = g.start[q + 1] - g.start[q];
+    area_edge *buf = malloc(max_deg * sizeof *buf);
+    float *a = malloc(max_deg * sizeof *a);
+    int32_t *lab = malloc((c->n ? c->n : 1) * sizeof *lab); /* the labels in the copy's order */
+    if (!buf || !a || !lab) r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+    for (size_t q = 0; !r && q < c->n; q++) lab[q] = label[sp.order[q]];
+    /* the colliding splats in submission order, so the rows ahead can be
+     * fetched: each is a random row of the copy, its neighbours' data and
+     * labels close to it there */
+    size_t nl = 0;
+    uint32_t *todo = r ? NULL : malloc(colliding * sizeof *todo);
+    if (!r && !todo) r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+    for (size_t i = 0; !r && i < c->n; i++)
+        if (state[i] == PENDING_COLLIDES) todo[nl++] = (uint32_t)i;
+    for (size_t t = 0; !r && t < nl; t++) {
+        if (t + 16 < nl) { /* hints, no arithmetic: the row's bounds, label and data first, its entries later */
+            const uint32_t q2 = sp.rank[todo[t + 16]];
+            __builtin_prefetch(g.start + q2);
+            __builtin_prefetch(lab + q2);
+            __builtin_prefetch(sp.c.pos + 3 * (size_t)q2);
+            __builtin_prefetch(sp.c.nrm + 3 * (size_t)q2);
         }
-        placed[i] = 1;
+        if (t + 8 < nl) __builtin_prefetch(g.adj + g.start[sp.rank[todo[t + 8]]]);
+        const size_t i = todo[t];
+        const uint32_t q = sp.rank[i];
+        const int k = least_overlap(&sp.c, sp.order, g.adj + g.start[q], (size_t)(g.start[q + 1] - g.start[q]), q, lab, d->K, label[i],
+                                    d->eps, a, buf);
+        st->displaced += k != label[i];
+        label[i] = lab[q] = k;
     }
-    if (!r) spr_overlap_graph_free(&og);
-    free(placed);
+    free(todo);
+    free(lab);
+    free(a);
+    free(buf);
+    spr_graph_free(&g);
+    spr__spatial_free(&sp);
     return r;
 }
 
@@ -216,15 +348,22 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
     double t0 = spr_now_ms();
     const int s = d.K > 1 ? spr_hash_step(d.K) : 0;
     spr_result r = SPR_OK;
-    int32_t *axis = NULL;
-    if (d.axes) {
-        axis = (int32_t *)d.axes; /* not freed below */
-    } else if (d.axis == SPR_HASH_AXIS_BSP || d.mode != 1) {
-        if (!(axis = malloc((c->n ? c->n : 1) * sizeof *axis))) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+    int32_t *own = NULL; /* the axes computed here */
+    const int32_t *axis = d.axes;
+    cell_set cs = {0};
+    unsigned char *state = NULL;
+    int64_t (*cell)[2] = NULL; /* modes 2/3: every splat's cell, for the collisions */
+    if (!axis && (d.axis == SPR_HASH_AXIS_BSP || d.mode != 1)) {
+        if (!(own = malloc((c->n ? c->n : 1) * sizeof *own))) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
         spr_progress_report(&d.progress, "BSP tree", 0, 1);
-        r = spr__hash_axes_threads(c, d.axis, d.threads, axis, err);
+        r = spr__hash_axes_threads(c, d.axis, d.threads, own, err);
         spr_progress_report(&d.progress, "BSP tree", 1, 1);
-        if (r) { free(axis); return r; }
+        if (r) { free(own); return r; }
+        axis = own;
+    }
+    if (d.mode != 1 && (!(cell = malloc((c->n ? c->n : 1) * sizeof *cell)) || !(state = calloc(c->n ? c->n : 1, 1)))) {
+        r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+        goto done;
     }
     const int pow2 = (d.K & (d.K - 1)) == 0;
     for (size_t i = 0; i < c->n; i++) { /* the per-frame work: one pass */
@@ -232,35 +371,24 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
         spr_hash_cell(c, i, axis ? axis[i] : spr_hash_axis_of(c->nrm + 3 * i), &x, &y);
         /* two's complement masking is the non-negative remainder for K = 2^m */
         label[i] = pow2 ? (int32_t)((x + (int64_t)s * y) & (d.K - 1)) : spr_hash_table(x, y, d.K, s);
+        if (cell) cell[i][0] = x, cell[i][1] = y;
     }
     st->K = d.K;
     st->ms_color = spr_now_ms() - t0;
-    if (axis == d.axes) axis = NULL;
-    if (d.mode == 1) { free(axis); return SPR_OK; }
-    if (!axis) {
-        if (!(axis = malloc((c->n ? c->n : 1) * sizeof *axis))) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
-        if (d.axes) memcpy(axis, d.axes, c->n * sizeof *axis);
-        else if ((r = spr__hash_axes_threads(c, d.axis, d.threads, axis, err))) { free(axis); return r; }
-    }
+    if (d.mode == 1) goto done;
 
     /* modes 2/3: the first splat of each cell keeps its group, the later
      * ones (where collisions are handled) are queued */
-    cell_key *keys = malloc(c->n * sizeof *keys);
-    unsigned char *state = calloc(c->n ? c->n : 1, 1);
-    if (!keys || !state) { r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory"); goto done; }
-    for (size_t i = 0; i < c->n; i++) {
-        spr_hash_cell(c, i, axis[i], &keys[i].x, &keys[i].y);
-        keys[i].i = (uint32_t)i;
-    }
-    qsort(keys, c->n, sizeof *keys, by_cell);
-    for (size_t k = 1; k < c->n; k++)
-        if (same_cell(&keys[k], &keys[k - 1]) && handles_collision(&d, c, keys[k].i)) state[keys[k].i] = PENDING_COLLIDES;
+    if (!cell_set_init(&cs, (const int64_t (*)[2])cell, c->n)) { r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory"); goto done; }
+    for (size_t i = 0; i < c->n; i++)
+        if (cell_set_test(&cs, cell[i], 1) && handles_collision(&d, c, i)) state[i] = PENDING_COLLIDES;
     r = place_pending(c, &d, label, state, st, err);
     st->ms_optimise = spr_now_ms() - t0 - st->ms_color;
 done:
-    free(keys);
+    cell_set_free(&cs);
+    free(cell);
     free(state);
-    free(axis);
+    free(own);
     return r;
 }
 
@@ -275,7 +403,8 @@ spr_result spr_group_hash_update(const spr_cloud *c, const spr_hash_desc *din, i
     const int s = d.K > 1 ? spr_hash_step(d.K) : 0;
     int32_t *axis = malloc((c->n ? c->n : 1) * sizeof *axis);
     unsigned char *state = calloc(c->n ? c->n : 1, 1);
-    cell_key *keys = NULL;
+    cell_set cs = {0};
+    int64_t (*cell)[2] = NULL;
     if (!axis || !state) { free(axis); free(state); return spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); }
     spr_result r = d.axes ? (memcpy(axis, d.axes, c->n * sizeof *axis), SPR_OK) : spr__hash_axes_threads(c, d.axis, d.threads, axis, err);
     for (size_t k = 0; k < m && !r; k++) {
@@ -290,30 +419,18 @@ spr_result spr_group_hash_update(const spr_cloud *c, const spr_hash_desc *din, i
     }
     if (d.mode != 1 && m) {
         /* a changed splat collides when an unchanged splat holds its cell */
-        if (!(keys = malloc(c->n * sizeof *keys))) { r = spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); goto done; }
-        size_t nk = 0;
+        if (!(cell = malloc(c->n * sizeof *cell))) { r = spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); goto done; }
+        for (size_t i = 0; i < c->n; i++) spr_hash_cell(c, i, axis[i], &cell[i][0], &cell[i][1]);
+        if (!cell_set_init(&cs, (const int64_t (*)[2])cell, c->n)) { r = spr__fail(err, SPR_E_NOMEM, "hash update: out of memory"); goto done; }
         for (size_t i = 0; i < c->n; i++)
-            if (!state[i]) {
-                keys[nk] = (cell_key){0, 0, (uint32_t)i};
-                spr_hash_cell(c, i, axis[i], &keys[nk].x, &keys[nk].y);
-                nk++;
-            }
-        qsort(keys, nk, sizeof *keys, by_cell);
-        for (size_t i = 0; i < c->n; i++) {
-            if (!state[i]) continue;
-            cell_key probe = {0, 0, 0};
-            spr_hash_cell(c, i, axis[i], &probe.x, &probe.y);
-            size_t lo = 0, hi = nk;
-            while (lo < hi) {
-                size_t mid = (lo + hi) / 2;
-                if (by_cell(&keys[mid], &probe) < 0) lo = mid + 1; else hi = mid;
-            }
-            if (lo < nk && same_cell(&keys[lo], &probe) && handles_collision(&d, c, i)) state[i] = PENDING_COLLIDES;
-        }
+            if (!state[i]) cell_set_test(&cs, cell[i], 1);
+        for (size_t i = 0; i < c->n; i++)
+            if (state[i] && cell_set_test(&cs, cell[i], 0) && handles_collision(&d, c, i)) state[i] = PENDING_COLLIDES;
         r = place_pending(c, &d, label, state, st, err);
     }
 done:
-    free(keys);
+    cell_set_free(&cs);
+    free(cell);
     free(axis);
     free(state);
     return r;

@@ -4,7 +4,7 @@
  * by WGC, hash collision handling, extended grouping and the metrics. */
 #include "spr_group.h"
 #include "spr_overlap.h"
-#include "spr__spatial.h"
+#include "spr__group.h"
 
 #include <math.h>
 #include <omp.h>
@@ -284,45 +284,15 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
 }
 
 /* The areas of the rows of graph g over cloud c (the spatial copy, rows
- * in its order, so neighbours' data lie close), A_ij for every edge, or
- * only where need(user, order[i], order[j]) says so (−1 elsewhere). */
-static spr_result row_areas(const spr_cloud *c, const spr_graph *g, const uint32_t *order, double eps, int nt, const spr_progress *prog,
-                            spr_area_need need, const void *need_user, float *A_out, spr_error *err)
+ * in its order, so neighbours' data lie close), A_ij for every edge. */
+static spr_result row_areas(const spr_cloud *c, const spr_graph *g, double eps, int nt, const spr_progress *prog, float *A_out)
 {
     const long n = (long)c->n;
-    uint64_t max_deg = 0;
-    for (long i = 0; need && i < n; i++)
-        if (g->start[i + 1] - g->start[i] > max_deg) max_deg = g->start[i + 1] - g->start[i];
-    int failed = 0;
-#pragma omp parallel num_threads(nt) reduction(| : failed)
-    {
-        uint32_t *js = need ? malloc((max_deg ? max_deg : 1) * sizeof *js) : NULL; /* the needed neighbours of a row */
-        float *as = need ? malloc((max_deg ? max_deg : 1) * sizeof *as) : NULL;
-        failed |= need && (!js || !as);
-#pragma omp for schedule(dynamic, 256)
-        for (long i = 0; i < n; i++) {
-            if ((i & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "overlap areas", (size_t)i, (size_t)n);
-            const uint32_t *adj = g->adj + g->start[i];
-            const size_t deg = (size_t)(g->start[i + 1] - g->start[i]);
-            float *A = A_out + g->start[i];
-            if (!need) {
-                spr_overlap_areas(c, (size_t)i, adj, deg, eps, A);
-                continue;
-            }
-            if (!js || !as) continue;
-            size_t m = 0;
-            for (size_t k = 0; k < deg; k++) {
-                A[k] = -1.0f;
-                if (need(need_user, order[i], order[adj[k]])) js[m++] = adj[k];
-            }
-            spr_overlap_areas(c, (size_t)i, js, m, eps, as); /* per edge: the same arithmetic as the whole row */
-            for (size_t k = 0, q = 0; k < deg && q < m; k++)
-                if (adj[k] == js[q]) A[k] = as[q++];
-        }
-        free(js);
-        free(as);
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 256)
+    for (long i = 0; i < n; i++) {
+        if ((i & 0x3FFF) == 0 && omp_get_thread_num() == 0) spr_progress_report(prog, "overlap areas", (size_t)i, (size_t)n);
+        spr_overlap_areas(c, (size_t)i, g->adj + g->start[i], (size_t)(g->start[i + 1] - g->start[i]), eps, A_out + g->start[i]);
     }
-    if (failed) return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas");
     spr_progress_report(prog, "overlap areas", c->n, c->n);
     return SPR_OK;
 }
@@ -403,8 +373,8 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
  * every area use the same floats in either order, so the graph and its
  * areas are the bits a search in submission order gives. */
 static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
-                                const spr_progress *prog, spr__pair_keep keep, const void *user, int areas, double eps, spr_area_need need,
-                                const void *need_user, spr_graph *g, float **A, spr_error *err)
+                                const spr_progress *prog, spr__pair_keep keep, const void *user, int areas, double eps, spr_graph *g,
+                                float **A, spr_error *err)
 {
     memset(g, 0, sizeof *g);
     if (A) *A = NULL;
@@ -421,7 +391,7 @@ static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned cha
     if (areas) {
         const uint64_t w = gs.start[c->n];
         if (!(As = malloc((w ? w : 1) * sizeof *As))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas");
-        if (!r) r = row_areas(&s.c, &gs, s.order, eps, threads > 0 ? threads : 1, prog, need, need_user, As, err);
+        if (!r) r = row_areas(&s.c, &gs, eps, threads > 0 ? threads : 1, prog, As);
     }
     if (!r) r = to_cloud_order(&s, &gs, As, nt, g, areas ? A : NULL, err);
     free(As);
@@ -433,13 +403,27 @@ static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned cha
 spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
                                 const spr_progress *prog, spr_graph *g, spr_error *err)
 {
-    return spatial_graph(c, f, row, want, threads, prog, NULL, NULL, 0, 0.0, NULL, NULL, g, NULL, err);
+    return spatial_graph(c, f, row, want, threads, prog, NULL, NULL, 0, 0.0, g, NULL, err);
+}
+
+spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
+                                   const spr_progress *prog, spr__pair_keep keep, const void *user, spr__spatial *s, spr_graph *gs,
+                                   spr_error *err)
+{
+    memset(gs, 0, sizeof *gs);
+    const int nt = threads > 0 ? threads : omp_get_max_threads();
+    spr_bounds b;
+    spr_cloud_bounds(c, &b);
+    spr_result r = spr__spatial_make(c, &b, nt, s, err);
+    if (r) return r;
+    if ((r = pair_graph(&s->c, &b, f, row, want, s->order, nt, prog, keep, user, gs, err))) spr__spatial_free(s);
+    return r;
 }
 
 spr_result spr__pair_graph_keep(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr__pair_keep keep, const void *user,
                                 spr_graph *g, spr_error *err)
 {
-    return spatial_graph(c, f, NULL, 0, threads, prog, keep, user, 0, 0.0, NULL, NULL, g, NULL, err);
+    return spatial_graph(c, f, NULL, 0, threads, prog, keep, user, 0, 0.0, g, NULL, err);
 }
 
 spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
@@ -451,14 +435,7 @@ spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, 
 spr_result spr_overlap_graph_build_rows(const spr_cloud *c, double eps, const unsigned char *row, unsigned char want, int threads,
                                         const spr_progress *prog, spr_overlap_graph *og, spr_error *err)
 {
-    return spr_overlap_graph_build_rows_need(c, eps, row, want, threads, prog, NULL, NULL, og, err);
-}
-
-spr_result spr_overlap_graph_build_rows_need(const spr_cloud *c, double eps, const unsigned char *row, unsigned char want, int threads,
-                                             const spr_progress *prog, spr_area_need need, const void *need_user, spr_overlap_graph *og,
-                                             spr_error *err)
-{
     memset(og, 0, sizeof *og);
     og->eps = eps;
-    return spatial_graph(c, 1.0, row, want, threads, prog, NULL, NULL, 1, eps, need, need_user, &og->g, &og->A, err);
+    return spatial_graph(c, 1.0, row, want, threads, prog, NULL, NULL, 1, eps, &og->g, &og->A, err);
 }

@@ -127,12 +127,6 @@ void spr_overlap_graph_free(spr_overlap_graph *og);
  * empty: a one-sided graph for callers that read those rows alone). */
 spr_result spr_overlap_graph_build_rows(const spr_cloud *c, double eps, const unsigned char *row, unsigned char want, int threads,
                                         const spr_progress *prog, spr_overlap_graph *og, spr_error *err);
-/* The same with areas only where need(user, i, j) says so (the others are
- * −1): hash collisions read the areas of neighbours already placed. */
-typedef int (*spr_area_need)(const void *user, size_t i, uint32_t j);
-spr_result spr_overlap_graph_build_rows_need(const spr_cloud *c, double eps, const unsigned char *row, unsigned char want, int threads,
-                                             const spr_progress *prog, spr_area_need need, const void *need_user, spr_overlap_graph *og,
-                                             spr_error *err);
 /* All pairs with |p_i − p_j| < f·(r_i + r_j) (no areas); row (may be NULL):
  * only rows i with row[i] == want are searched. */
 spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr_graph *g, spr_error *err);
@@ -143,6 +137,7 @@ spr_result spr__pair_graph_keep(const spr_cloud *c, double f, int threads, const
                                 spr_graph *g, spr_error *err);
 spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
                                 const spr_progress *prog, spr_graph *g, spr_error *err);
+
 
 /* ---- WGC: weighted graph colouring with K colours (SPEC §5.2) ---- */
 typedef struct spr_wgc_desc {

@@ -1,0 +1,18 @@
+/* spr__group.h — grouping's internal interfaces (not installed). */
+#ifndef SPR__GROUP_H
+#define SPR__GROUP_H
+
+#include "spr_group.h"
+#include "spr__spatial.h"
+
+/* The pair graph of a cloud left on its Morton-ordered copy: *s gets the
+ * copy (free with spr__spatial_free) and *gs the rows i of the copy with
+ * row[s->order[i]] == want, each with the neighbours j (copy indices, in
+ * the order found) that keep(user, s->order[i], s->order[j]) accepts; keep
+ * is asked once per row and candidate and need not be symmetric.  For a
+ * caller that walks the rows itself: no conversion to the cloud's indices. */
+spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
+                                   const spr_progress *prog, spr__pair_keep keep, const void *user, spr__spatial *s, spr_graph *gs,
+                                   spr_error *err);
+
+#endif
