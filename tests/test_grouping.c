@@ -6,6 +6,7 @@
 #include <string.h>
 #include "spr_bsp.h"
 #include "spr_overlap.h"
+#include "spr__group.h"
 #include "test_util.h"
 
 /* SPEC §5.2: the optimisation step lowers L(G, K).  L is recomputed here
@@ -41,6 +42,19 @@ START_TEST(wgc_cost_never_rises)
         spr_overlap_graph og;
         ck_assert_int_eq(spr_overlap_graph_build(&c, spr_cloud_default_eps(&c), 1, NULL, &og, &err), SPR_OK);
         float *w = spr_wgc_weights(&c, &og);
+        { /* the weights WGC computes on its Morton copy: the same graph, areas and weights, bit for bit */
+            spr_overlap_graph og2;
+            float *w2 = NULL;
+            ck_assert_int_eq(spr__overlap_graph_weights(&c, spr_cloud_default_eps(&c), 2, NULL, &og2, &w2, &err), SPR_OK);
+            const uint64_t ne = og.g.start[c.n];
+            ck_assert(og2.g.start[c.n] == ne);
+            ck_assert_mem_eq(og2.g.start, og.g.start, (c.n + 1) * sizeof *og.g.start);
+            ck_assert_mem_eq(og2.g.adj, og.g.adj, ne * sizeof *og.g.adj);
+            ck_assert_mem_eq(og2.A, og.A, ne * sizeof *og.A);
+            ck_assert_mem_eq(w2, w, ne * sizeof *w);
+            free(w2);
+            spr_overlap_graph_free(&og2);
+        }
         double L0 = spr_wgc_cost(&og, w, lab0), L = spr_wgc_cost(&og, w, lab);
         ck_assert_msg(st.pops < 10 * c.n, "%s: the optimisation queue did not run empty (%zu pops)", models[m], st.pops);
         size_t unsettled = 0;

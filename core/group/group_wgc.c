@@ -15,6 +15,7 @@
 #include "spr_util.h"
 #include "spr_group.h"
 #include "spr_overlap.h"
+#include "spr__group.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -98,24 +99,38 @@ static uint32_t desc_key(float w)
 }
 
 /* Edges by w descending, ties by (i, j): they are made in (i, j) order, so a
- * stable sort by w alone gives it.  LSD radix sort, four 8-bit digits
- * (glibc's qsort with a comparison callback took most of this phase; no
- * Debian C library offers a radix sort). */
+ * stable sort by w alone gives it.  LSD radix sort on the 32-bit key in
+ * digits of 11, 11 and 10 bits, every digit's histogram from one pass
+ * first, a digit all keys share skipped (glibc's qsort with a comparison
+ * callback took most of this phase; no Debian C library offers a radix
+ * sort of records). */
 static int sort_edges(edge_rec *e, size_t n)
 {
+    enum { DIGITS = 3 };
+    static const int shift[DIGITS] = {0, 11, 22}, bits[DIGITS] = {11, 11, 10};
+    size_t *count = calloc(DIGITS * 2049, sizeof *count);
     edge_rec *tmp = malloc((n ? n : 1) * sizeof *tmp);
-    if (!tmp) return -1;
-    for (int pass = 0; pass < 4; pass++) {
-        const int shift = 8 * pass;
-        size_t count[257] = {0};
-        for (size_t k = 0; k < n; k++) count[((desc_key(e[k].w) >> shift) & 0xFFu) + 1]++;
-        for (int b = 0; b < 256; b++) count[b + 1] += count[b];
-        for (size_t k = 0; k < n; k++) tmp[count[(desc_key(e[k].w) >> shift) & 0xFFu]++] = e[k];
-        edge_rec *t = e;
-        e = tmp;
-        tmp = t;
+    if (!count || !tmp) { free(count); free(tmp); return -1; }
+    for (size_t k = 0; k < n; k++) {
+        const uint32_t key = desc_key(e[k].w);
+        for (int d = 0; d < DIGITS; d++) count[d * 2049 + ((key >> shift[d]) & ((1u << bits[d]) - 1)) + 1]++;
     }
-    free(tmp); /* after an even number of passes the sorted records are back in the caller's array */
+    edge_rec *src = e, *dst = tmp;
+    for (int d = 0; d < DIGITS; d++) {
+        size_t *c = count + d * 2049;
+        const uint32_t mask = (1u << bits[d]) - 1;
+        int shared = 0; /* every key in one bucket: the pass would not move anything */
+        for (uint32_t b = 0; b <= mask && !shared; b++) shared = c[b + 1] == n;
+        if (shared) continue;
+        for (uint32_t b = 0; b < mask + 1; b++) c[b + 1] += c[b];
+        for (size_t k = 0; k < n; k++) dst[c[(desc_key(src[k].w) >> shift[d]) & mask]++] = src[k];
+        edge_rec *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != e) memcpy(e, src, n * sizeof *e);
+    free(tmp);
+    free(count);
     return 0;
 }
 
@@ -134,10 +149,10 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
     memset(st, 0, sizeof *st);
     double t0 = spr_now_ms();
     spr_overlap_graph og;
-    spr_result r = spr_overlap_graph_build(c, d.eps, d.threads, &d.progress, &og, err);
+    float *w = NULL;
+    spr_result r = spr__overlap_graph_weights(c, d.eps, d.threads, &d.progress, &og, &w, err);
     if (r) return r;
     const spr_graph *g = &og.g;
-    float *w = spr_wgc_weights(c, &og);
     uint32_t *ver = calloc(c->n, sizeof *ver);
     size_t ne = 0;
     for (size_t i = 0; i < c->n; i++)
@@ -157,6 +172,23 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
     for (size_t i = 0; i < c->n; i++) label[i] = -1;
     for (size_t e = 0; e < ne; e++) {
         if ((e & 0xFFFFF) == 0) spr_progress_report(&d.progress, "colouring", e, ne);
+        /* edges by weight visit the graph at random: hints, no arithmetic,
+         * for the labels 16 edges ahead and the rows of the uncoloured
+         * ends 8 ahead */
+        if (e + 16 < ne) {
+            __builtin_prefetch(label + edges[e + 16].i);
+            __builtin_prefetch(label + edges[e + 16].j);
+            __builtin_prefetch(g->start + edges[e + 16].i);
+            __builtin_prefetch(g->start + edges[e + 16].j);
+        }
+        if (e + 8 < ne)
+            for (int end = 0; end < 2; end++) {
+                const uint32_t v = end ? edges[e + 8].i : edges[e + 8].j;
+                if (label[v] < 0) {
+                    __builtin_prefetch(g->adj + g->start[v]);
+                    __builtin_prefetch(og.A + g->start[v]);
+                }
+            }
         if (label[edges[e].j] < 0) label[edges[e].j] = spr_minimize_overlap(&og, edges[e].j, label, d.K);
         if (label[edges[e].i] < 0) label[edges[e].i] = spr_minimize_overlap(&og, edges[e].i, label, d.K);
     }

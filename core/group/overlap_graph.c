@@ -297,7 +297,25 @@ static spr_result row_areas(const spr_cloud *c, const spr_graph *g, double eps, 
     return SPR_OK;
 }
 
-typedef struct edge { uint32_t j; float a; } edge;
+/* w_ij = (A_ij + A_ji)(1 − n_i·n_j) of [ZP] Eq. 7 for every edge of the
+ * copy's graph g (spr_wgc_weights' arithmetic): the reverse edge is found
+ * by a scan of row j, which lies close to row i in the copy. */
+static void row_weights(const spr_cloud *c, const spr_graph *g, const float *A, int nt, float *w)
+{
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1024)
+    for (long i = 0; i < (long)c->n; i++)
+        for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++) {
+            const uint32_t j = g->adj[e];
+            double a_back = 0.0; /* none in a symmetric graph */
+            for (uint64_t b = g->start[j]; b < g->start[j + 1]; b++)
+                if (g->adj[b] == (uint32_t)i) { a_back = A[b]; break; }
+            const float *ni = c->nrm + 3 * (size_t)i, *nj = c->nrm + 3 * (size_t)j;
+            double nn = (double)ni[0] * nj[0] + (double)ni[1] * nj[1] + (double)ni[2] * nj[2];
+            w[e] = (float)(((double)A[e] + a_back) * (1.0 - nn));
+        }
+}
+
+typedef struct edge { uint32_t j; float a, w; } edge;
 static int by_j(const void *a, const void *b)
 {
     const edge *p = a, *q = b;
@@ -306,8 +324,8 @@ static int by_j(const void *a, const void *b)
 
 /* The graph (and areas) of the spatial copy s in the cloud's indices: row i
  * is the copy's row rank[i] with every j mapped through order[], ascending. */
-static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, const float *As, int nt, spr_graph *g, float **A,
-                                 spr_error *err)
+static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, const float *As, const float *Ws, int nt, spr_graph *g,
+                                 float **A, float **W, spr_error *err)
 {
     const size_t n = s->c.n;
     memset(g, 0, sizeof *g);
@@ -323,9 +341,10 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
     }
     const uint64_t w = g->start[n];
     g->adj = malloc((w ? w : 1) * sizeof *g->adj);
-    float *a = As ? malloc((w ? w : 1) * sizeof *a) : NULL;
-    if (!g->adj || (As && !a)) {
+    float *a = As ? malloc((w ? w : 1) * sizeof *a) : NULL, *wt = Ws ? malloc((w ? w : 1) * sizeof *wt) : NULL;
+    if (!g->adj || (As && !a) || (Ws && !wt)) {
         free(a);
+        free(wt);
         spr_graph_free(g);
         return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     }
@@ -340,7 +359,7 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
             const size_t i = s->order[q];
             const uint64_t s0 = gs->start[q];
             const size_t m = (size_t)(gs->start[q + 1] - s0);
-            for (size_t k = 0; k < m; k++) e[k] = (edge){s->order[gs->adj[s0 + k]], As ? As[s0 + k] : 0.0f};
+            for (size_t k = 0; k < m; k++) e[k] = (edge){s->order[gs->adj[s0 + k]], As ? As[s0 + k] : 0.0f, Ws ? Ws[s0 + k] : 0.0f};
             if (m > 64) {
                 qsort(e, m, sizeof *e, by_j); /* the j of a row are distinct: any sort gives one order */
             } else {
@@ -354,16 +373,19 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
             for (size_t k = 0; k < m; k++) {
                 g->adj[g->start[i] + k] = e[k].j;
                 if (a) a[g->start[i] + k] = e[k].a;
+                if (wt) wt[g->start[i] + k] = e[k].w;
             }
         }
         free(e);
     }
     if (failed) {
         free(a);
+        free(wt);
         spr_graph_free(g);
         return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     }
     if (A) *A = a;
+    if (W) *W = wt;
     return SPR_OK;
 }
 
@@ -374,10 +396,11 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
  * areas are the bits a search in submission order gives. */
 static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
                                 const spr_progress *prog, spr__pair_keep keep, const void *user, int areas, double eps, spr_graph *g,
-                                float **A, spr_error *err)
+                                float **A, float **W, spr_error *err)
 {
     memset(g, 0, sizeof *g);
     if (A) *A = NULL;
+    if (W) *W = NULL;
     const int nt = threads > 0 ? threads : omp_get_max_threads();
     spr_bounds b;
     spr_cloud_bounds(c, &b);
@@ -387,14 +410,17 @@ static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned cha
     spr_graph gs;
     r = pair_graph(&s.c, &b, f, row, want, s.order, nt, prog, keep, user, &gs, err);
     if (r) { spr__spatial_free(&s); return r; }
-    float *As = NULL;
+    float *As = NULL, *Ws = NULL;
     if (areas) {
         const uint64_t w = gs.start[c->n];
-        if (!(As = malloc((w ? w : 1) * sizeof *As))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas");
+        if (!(As = malloc((w ? w : 1) * sizeof *As)) || (W && !(Ws = malloc((w ? w : 1) * sizeof *Ws))))
+            r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas");
         if (!r) r = row_areas(&s.c, &gs, eps, threads > 0 ? threads : 1, prog, As);
+        if (!r && Ws) row_weights(&s.c, &gs, As, nt, Ws);
     }
-    if (!r) r = to_cloud_order(&s, &gs, As, nt, g, areas ? A : NULL, err);
+    if (!r) r = to_cloud_order(&s, &gs, As, Ws, nt, g, areas ? A : NULL, Ws ? W : NULL, err);
     free(As);
+    free(Ws);
     spr_graph_free(&gs);
     spr__spatial_free(&s);
     return r;
@@ -403,7 +429,7 @@ static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned cha
 spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
                                 const spr_progress *prog, spr_graph *g, spr_error *err)
 {
-    return spatial_graph(c, f, row, want, threads, prog, NULL, NULL, 0, 0.0, g, NULL, err);
+    return spatial_graph(c, f, row, want, threads, prog, NULL, NULL, 0, 0.0, g, NULL, NULL, err);
 }
 
 spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
@@ -423,7 +449,7 @@ spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned 
 spr_result spr__pair_graph_keep(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr__pair_keep keep, const void *user,
                                 spr_graph *g, spr_error *err)
 {
-    return spatial_graph(c, f, NULL, 0, threads, prog, keep, user, 0, 0.0, g, NULL, err);
+    return spatial_graph(c, f, NULL, 0, threads, prog, keep, user, 0, 0.0, g, NULL, NULL, err);
 }
 
 spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
@@ -437,5 +463,13 @@ spr_result spr_overlap_graph_build_rows(const spr_cloud *c, double eps, const un
 {
     memset(og, 0, sizeof *og);
     og->eps = eps;
-    return spatial_graph(c, 1.0, row, want, threads, prog, NULL, NULL, 1, eps, &og->g, &og->A, err);
+    return spatial_graph(c, 1.0, row, want, threads, prog, NULL, NULL, 1, eps, &og->g, &og->A, NULL, err);
+}
+
+spr_result spr__overlap_graph_weights(const spr_cloud *c, double eps, int threads, const spr_progress *prog, spr_overlap_graph *og, float **w,
+                                      spr_error *err)
+{
+    memset(og, 0, sizeof *og);
+    og->eps = eps;
+    return spatial_graph(c, 1.0, NULL, 0, threads, prog, NULL, NULL, 1, eps, &og->g, &og->A, w, err);
 }

@@ -15,4 +15,9 @@ spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned 
                                    const spr_progress *prog, spr__pair_keep keep, const void *user, spr__spatial *s, spr_graph *gs,
                                    spr_error *err);
 
+/* spr_overlap_graph_build and, into *w (malloc'd), spr_wgc_weights of it:
+ * the same bits, the weights computed on the copy before its conversion. */
+spr_result spr__overlap_graph_weights(const spr_cloud *c, double eps, int threads, const spr_progress *prog, spr_overlap_graph *og, float **w,
+                                      spr_error *err);
+
 #endif
