@@ -41,6 +41,8 @@ void spr__quat_of_columns(const double a[3], const double b[3], const double c[3
  * page fault per 2 MiB instead of per 4 KiB (where the kernel's THP is
  * "madvise", Debian's default); freed with free(). */
 void *spr__big_alloc(size_t bytes);
+/* The same for n zeroed elements of size bytes (calloc's arguments). */
+void *spr__big_calloc(size_t n, size_t size);
 /* Stable LSD radix sort of n (key, val) pairs by key, ascending (ties keep
  * their order); 0, or −1 when out of memory. */
 int spr__radix_sort_u64(uint64_t *key, uint32_t *val, size_t n);

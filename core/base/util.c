@@ -138,6 +138,14 @@ void *spr__big_alloc(size_t bytes)
     return p;
 }
 
+void *spr__big_calloc(size_t n, size_t size)
+{
+    if (size && n > SIZE_MAX / size) return NULL;
+    void *p = spr__big_alloc(n * size);
+    if (p) memset(p, 0, n * size); /* a reused block is not zero */
+    return p;
+}
+
 /* Stable LSD radix sort of n (key, value) pairs by key, ascending, 11 bits a
  * pass; a pass whose digit is the same for every key is skipped (a frame's
  * distances share their sign and most of their exponent; 30-bit Morton codes

@@ -25,7 +25,7 @@ spr_result spr__morton_order(const spr_cloud *c, const spr_bounds *b, uint32_t *
     for (int a = 0; a < 3; a++)
         if (b->hi[a] - b->lo[a] > ext) ext = b->hi[a] - b->lo[a];
     const double scale = ext > 0.0 ? 1024.0 / ext : 0.0;
-    uint64_t *key = malloc((n ? n : 1) * sizeof *key);
+    uint64_t *key = spr__big_alloc((n ? n : 1) * sizeof *key);
     if (!key) return spr__fail(err, SPR_E_NOMEM, "spatial order: out of memory for %zu splats", n);
     for (size_t i = 0; i < n; i++) {
         uint32_t code = 0;
@@ -47,11 +47,11 @@ spr_result spr__spatial_make(const spr_cloud *c, const spr_bounds *b, int thread
     memset(s, 0, sizeof *s);
     const size_t n = c->n, m = n ? n : 1;
     s->c.n = n;
-    s->c.pos = malloc(3 * m * sizeof(float));
-    s->c.nrm = malloc(3 * m * sizeof(float));
-    s->c.radius = malloc(m * sizeof(float));
-    s->order = malloc(m * sizeof *s->order);
-    s->rank = malloc(m * sizeof *s->rank);
+    s->c.pos = spr__big_alloc(3 * m * sizeof(float));
+    s->c.nrm = spr__big_alloc(3 * m * sizeof(float));
+    s->c.radius = spr__big_alloc(m * sizeof(float));
+    s->order = spr__big_alloc(m * sizeof *s->order);
+    s->rank = spr__big_alloc(m * sizeof *s->rank);
     if (!s->c.pos || !s->c.nrm || !s->c.radius || !s->order || !s->rank) {
         spr__spatial_free(s);
         return spr__fail(err, SPR_E_NOMEM, "spatial order: out of memory for a copy of %zu splats", n);

@@ -26,8 +26,8 @@
 float *spr_wgc_weights(const spr_cloud *c, const spr_overlap_graph *og)
 {
     const spr_graph *g = &og->g;
-    float *w = malloc((g->start[c->n] ? g->start[c->n] : 1) * sizeof(float));
-    uint64_t *cursor = malloc((c->n ? c->n : 1) * sizeof *cursor);
+    float *w = spr__big_alloc((g->start[c->n] ? g->start[c->n] : 1) * sizeof(float));
+    uint64_t *cursor = spr__big_alloc((c->n ? c->n : 1) * sizeof *cursor);
     if (!w || !cursor) {
         free(w);
         free(cursor);
@@ -109,7 +109,7 @@ static int sort_edges(edge_rec *e, size_t n)
     enum { DIGITS = 3 };
     static const int shift[DIGITS] = {0, 11, 22}, bits[DIGITS] = {11, 11, 10};
     size_t *count = calloc(DIGITS * 2049, sizeof *count);
-    edge_rec *tmp = malloc((n ? n : 1) * sizeof *tmp);
+    edge_rec *tmp = spr__big_alloc((n ? n : 1) * sizeof *tmp);
     if (!count || !tmp) { free(count); free(tmp); return -1; }
     for (size_t k = 0; k < n; k++) {
         const uint32_t key = desc_key(e[k].w);
@@ -153,11 +153,11 @@ spr_result spr_group_wgc(const spr_cloud *c, const spr_wgc_desc *din, int32_t *l
     spr_result r = spr__overlap_graph_weights(c, d.eps, d.threads, &d.progress, &og, &w, err);
     if (r) return r;
     const spr_graph *g = &og.g;
-    uint32_t *ver = calloc(c->n, sizeof *ver);
+    uint32_t *ver = spr__big_calloc(c->n, sizeof *ver);
     size_t ne = 0;
     for (size_t i = 0; i < c->n; i++)
         for (uint64_t e = g->start[i]; e < g->start[i + 1]; e++) ne += g->adj[e] > i;
-    edge_rec *edges = malloc((ne ? ne : 1) * sizeof *edges);
+    edge_rec *edges = spr__big_alloc((ne ? ne : 1) * sizeof *edges);
     spr__heap h = {.max = 1}; /* by S(v) descending, ties: smaller v */
     if (!w || !ver || !edges) { r = spr__fail(err, SPR_E_NOMEM, "wgc: out of memory"); goto done; }
     st->ms_graph = spr_now_ms() - t0;

@@ -3,6 +3,7 @@
  * (f = 1) with the areas A_ij of [ZP] Eq. 8 on every directed edge, shared
  * by WGC, hash collision handling, extended grouping and the metrics. */
 #include "spr_group.h"
+#include "spr_util.h"
 #include "spr_overlap.h"
 #include "spr__group.h"
 
@@ -76,11 +77,11 @@ static spr_result grid_build(const spr_cloud *c, const spr_bounds *b, double f, 
     }
     for (int a = 0; a < 2; a++) G->dim[a] = (int64_t)(floor(ext[a] / G->h) + 1.0);
     const size_t ncol = (size_t)cols;
-    G->start = calloc(ncol + 1, sizeof *G->start);
-    G->idx = malloc(n * sizeof *G->idx);
-    G->s = malloc(4 * n * sizeof *G->s);
-    uint32_t *key = malloc(n * sizeof *key), *fill = malloc(ncol * sizeof *fill);
-    xkey *xk = malloc(n * sizeof *xk);
+    G->start = spr__big_calloc(ncol + 1, sizeof *G->start);
+    G->idx = spr__big_alloc(n * sizeof *G->idx);
+    G->s = spr__big_alloc(4 * n * sizeof *G->s);
+    uint32_t *key = spr__big_alloc(n * sizeof *key), *fill = spr__big_alloc(ncol * sizeof *fill);
+    xkey *xk = spr__big_alloc(n * sizeof *xk);
     spr_result r = SPR_OK;
     if (!G->start || !G->idx || !G->s || !key || !fill || !xk) {
         r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour grid");
@@ -183,7 +184,7 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
     const spr_bounds b = *b0;
     col_grid G = {0};
     spr_result r = grid_build(c, &b, f, nt, &G, err);
-    uint32_t *cnt = r ? NULL : calloc(n + 1, sizeof *cnt);
+    uint32_t *cnt = r ? NULL : spr__big_calloc(n + 1, sizeof *cnt);
     if (!r && !cnt) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     const int half = row == NULL; /* whole graph: each pair from one side, then both rows */
     /* One query per searched row, in grid order (neighbours share cache
@@ -222,13 +223,13 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
         }
         if (failed) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     }
-    uint64_t *fst = r ? NULL : malloc((n + 1) * sizeof *fst);
+    uint64_t *fst = r ? NULL : spr__big_alloc((n + 1) * sizeof *fst);
     if (!r && !fst) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     uint32_t *found = NULL;
     if (!r) {
         fst[0] = 0;
         for (size_t i = 0; i < n; i++) fst[i + 1] = fst[i] + cnt[i];
-        if (!(found = malloc((fst[n] ? fst[n] : 1) * sizeof *found))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+        if (!(found = spr__big_alloc((fst[n] ? fst[n] : 1) * sizeof *found))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     }
     if (!r) {
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 16)
@@ -249,10 +250,10 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
     free(G.idx);
     free(G.s);
     if (!r) { /* the rows: a row's own finds, and with `half` every pair entered from the other side too */
-        if (!(g->start = malloc((n + 1) * sizeof *g->start))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+        if (!(g->start = spr__big_alloc((n + 1) * sizeof *g->start))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     }
     if (!r) {
-        uint64_t *deg = calloc(n + 1, sizeof *deg);
+        uint64_t *deg = spr__big_calloc(n + 1, sizeof *deg);
         if (!deg) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
         for (size_t i = 0; !r && i < n; i++) {
             deg[i] += fst[i + 1] - fst[i];
@@ -262,7 +263,7 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
         if (!r) {
             g->start[0] = 0;
             for (size_t i = 0; i < n; i++) g->start[i + 1] = g->start[i] + deg[i];
-            if (!(g->adj = malloc((g->start[n] ? g->start[n] : 1) * sizeof *g->adj)))
+            if (!(g->adj = spr__big_alloc((g->start[n] ? g->start[n] : 1) * sizeof *g->adj)))
                 r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
         }
         if (!r) {
@@ -330,7 +331,7 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
     const size_t n = s->c.n;
     memset(g, 0, sizeof *g);
     g->n = n;
-    g->start = malloc((n + 1) * sizeof *g->start);
+    g->start = spr__big_alloc((n + 1) * sizeof *g->start);
     if (!g->start) return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     g->start[0] = 0;
     uint64_t max_deg = 0;
@@ -340,8 +341,8 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
         if (d > max_deg) max_deg = d;
     }
     const uint64_t w = g->start[n];
-    g->adj = malloc((w ? w : 1) * sizeof *g->adj);
-    float *a = As ? malloc((w ? w : 1) * sizeof *a) : NULL, *wt = Ws ? malloc((w ? w : 1) * sizeof *wt) : NULL;
+    g->adj = spr__big_alloc((w ? w : 1) * sizeof *g->adj);
+    float *a = As ? spr__big_alloc((w ? w : 1) * sizeof *a) : NULL, *wt = Ws ? spr__big_alloc((w ? w : 1) * sizeof *wt) : NULL;
     if (!g->adj || (As && !a) || (Ws && !wt)) {
         free(a);
         free(wt);
@@ -354,9 +355,18 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
         edge *e = malloc((max_deg ? max_deg : 1) * sizeof *e);
         failed |= !e;
 #pragma omp for schedule(dynamic, 4096)
-        for (long q = 0; q < (long)n; q++) { /* in the copy's order: its rows read in turn, the writes scattered */
+        for (long i = 0; i < (long)n; i++) { /* in the cloud's order: the writes in turn, the copy's rows fetched ahead */
             if (!e) continue;
-            const size_t i = s->order[q];
+            if (i + 16 < (long)n) __builtin_prefetch(gs->start + s->rank[i + 16]);
+            if (i + 8 < (long)n) { /* hints, no arithmetic */
+                const uint32_t q8 = s->rank[i + 8];
+                const uint64_t s8 = gs->start[q8];
+                __builtin_prefetch(gs->adj + s8);
+                __builtin_prefetch(s->order + q8);
+                if (As) __builtin_prefetch(As + s8);
+                if (Ws) __builtin_prefetch(Ws + s8);
+            }
+            const size_t q = s->rank[i];
             const uint64_t s0 = gs->start[q];
             const size_t m = (size_t)(gs->start[q + 1] - s0);
             for (size_t k = 0; k < m; k++) e[k] = (edge){s->order[gs->adj[s0 + k]], As ? As[s0 + k] : 0.0f, Ws ? Ws[s0 + k] : 0.0f};
@@ -413,7 +423,7 @@ static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned cha
     float *As = NULL, *Ws = NULL;
     if (areas) {
         const uint64_t w = gs.start[c->n];
-        if (!(As = malloc((w ? w : 1) * sizeof *As)) || (W && !(Ws = malloc((w ? w : 1) * sizeof *Ws))))
+        if (!(As = spr__big_alloc((w ? w : 1) * sizeof *As)) || (W && !(Ws = spr__big_alloc((w ? w : 1) * sizeof *Ws))))
             r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for overlap areas");
         if (!r) r = row_areas(&s.c, &gs, eps, threads > 0 ? threads : 1, prog, As);
         if (!r && Ws) row_weights(&s.c, &gs, As, nt, Ws);
