@@ -170,8 +170,10 @@ START_TEST(hash_collisions_take_least_overlap)
     printf("grouping: hash mode 2 on a %zu-splat torus, radii x%.2f: %zu collisions (%zu with a group of no overlap), %zu moved off their "
            "cell's group, all at minimal overlap\n", n, scale[_i], displaced, zero_sum, moved);
     ck_assert_uint_gt(displaced, 50);
-    if (_i == 0) ck_assert_uint_gt(displaced - zero_sum, 1000); /* rows whose every group overlaps: the areas summed */
-    else ck_assert_uint_gt(zero_sum, 300);
+    /* both paths taken by most rows: at the model's radii every group overlaps (the areas summed), at 0.45 of them a group
+     * has no overlap (only which sums are 0 decided) */
+    if (_i == 0) ck_assert_uint_gt(displaced - zero_sum, displaced / 2);
+    else ck_assert_uint_gt(zero_sum, displaced / 2);
     ck_assert_uint_eq(moved, st.displaced);
     free(cx); free(cy); free(ax); free(first); free(placed); free(lab);
     spr_cloud_free(&c);
