@@ -43,6 +43,10 @@ void spr__quat_of_columns(const double a[3], const double b[3], const double c[3
 void *spr__big_alloc(size_t bytes);
 /* The same for n zeroed elements of size bytes (calloc's arguments). */
 void *spr__big_calloc(size_t n, size_t size);
+/* For per-call working arrays: spr__big_alloc from 32 MiB on (glibc's
+ * largest mmap threshold, where it maps fresh pages anyway), else malloc,
+ * whose reuse of a freed block a call repeated every frame gains more from. */
+void *spr__alloc(size_t bytes);
 /* Stable LSD radix sort of n (key, val) pairs by key, ascending (ties keep
  * their order); 0, or −1 when out of memory. */
 int spr__radix_sort_u64(uint64_t *key, uint32_t *val, size_t n);

@@ -138,6 +138,11 @@ void *spr__big_alloc(size_t bytes)
     return p;
 }
 
+void *spr__alloc(size_t bytes)
+{
+    return bytes >= ((size_t)32 << 20) ? spr__big_alloc(bytes) : malloc(bytes ? bytes : 1);
+}
+
 void *spr__big_calloc(size_t n, size_t size)
 {
     if (size && n > SIZE_MAX / size) return NULL;

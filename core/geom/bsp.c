@@ -1,5 +1,6 @@
 /* bsp.c — kd tree over centres, leaf normals, back-to-front traversal. */
 #include "spr_bsp.h"
+#include "spr_util.h"
 
 #include <math.h>
 #include <omp.h>
@@ -283,9 +284,9 @@ spr_result spr__bsp_build_threads(const spr_cloud *c, int threads, spr_bsp *t, s
     const int nt = threads > 0 ? threads : omp_get_max_threads();
     memset(t, 0, sizeof *t);
     t->n = c->n;
-    t->order = malloc((c->n ? c->n : 1) * sizeof(uint32_t));
-    t->leaf_of = malloc((c->n ? c->n : 1) * sizeof(uint32_t));
-    pt4 *pts = malloc((c->n ? c->n : 1) * sizeof *pts);
+    t->order = spr__alloc(c->n * sizeof(uint32_t));
+    t->leaf_of = spr__alloc(c->n * sizeof(uint32_t));
+    pt4 *pts = spr__alloc(c->n * sizeof *pts);
     if (!t->order || !t->leaf_of || !pts) { free(pts); spr_bsp_free(t); return spr__fail(err, SPR_E_NOMEM, "bsp: out of memory"); }
     for (size_t i = 0; i < c->n; i++) {
         memcpy(pts[i].v, c->pos + 3 * i, sizeof pts[i].v);

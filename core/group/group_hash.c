@@ -354,14 +354,14 @@ spr_result spr_group_hash(const spr_cloud *c, const spr_hash_desc *din, int32_t 
     unsigned char *state = NULL;
     int64_t (*cell)[2] = NULL; /* modes 2/3: every splat's cell, for the collisions */
     if (!axis && (d.axis == SPR_HASH_AXIS_BSP || d.mode != 1)) {
-        if (!(own = malloc((c->n ? c->n : 1) * sizeof *own))) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+        if (!(own = spr__alloc(c->n * sizeof *own))) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
         spr_progress_report(&d.progress, "BSP tree", 0, 1);
         r = spr__hash_axes_threads(c, d.axis, d.threads, own, err);
         spr_progress_report(&d.progress, "BSP tree", 1, 1);
         if (r) { free(own); return r; }
         axis = own;
     }
-    if (d.mode != 1 && (!(cell = malloc((c->n ? c->n : 1) * sizeof *cell)) || !(state = calloc(c->n ? c->n : 1, 1)))) {
+    if (d.mode != 1 && (!(cell = spr__alloc(c->n * sizeof *cell)) || !(state = calloc(c->n ? c->n : 1, 1)))) {
         r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
         goto done;
     }
