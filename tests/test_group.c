@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "spr_overlap.h"
+#include "spr__group.h"
 #include "spr__spatial.h"
 #include "test_util.h"
 
@@ -437,6 +438,100 @@ START_TEST(morton_order_of_cube_corners)
 }
 END_TEST
 
+/* The pair graphs of SPEC §5 ("all pairs with |p_i − p_j| < r_i + r_j",
+ * f = 1) against every pair by brute force, in the test's own double
+ * arithmetic: the whole graph (each pair found from one side, then both
+ * rows), the graph of chosen rows, and those rows with only the neighbours
+ * that come before them (before[j] < before[i], as hash collisions ask).
+ * The clouds are hostile to a search that prunes by each column's largest
+ * radius: radii over a factor 300 (a few giants among small splats), half
+ * the centres on a lattice of step 1/8 (on the grid's cell borders, and at
+ * exactly r_i + r_j from each other: the strict test refuses them), shared
+ * centres, and the same cloud moved to 1e5 from the origin. */
+START_TEST(pair_graphs_are_every_pair)
+{
+    const size_t n = tu_small() ? 600 : 2500;
+    uint64_t st = 0x2545F4914F6CDD1Dull;
+#define RND() ((st = st * 6364136223846793005ull + 1442695040888963407ull), (double)(st >> 11) / 9007199254740992.0)
+    for (int shift = 0; shift < 2; shift++) {
+        spr_cloud c;
+        double *xyz = malloc(3 * n * sizeof *xyz);
+        ck_assert(xyz);
+        for (size_t i = 0; i < n; i++)
+            for (int k = 0; k < 3; k++) {
+                const double u = i % 2 ? floor(RND() * 48.0) / 8.0 : RND() * 6.0; /* 6 x 6 x 1.5 */
+                xyz[3 * i + k] = (k == 2 ? 0.25 * u : u) + (shift ? 1e5 : 0.0);
+            }
+        for (size_t i = 7; i < n; i += 7) memcpy(xyz + 3 * i, xyz + 3 * (i - 1), 3 * sizeof *xyz);
+        tu_cloud(&c, n, xyz, 1.0f);
+        free(xyz);
+        for (size_t i = 0; i < n; i++)
+            c.radius[i] = i % 97 == 0 ? 1.5f : i % 2 ? 0.0625f * (float)(1 + i % 3) : (float)(0.005 + 0.15 * RND());
+        unsigned char *row = malloc(n);
+        uint32_t *before = malloc(n * sizeof *before);
+        for (size_t i = 0; i < n; i++) {
+            row[i] = (unsigned char)(i % 3 != 0);
+            before[i] = i % 4 == 0 ? 0 : (uint32_t)(n - i); /* some placed (0), the others in reverse order */
+        }
+        spr_graph all, rows, gs;
+        spr__spatial sp;
+        spr_error err;
+        ck_assert_int_eq(spr__pair_graph(&c, 1.0, 2, NULL, &all, &err), SPR_OK);
+        ck_assert_int_eq(spr__pair_graph_rows(&c, 1.0, row, 1, 2, NULL, &rows, &err), SPR_OK);
+        ck_assert_int_eq(spr__pair_graph_spatial(&c, 1.0, row, 1, before, 2, NULL, &sp, &gs, &err), SPR_OK);
+        unsigned char *want = malloc(n), *got = malloc(n);
+        size_t pairs = 0, ties = 0;
+        for (size_t i = 0; i < n; i++) {
+            for (size_t j = 0; j < n; j++) {
+                double d2 = 0.0;
+                for (int k = 0; k < 3; k++) {
+                    const double d = (double)c.pos[3 * i + k] - (double)c.pos[3 * j + k];
+                    d2 += d * d;
+                }
+                const double lim = (double)c.radius[i] + (double)c.radius[j];
+                want[j] = j != i && d2 < lim * lim;
+                ties += j != i && d2 == lim * lim;
+                pairs += want[j];
+            }
+            /* the whole graph's row i, ascending */
+            memset(got, 0, n);
+            for (uint64_t e = all.start[i]; e < all.start[i + 1]; e++) {
+                if (e > all.start[i]) ck_assert_uint_lt(all.adj[e - 1], all.adj[e]);
+                got[all.adj[e]] = 1;
+            }
+            for (size_t j = 0; j < n; j++)
+                if (got[j] != want[j]) ck_abort_msg("shift %d: pair (%zu, %zu) %s the whole graph", shift, i, j, want[j] ? "missing from" : "wrongly in");
+            /* the graph of chosen rows */
+            memset(got, 0, n);
+            for (uint64_t e = rows.start[i]; e < rows.start[i + 1]; e++) got[rows.adj[e]] = 1;
+            for (size_t j = 0; j < n; j++)
+                if (got[j] != (row[i] && want[j])) ck_abort_msg("shift %d: pair (%zu, %zu) %s the graph of rows", shift, i, j, got[j] ? "wrongly in" : "missing from");
+            /* the rows with the neighbours before them, in the copy's indices */
+            memset(got, 0, n);
+            const uint32_t q = sp.rank[i];
+            for (uint64_t e = gs.start[q]; e < gs.start[q + 1]; e++) got[sp.order[gs.adj[e]]] = 1;
+            for (size_t j = 0; j < n; j++)
+                if (got[j] != (row[i] && want[j] && before[j] < before[i]))
+                    ck_abort_msg("shift %d: pair (%zu, %zu) %s the rows with their neighbours before them", shift, i, j, got[j] ? "wrongly in" : "missing from");
+        }
+        printf("group: pair graphs of %zu splats%s: %zu ordered pairs, %zu at exactly r_i + r_j, all three graphs as brute force\n", n,
+               shift ? " at 1e5" : "", pairs, ties);
+        ck_assert_uint_gt(pairs, 10 * n);
+        ck_assert_uint_gt(ties, 50);
+        spr_graph_free(&all);
+        spr_graph_free(&rows);
+        spr_graph_free(&gs);
+        spr__spatial_free(&sp);
+        free(want);
+        free(got);
+        free(row);
+        free(before);
+        spr_cloud_free(&c);
+    }
+#undef RND
+}
+END_TEST
+
 Suite *make_group_suite(void)
 {
     Suite *s = suite_create("group");
@@ -450,6 +545,7 @@ Suite *make_group_suite(void)
     tcase_add_test(tc, overlap_area_hand_cases);
     tcase_add_test(tc, overlap_areas_are_the_sample_loop);
     tcase_add_test(tc, morton_order_of_cube_corners);
+    tcase_add_test(tc, pair_graphs_are_every_pair);
     suite_add_tcase(s, tc);
     return s;
 }

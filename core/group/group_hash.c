@@ -216,14 +216,6 @@ static int handles_collision(const spr_hash_desc *d, const spr_cloud *c, size_t 
 
 enum { PLACED = 0, PENDING = 1, PENDING_COLLIDES = 2 };
 
-/* When pending splat i is placed, the placed splats are those placed from
- * the start and the pending ones before it: its only neighbours that count. */
-static int placed_before(const void *user, size_t i, size_t j)
-{
-    const unsigned char *state = user;
-    return state[j] == PLACED || j < i;
-}
-
 /* Whether group k's placed neighbours adj[0 … m) of row's splat overlap it:
  * Σ A > 0. */
 static int group_overlaps(const spr_overlap_row *row, const uint32_t *adj, size_t m, const int32_t *lab, int k)
@@ -295,7 +287,14 @@ static spr_result place_pending(const spr_cloud *c, spr_hash_desc *d, int32_t *l
     spr__spatial sp;
     spr_graph g;
     double t1 = spr_now_ms();
-    spr_result r = spr__pair_graph_spatial(c, 1.0, state, PENDING_COLLIDES, d->threads, &d->progress, placed_before, state, &sp, &g, err);
+    /* when pending splat i is placed, the placed splats are those placed
+     * from the start and the pending ones before it: its only neighbours
+     * that count, those j with before[j] < before[i] */
+    uint32_t *before = spr__alloc((c->n ? c->n : 1) * sizeof *before);
+    if (!before) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+    for (size_t i = 0; i < c->n; i++) before[i] = state[i] == PLACED ? 0 : (uint32_t)i + 1;
+    spr_result r = spr__pair_graph_spatial(c, 1.0, state, PENDING_COLLIDES, before, d->threads, &d->progress, &sp, &g, err);
+    free(before);
     st->ms_graph = spr_now_ms() - t1;
     if (r) return r;
     uint64_t max_deg = 1;

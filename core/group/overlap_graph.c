@@ -26,24 +26,41 @@ spr_result spr__pair_graph(const spr_cloud *c, double f, int threads, const spr_
 }
 
 /* The pairs are found on a grid of columns, not with a kd-tree: the (y, z)
- * plane is cut into square cells of side h (about one search radius), each
- * column holds its points sorted by x, and a query scans the columns its
- * ball's box meets, each from a binary search to px − R up to px + R.
- * The candidates lie contiguous in cell order, copied there once (x y z r),
- * and the work splits evenly over threads.  A pair with r_j ≤ r_i lies
+ * plane is cut into square cells of side h (about twice the mean search
+ * radius), each column holds its points sorted by x, and a query scans the
+ * columns its ball meets, each over the x of the ball's chord there.
+ * The candidates lie contiguous in cell order, copied there once (x, y, z,
+ * r as columns of floats), and the work splits evenly over threads.  A pair with r_j ≤ r_i lies
  * within f·2r_i of p_i, so every pair is found from the side of its larger
  * radius (ties: the smaller index) with that search radius, whatever the
  * largest radius of the cloud, then entered in both rows.  Membership is
  * decided in double, |p_i − p_j|² < (f·(r_i + r_j))², so the graph is
  * exactly the one of any exact search: rows ascending, the same for any
  * thread count. */
+enum { QB = 8 }; /* the candidates of a column are tested in blocks of QB */
 typedef struct col_grid {
     double lo[2], h;   /* y, z */
     int64_t dim[2];
+    double slack;      /* more than any rounding of a coordinate near the cloud: the pruning below stays conservative */
     uint32_t *start;   /* columns + 1 */
+    float *rmax;       /* columns: the largest radius of each */
     uint32_t *idx;     /* point index in column order (by x, then index) */
-    float *s;          /* x y z r per entry of idx */
+    float *x, *y, *z, *r; /* centre and radius per entry */
+    uint32_t *before;  /* with a filter's `before`: its value per entry */
+    unsigned char *searched; /* with a filter's `row`: whether the entry's row is searched */
 } col_grid;
+
+/* Which rows are searched and which pairs kept, asked in the cloud's
+ * indices (order[]: copy → cloud): rows i with row[i] == want (row NULL:
+ * all, each pair from one side), pairs keep(user, i, j) accepts, and with
+ * `before` only the neighbours j with before[j] < before[i]. */
+typedef struct pair_filter {
+    const unsigned char *row;
+    unsigned char want;
+    spr__pair_keep keep;
+    const void *user;
+    const uint32_t *before;
+} pair_filter;
 
 static int64_t col_cell(const col_grid *G, double v, int a)
 {
@@ -59,7 +76,8 @@ static int by_x(const void *a, const void *b)
     return (p->i > q->i) - (p->i < q->i);
 }
 
-static spr_result grid_build(const spr_cloud *c, const spr_bounds *b, double f, int nt, col_grid *G, spr_error *err)
+static spr_result grid_build(const spr_cloud *c, const spr_bounds *b, double f, const pair_filter *pf, const uint32_t *order, int nt,
+                             col_grid *G, spr_error *err)
 {
     const size_t n = c->n;
     double ext[2];
@@ -67,7 +85,11 @@ static spr_result grid_build(const spr_cloud *c, const spr_bounds *b, double f, 
         G->lo[a] = b->lo[a + 1];
         ext[a] = b->hi[a + 1] - b->lo[a + 1];
     }
-    G->h = 2.0 * f * b->mean_radius; /* about the mean search radius; at most 4n (+64K) columns */
+    /* twice the mean search radius (fewer columns a query, more
+     * candidates in each): at 1.1M splats on one thread the whole pair
+     * graph took 660-810 ms against 910-1090 with cells of one search
+     * radius; at most 4n (+64K) columns */
+    G->h = 4.0 * f * b->mean_radius;
     if (!(G->h > 0.0)) G->h = 1.0;
     double cols;
     for (;;) {
@@ -76,14 +98,25 @@ static spr_result grid_build(const spr_cloud *c, const spr_bounds *b, double f, 
         G->h *= 1.25;
     }
     for (int a = 0; a < 2; a++) G->dim[a] = (int64_t)(floor(ext[a] / G->h) + 1.0);
+    double big = G->h;
+    for (int a = 0; a < 3; a++) big = fmax(big, fmax(fabs(b->lo[a]), fabs(b->hi[a])));
+    G->slack = 1e-9 * (big + 4.0 * b->max_radius);
     const size_t ncol = (size_t)cols;
     G->start = spr__big_calloc(ncol + 1, sizeof *G->start);
-    G->idx = spr__big_alloc(n * sizeof *G->idx);
-    G->s = spr__big_alloc(4 * n * sizeof *G->s);
+    G->rmax = spr__big_alloc(ncol * sizeof *G->rmax);
+    /* QB entries beyond the last, for the blocks of grid_query */
+    G->idx = spr__big_calloc(n + QB, sizeof *G->idx);
+    G->x = spr__big_calloc(n + QB, sizeof *G->x);
+    G->y = spr__big_calloc(n + QB, sizeof *G->y);
+    G->z = spr__big_calloc(n + QB, sizeof *G->z);
+    G->r = spr__big_calloc(n + QB, sizeof *G->r);
+    G->before = spr__big_calloc(n + QB, sizeof *G->before); /* 0 without a filter's: every pair kept */
+    if (pf->row) G->searched = spr__big_alloc(n);
     uint32_t *key = spr__big_alloc(n * sizeof *key), *fill = spr__big_alloc(ncol * sizeof *fill);
     xkey *xk = spr__big_alloc(n * sizeof *xk);
     spr_result r = SPR_OK;
-    if (!G->start || !G->idx || !G->s || !key || !fill || !xk) {
+    if (!G->start || !G->rmax || !G->idx || !G->x || !G->y || !G->z || !G->r || !G->before || (pf->row && !G->searched) || !key || !fill ||
+        !xk) {
         r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour grid");
         goto done;
     }
@@ -104,12 +137,19 @@ static spr_result grid_build(const spr_cloud *c, const spr_bounds *b, double f, 
     for (long k = 0; k < (long)ncol; k++) {
         const uint32_t a = G->start[k], e = G->start[k + 1];
         if (e - a > 1) qsort(xk + a, e - a, sizeof *xk, by_x);
+        float rm = 0.0f;
         for (uint32_t q = a; q < e; q++) {
             const uint32_t i = xk[q].i;
             G->idx[q] = i;
-            memcpy(G->s + 4 * (size_t)q, c->pos + 3 * (size_t)i, 3 * sizeof(float));
-            G->s[4 * (size_t)q + 3] = c->radius[i];
+            G->x[q] = xk[q].x;
+            if (pf->before) G->before[q] = pf->before[order[i]];
+            if (G->searched) G->searched[q] = pf->row[order[i]] == pf->want;
+            G->y[q] = c->pos[3 * (size_t)i + 1];
+            G->z[q] = c->pos[3 * (size_t)i + 2];
+            G->r[q] = c->radius[i];
+            rm = c->radius[i] > rm ? c->radius[i] : rm;
         }
+        G->rmax[k] = rm;
     }
 done:
     free(key);
@@ -118,47 +158,104 @@ done:
     return r;
 }
 
+/* How far v lies outside column k's span on axis a (0 inside), less the
+ * grid's slack: never more than the distance of any point the column holds
+ * (the end columns reach out without bound, as col_cell clamps). */
+static double col_gap(const col_grid *G, double v, int64_t k, int a)
+{
+    const double lo = k > 0 ? G->lo[a] + (double)k * G->h - G->slack : -INFINITY;
+    const double hi = k + 1 < G->dim[a] ? G->lo[a] + (double)(k + 1) * G->h + G->slack : INFINITY;
+    return v < lo ? lo - v : v > hi ? v - hi : 0.0;
+}
+
+/* The pair test of entry q against entries k … k + QB − 1 of a column
+ * ending before hi, those with x ≤ xhi: ok[t] says whether entry k + t is a
+ * neighbour (|p_q − p_j| < f·(r_q + r_j) in double; with `half`, found
+ * from q's side; before[k + t] < bq, UINT32_MAX without a filter's
+ * `before`).  Branch-free over a block of fixed length, so the compiler
+ * vectorises it (AVX2 where the CPU has it, no FMA: the roundings of the
+ * scalar test). */
+__attribute__((target_clones("avx2", "default")))
+static void block_test(const col_grid *G, uint32_t k, uint32_t hi, double xhi, size_t q, double f, int half, uint32_t bq,
+                       uint32_t *restrict ok)
+{
+    const double px = G->x[q], py = G->y[q], pz = G->z[q], ri = G->r[q];
+    const uint32_t i = G->idx[q];
+    const float *restrict X = G->x + k, *restrict Y = G->y + k, *restrict Z = G->z + k, *restrict Rj = G->r + k;
+    const uint32_t *restrict J = G->idx + k, *restrict B = G->before + k;
+    for (uint32_t t = 0; t < QB; t++) {
+        const double x = X[t], dx = px - x, dy = py - (double)Y[t], dz = pz - (double)Z[t];
+        const double rj = Rj[t], lim = f * (ri + rj);
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        const uint32_t j = J[t];
+        const int mine = !half | !((rj > ri) | ((rj == ri) & (j < i))); /* else found from j's side */
+        ok[t] = (uint32_t)((k + t < hi) & (x <= xhi) & (j != i) & (d2 < lim * lim) & mine & (B[t] < bq));
+    }
+}
+
+/* Where the last queries' searches ended, by column (direct-mapped):
+ * queries in grid order lie close, so a column's next start lies near. */
+enum { CURSORS = 64 };
+typedef struct col_cursor { size_t col[CURSORS]; uint32_t at[CURSORS]; } col_cursor;
+
 /* The neighbours of point i (entry q of the grid) within R that meet the
  * pair test (with `half`: only those found from i's side; keep is asked
  * with the indices order[] gives); out gets up to cap of them; returns how
- * many there are. */
-static size_t grid_query(const col_grid *G, size_t q, double R, double f, int half, spr__pair_keep keep, const void *user,
-                         const uint32_t *order, uint32_t *out, size_t cap)
+ * many there are.  A column is searched only as far as its largest radius
+ * can reach: a pair lies within f·(r_i + r_j) ≤ f·(r_i + its r_max) (with
+ * `half`, r_j ≤ r_i too), so a column whose (y, z) span lies farther is
+ * skipped and the others are scanned over the x of that ball's chord; the
+ * bounds are widened by the slack and 1e-9 relative, so that they skip
+ * only candidates block_test would refuse. */
+static size_t grid_query(const col_grid *G, size_t q, double R, double f, int half, const pair_filter *pf, const uint32_t *order,
+                         col_cursor *cur, uint32_t *out, size_t cap)
 {
-    const float *pi = G->s + 4 * q;
     const uint32_t i = G->idx[q];
-    const double px = pi[0], ri = pi[3];
-    const int64_t y0 = col_cell(G, (double)pi[1] - R, 0), y1 = col_cell(G, (double)pi[1] + R, 0);
-    const int64_t z0 = col_cell(G, (double)pi[2] - R, 1), z1 = col_cell(G, (double)pi[2] + R, 1);
+    const double px = G->x[q], py = G->y[q], pz = G->z[q], ri = G->r[q];
+    const int64_t y0 = col_cell(G, py - R, 0), y1 = col_cell(G, py + R, 0);
+    const int64_t z0 = col_cell(G, pz - R, 1), z1 = col_cell(G, pz + R, 1);
     size_t m = 0;
-    for (int64_t z = z0; z <= z1; z++)
+    for (int64_t z = z0; z <= z1; z++) {
+        const double gz = col_gap(G, pz, z, 1);
         for (int64_t y = y0; y <= y1; y++) {
             const size_t col = (size_t)(z * G->dim[0] + y);
             uint32_t lo = G->start[col], hi = G->start[col + 1];
-            const double xlo = px - R, xhi = px + R;
-            while (lo < hi) { /* first entry with x ≥ px − R */
-                uint32_t mid = lo + (hi - lo) / 2;
-                if ((double)G->s[4 * (size_t)mid] < xlo) lo = mid + 1; else hi = mid;
-            }
-            for (uint32_t k = lo; k < G->start[col + 1]; k++) {
-                const float *pj = G->s + 4 * (size_t)k;
-                if ((double)pj[0] > xhi) break;
-                const uint32_t j = G->idx[k];
-                if (j == i) continue;
-                const double rj = pj[3];
-                if (half && (rj > ri || (rj == ri && j < i))) continue; /* found from j's side */
-                double d2 = 0.0;
-                for (int a = 0; a < 3; a++) {
-                    double d = (double)pi[a] - (double)pj[a];
-                    d2 += d * d;
+            if (lo == hi) continue;
+            const double rm = half && G->rmax[col] > G->r[q] ? ri : (double)G->rmax[col];
+            const double Rc = fmin(R, f * (ri + rm)) * (1.0 + 1e-9) + G->slack, gy = col_gap(G, py, y, 0);
+            const double w2 = Rc * Rc - (gy * gy + gz * gz);
+            if (!(w2 > 0.0)) continue;
+            const double wx = sqrt(w2) * (1.0 + 1e-9) + G->slack;
+            const double xlo = px - wx, xhi = px + wx;
+            const size_t slot = col % CURSORS;
+            if (cur->col[slot] == col) { /* the first entry with x ≥ px − wx, by steps from the last one */
+                const uint32_t first = lo;
+                lo = cur->at[slot];
+                while (lo > first && (double)G->x[lo - 1] >= xlo) lo--;
+                while (lo < hi && (double)G->x[lo] < xlo) lo++;
+            } else {
+                for (uint32_t len = hi - lo; len > 1;) { /* the same by halves, in steps that depend on the length alone */
+                    const uint32_t h = len / 2;
+                    lo = (double)G->x[lo + h - 1] < xlo ? lo + h : lo;
+                    len -= h;
                 }
-                const double lim = f * (ri + rj);
-                if (!(d2 < lim * lim)) continue;
-                if (keep && !keep(user, order[i], order[j])) continue;
-                if (m < cap) out[m] = j;
-                m++;
+                lo += (double)G->x[lo] < xlo;
+                cur->col[slot] = col;
+            }
+            cur->at[slot] = lo;
+            const uint32_t bq = pf->before ? G->before[q] : UINT32_MAX;
+            for (uint32_t k = lo; k < hi && (double)G->x[k] <= xhi; k += QB) {
+                uint32_t ok[QB];
+                block_test(G, k, hi, xhi, q, f, half, bq, ok);
+                if (pf->keep)
+                    for (int t = 0; t < QB; t++) ok[t] = ok[t] && pf->keep(pf->user, order[i], order[G->idx[k + t]]);
+                for (int t = 0; t < QB; t++) { /* without branches: the kept ones to out */
+                    if (m < cap) out[m] = G->idx[k + t];
+                    m += ok[t];
+                }
             }
         }
+    }
     return m;
 }
 
@@ -170,9 +267,8 @@ static size_t chunk_end(size_t ch, size_t n) { return ch * QCHUNK + QCHUNK < n ?
  * in the order its pairs were found (the same for any thread count;
  * to_cloud_order sorts the rows it makes); the filters (row, keep) are
  * asked with the indices order[] gives. */
-static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f, const unsigned char *row, unsigned char want,
-                             const uint32_t *order, int nt, const spr_progress *prog, spr__pair_keep keep, const void *user, spr_graph *g,
-                             spr_error *err)
+static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f, const pair_filter *pf, const uint32_t *order, int nt,
+                             const spr_progress *prog, spr_graph *g, spr_error *err)
 {
     memset(g, 0, sizeof *g);
     const size_t n = c->n;
@@ -183,10 +279,10 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
     }
     const spr_bounds b = *b0;
     col_grid G = {0};
-    spr_result r = grid_build(c, &b, f, nt, &G, err);
+    spr_result r = grid_build(c, &b, f, pf, order, nt, &G, err);
     uint32_t *cnt = r ? NULL : spr__big_calloc(n + 1, sizeof *cnt);
     if (!r && !cnt) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
-    const int half = row == NULL; /* whole graph: each pair from one side, then both rows */
+    const int half = pf->row == NULL; /* whole graph: each pair from one side, then both rows */
     /* One query per searched row, in grid order (neighbours share cache
      * lines): each chunk of QCHUNK queries writes its finds, row after row,
      * into a buffer of its own (grown geometrically), then every row's finds
@@ -202,19 +298,21 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
             if (omp_get_thread_num() == 0) spr_progress_report(prog, "neighbour graph", (size_t)ch * QCHUNK, n);
             size_t used = 0, cap = 0;
             uint32_t *buf = NULL;
+            col_cursor cur;
+            for (int k = 0; k < CURSORS; k++) cur.col[k] = SIZE_MAX;
             const size_t q1 = chunk_end((size_t)ch, n);
             for (size_t q = (size_t)ch * QCHUNK; q < q1 && !failed; q++) {
                 const uint32_t i = G.idx[q];
-                if (row && row[order[i]] != want) continue;
+                if (G.searched && !G.searched[q]) continue;
                 const double R = half ? 2.0 * f * c->radius[i] : f * ((double)c->radius[i] + b.max_radius);
-                size_t m = grid_query(&G, q, R, f, half, keep, user, order, buf ? buf + used : NULL, cap - used);
+                size_t m = grid_query(&G, q, R, f, half, pf, order, &cur, buf ? buf + used : NULL, cap - used);
                 if (used + m > cap) { /* did not fit: grow, then the same query again */
                     size_t nc = cap ? 2 * cap : 4096;
                     while (nc < used + m) nc *= 2;
                     uint32_t *nb = realloc(buf, nc * sizeof *nb);
                     if (!nb) { failed = 1; break; }
                     buf = nb, cap = nc;
-                    grid_query(&G, q, R, f, half, keep, user, order, buf + used, m);
+                    grid_query(&G, q, R, f, half, pf, order, &cur, buf + used, m);
                 }
                 cnt[i] = (uint32_t)m;
                 used += m;
@@ -238,7 +336,7 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
             const size_t q1 = chunk_end((size_t)ch, n);
             for (size_t q = (size_t)ch * QCHUNK; q < q1; q++) {
                 const uint32_t i = G.idx[q];
-                if (row && row[order[i]] != want) continue;
+                if (G.searched && !G.searched[q]) continue;
                 if (cnt[i]) memcpy(found + fst[i], cbuf[ch] + off, cnt[i] * sizeof *found);
                 off += cnt[i];
             }
@@ -247,18 +345,26 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
     for (size_t ch = 0; cbuf && ch < nchunk; ch++) free(cbuf[ch]);
     free(cbuf);
     free(G.start);
+    free(G.rmax);
     free(G.idx);
-    free(G.s);
-    if (!r) { /* the rows: a row's own finds, and with `half` every pair entered from the other side too */
+    free(G.x);
+    free(G.y);
+    free(G.z);
+    free(G.r);
+    free(G.before);
+    free(G.searched);
+    if (!r && !half) { /* the rows are the finds as they stand */
+        g->start = fst, g->adj = found;
+        fst = NULL, found = NULL;
+    } else if (!r) { /* the rows: a row's own finds, and every pair entered from the other side too */
         if (!(g->start = spr__big_alloc((n + 1) * sizeof *g->start))) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
     }
-    if (!r) {
+    if (!r && fst) {
         uint64_t *deg = spr__big_calloc(n + 1, sizeof *deg);
         if (!deg) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
         for (size_t i = 0; !r && i < n; i++) {
             deg[i] += fst[i + 1] - fst[i];
-            if (half)
-                for (uint64_t k = fst[i]; k < fst[i + 1]; k++) deg[found[k]]++;
+            for (uint64_t k = fst[i]; k < fst[i + 1]; k++) deg[found[k]]++;
         }
         if (!r) {
             g->start[0] = 0;
@@ -271,7 +377,7 @@ static spr_result pair_graph(const spr_cloud *c, const spr_bounds *b0, double f,
             for (size_t i = 0; i < n; i++)
                 for (uint64_t k = fst[i]; k < fst[i + 1]; k++) {
                     g->adj[deg[i]++] = found[k];
-                    if (half) g->adj[deg[found[k]]++] = (uint32_t)i;
+                    g->adj[deg[found[k]]++] = (uint32_t)i;
                 }
         }
         free(deg);
@@ -404,9 +510,8 @@ static spr_result to_cloud_order(const spr__spatial *s, const spr_graph *gs, con
  * neighbour walks), then put in the cloud's indices.  The pair test and
  * every area use the same floats in either order, so the graph and its
  * areas are the bits a search in submission order gives. */
-static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
-                                const spr_progress *prog, spr__pair_keep keep, const void *user, int areas, double eps, spr_graph *g,
-                                float **A, float **W, spr_error *err)
+static spr_result spatial_graph(const spr_cloud *c, double f, const pair_filter *pf, int threads, const spr_progress *prog, int areas,
+                                double eps, spr_graph *g, float **A, float **W, spr_error *err)
 {
     memset(g, 0, sizeof *g);
     if (A) *A = NULL;
@@ -418,7 +523,7 @@ static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned cha
     spr_result r = spr__spatial_make(c, &b, nt, &s, err);
     if (r) return r;
     spr_graph gs;
-    r = pair_graph(&s.c, &b, f, row, want, s.order, nt, prog, keep, user, &gs, err);
+    r = pair_graph(&s.c, &b, f, pf, s.order, nt, prog, &gs, err);
     if (r) { spr__spatial_free(&s); return r; }
     float *As = NULL, *Ws = NULL;
     if (areas) {
@@ -439,12 +544,12 @@ static spr_result spatial_graph(const spr_cloud *c, double f, const unsigned cha
 spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
                                 const spr_progress *prog, spr_graph *g, spr_error *err)
 {
-    return spatial_graph(c, f, row, want, threads, prog, NULL, NULL, 0, 0.0, g, NULL, NULL, err);
+    const pair_filter pf = {.row = row, .want = want};
+    return spatial_graph(c, f, &pf, threads, prog, 0, 0.0, g, NULL, NULL, err);
 }
 
-spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
-                                   const spr_progress *prog, spr__pair_keep keep, const void *user, spr__spatial *s, spr_graph *gs,
-                                   spr_error *err)
+spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, const uint32_t *before,
+                                   int threads, const spr_progress *prog, spr__spatial *s, spr_graph *gs, spr_error *err)
 {
     memset(gs, 0, sizeof *gs);
     const int nt = threads > 0 ? threads : omp_get_max_threads();
@@ -452,14 +557,16 @@ spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned 
     spr_cloud_bounds(c, &b);
     spr_result r = spr__spatial_make(c, &b, nt, s, err);
     if (r) return r;
-    if ((r = pair_graph(&s->c, &b, f, row, want, s->order, nt, prog, keep, user, gs, err))) spr__spatial_free(s);
+    const pair_filter pf = {.row = row, .want = want, .before = before};
+    if ((r = pair_graph(&s->c, &b, f, &pf, s->order, nt, prog, gs, err))) spr__spatial_free(s);
     return r;
 }
 
 spr_result spr__pair_graph_keep(const spr_cloud *c, double f, int threads, const spr_progress *prog, spr__pair_keep keep, const void *user,
                                 spr_graph *g, spr_error *err)
 {
-    return spatial_graph(c, f, NULL, 0, threads, prog, keep, user, 0, 0.0, g, NULL, NULL, err);
+    const pair_filter pf = {.keep = keep, .user = user};
+    return spatial_graph(c, f, &pf, threads, prog, 0, 0.0, g, NULL, NULL, err);
 }
 
 spr_result spr_overlap_graph_build(const spr_cloud *c, double eps, int threads, const spr_progress *prog,
@@ -473,7 +580,8 @@ spr_result spr_overlap_graph_build_rows(const spr_cloud *c, double eps, const un
 {
     memset(og, 0, sizeof *og);
     og->eps = eps;
-    return spatial_graph(c, 1.0, row, want, threads, prog, NULL, NULL, 1, eps, &og->g, &og->A, NULL, err);
+    const pair_filter pf = {.row = row, .want = want};
+    return spatial_graph(c, 1.0, &pf, threads, prog, 1, eps, &og->g, &og->A, NULL, err);
 }
 
 spr_result spr__overlap_graph_weights(const spr_cloud *c, double eps, int threads, const spr_progress *prog, spr_overlap_graph *og, float **w,
@@ -481,5 +589,6 @@ spr_result spr__overlap_graph_weights(const spr_cloud *c, double eps, int thread
 {
     memset(og, 0, sizeof *og);
     og->eps = eps;
-    return spatial_graph(c, 1.0, NULL, 0, threads, prog, NULL, NULL, 1, eps, &og->g, &og->A, w, err);
+    const pair_filter pf = {0};
+    return spatial_graph(c, 1.0, &pf, threads, prog, 1, eps, &og->g, &og->A, w, err);
 }

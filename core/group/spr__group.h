@@ -8,12 +8,11 @@
 /* The pair graph of a cloud left on its Morton-ordered copy: *s gets the
  * copy (free with spr__spatial_free) and *gs the rows i of the copy with
  * row[s->order[i]] == want, each with the neighbours j (copy indices, in
- * the order found) that keep(user, s->order[i], s->order[j]) accepts; keep
- * is asked once per row and candidate and need not be symmetric.  For a
- * caller that walks the rows itself: no conversion to the cloud's indices. */
-spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, int threads,
-                                   const spr_progress *prog, spr__pair_keep keep, const void *user, spr__spatial *s, spr_graph *gs,
-                                   spr_error *err);
+ * the order found) that come before it: before[s->order[j]] <
+ * before[s->order[i]] (before, row: in the cloud's indices).  For a caller
+ * that walks the rows itself: no conversion to the cloud's indices. */
+spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, const uint32_t *before,
+                                   int threads, const spr_progress *prog, spr__spatial *s, spr_graph *gs, spr_error *err);
 
 /* spr_overlap_graph_build and, into *w (malloc'd), spr_wgc_weights of it:
  * the same bits, the weights computed on the copy before its conversion. */
