@@ -442,7 +442,8 @@ END_TEST
  * f = 1) against every pair by brute force, in the test's own double
  * arithmetic: the whole graph (each pair found from one side, then both
  * rows), the graph of chosen rows, and those rows with only the neighbours
- * that come before them (before[j] < before[i], as hash collisions ask).
+ * that come before them (before[j] < before[i], as hash collisions ask),
+ * also among part of the cloud only (the splats of the box's lower half in x).
  * The clouds are hostile to a search that prunes by each column's largest
  * radius: radii over a factor 300 (a few giants among small splats), half
  * the centres on a lattice of step 1/8 (on the grid's cell borders, and at
@@ -451,6 +452,8 @@ END_TEST
 START_TEST(pair_graphs_are_every_pair)
 {
     const size_t n = tu_small() ? 600 : 2500;
+    /* the box shrinks with the small size, so the density (and the counts asked for below) stays */
+    const double side = tu_small() ? 3.0 : 6.0;
     uint64_t st = 0x2545F4914F6CDD1Dull;
 #define RND() ((st = st * 6364136223846793005ull + 1442695040888963407ull), (double)(st >> 11) / 9007199254740992.0)
     for (int shift = 0; shift < 2; shift++) {
@@ -459,7 +462,7 @@ START_TEST(pair_graphs_are_every_pair)
         ck_assert(xyz);
         for (size_t i = 0; i < n; i++)
             for (int k = 0; k < 3; k++) {
-                const double u = i % 2 ? floor(RND() * 48.0) / 8.0 : RND() * 6.0; /* 6 x 6 x 1.5 */
+                const double u = i % 2 ? floor(RND() * 8.0 * side) / 8.0 : RND() * side; /* side x side x side/4 */
                 xyz[3 * i + k] = (k == 2 ? 0.25 * u : u) + (shift ? 1e5 : 0.0);
             }
         for (size_t i = 7; i < n; i += 7) memcpy(xyz + 3 * i, xyz + 3 * (i - 1), 3 * sizeof *xyz);
@@ -467,18 +470,24 @@ START_TEST(pair_graphs_are_every_pair)
         free(xyz);
         for (size_t i = 0; i < n; i++)
             c.radius[i] = i % 97 == 0 ? 1.5f : i % 2 ? 0.0625f * (float)(1 + i % 3) : (float)(0.005 + 0.15 * RND());
-        unsigned char *row = malloc(n);
+        unsigned char *row = malloc(n), *in = malloc(n);
         uint32_t *before = malloc(n * sizeof *before);
+        size_t m = 0;
         for (size_t i = 0; i < n; i++) {
+            in[i] = c.pos[3 * i] - (shift ? 1e5 : 0.0) < 0.5 * side;
+            m += in[i];
             row[i] = (unsigned char)(i % 3 != 0);
             before[i] = i % 4 == 0 ? 0 : (uint32_t)(n - i); /* some placed (0), the others in reverse order */
         }
-        spr_graph all, rows, gs;
-        spr__spatial sp;
+        spr_graph all, rows, gs, gp;
+        spr__spatial sp, pp;
         spr_error err;
         ck_assert_int_eq(spr__pair_graph(&c, 1.0, 2, NULL, &all, &err), SPR_OK);
         ck_assert_int_eq(spr__pair_graph_rows(&c, 1.0, row, 1, 2, NULL, &rows, &err), SPR_OK);
-        ck_assert_int_eq(spr__pair_graph_spatial(&c, 1.0, row, 1, before, 2, NULL, &sp, &gs, &err), SPR_OK);
+        ck_assert_int_eq(spr__pair_graph_spatial(&c, 1.0, NULL, row, 1, before, 2, NULL, &sp, &gs, &err), SPR_OK);
+        ck_assert_int_eq(spr__pair_graph_spatial(&c, 1.0, in, row, 1, before, 2, NULL, &pp, &gp, &err), SPR_OK);
+        ck_assert_uint_eq(pp.c.n, m);
+        ck_assert_uint_eq(gp.n, m);
         unsigned char *want = malloc(n), *got = malloc(n);
         size_t pairs = 0, ties = 0;
         for (size_t i = 0; i < n; i++) {
@@ -513,15 +522,27 @@ START_TEST(pair_graphs_are_every_pair)
             for (size_t j = 0; j < n; j++)
                 if (got[j] != (row[i] && want[j] && before[j] < before[i]))
                     ck_abort_msg("shift %d: pair (%zu, %zu) %s the rows with their neighbours before them", shift, i, j, got[j] ? "wrongly in" : "missing from");
+            /* the same among the splats of x < 3 */
+            memset(got, 0, n);
+            if (!in[i]) ck_assert_uint_eq(pp.rank[i], UINT32_MAX);
+            else
+                for (uint64_t e = gp.start[pp.rank[i]]; e < gp.start[pp.rank[i] + 1]; e++) got[pp.order[gp.adj[e]]] = 1;
+            for (size_t j = 0; j < n; j++)
+                if (got[j] != (in[i] && in[j] && row[i] && want[j] && before[j] < before[i]))
+                    ck_abort_msg("shift %d: pair (%zu, %zu) %s the part's rows with their neighbours before them", shift, i, j, got[j] ? "wrongly in" : "missing from");
         }
-        printf("group: pair graphs of %zu splats%s: %zu ordered pairs, %zu at exactly r_i + r_j, all three graphs as brute force\n", n,
-               shift ? " at 1e5" : "", pairs, ties);
+        printf("group: pair graphs of %zu splats%s: %zu ordered pairs, %zu at exactly r_i + r_j, all four graphs as brute force (%zu splats in "
+               "the part)\n", n, shift ? " at 1e5" : "", pairs, ties, m);
+        ck_assert(m > n / 3 && m < 2 * n / 3);
         ck_assert_uint_gt(pairs, 10 * n);
-        ck_assert_uint_gt(ties, 50);
+        ck_assert_uint_gt(ties, n / 50); /* the lattice ties are there */
         spr_graph_free(&all);
         spr_graph_free(&rows);
         spr_graph_free(&gs);
         spr__spatial_free(&sp);
+        spr_graph_free(&gp);
+        spr__spatial_free(&pp);
+        free(in);
         free(want);
         free(got);
         free(row);

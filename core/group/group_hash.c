@@ -270,6 +270,26 @@ static int least_overlap(const spr_cloud *sp, const uint32_t *order, const uint3
     return best;
 }
 
+/* Mode 3: the splats that can take part in a collision nearer than its
+ * threshold, as a row or a neighbour (NULL: all of them, or out of
+ * memory): a neighbour j of a splat i within near_dist of the eye lies
+ * within near_dist + r_i + r_j ≤ near_dist + 2·max r (widened by 1e-9
+ * relative: more than any rounding of handles_collision's distance). */
+static unsigned char *near_part(const spr_cloud *c, const spr_hash_desc *d)
+{
+    float rmax = 0.0f;
+    for (size_t i = 0; i < c->n; i++) rmax = c->radius[i] > rmax ? c->radius[i] : rmax;
+    const double reach = (d->near_dist + 2.0 * (double)rmax) * (1.0 + 1e-9);
+    unsigned char *in = malloc(c->n ? c->n : 1);
+    if (!in) return NULL;
+    for (size_t i = 0; i < c->n; i++) {
+        double q = 0.0;
+        for (int k = 0; k < 3; k++) q += ((double)c->pos[3 * i + k] - d->eye[k]) * ((double)c->pos[3 * i + k] - d->eye[k]);
+        in[i] = sqrt(q) < reach;
+    }
+    return in;
+}
+
 /* Place the pending splats in submission order, after every placed one: a
  * colliding splat takes the group of least total overlap A with the splats
  * placed before it (ties: its table group if minimal, else the smallest k);
@@ -291,20 +311,25 @@ static spr_result place_pending(const spr_cloud *c, spr_hash_desc *d, int32_t *l
      * from the start and the pending ones before it: its only neighbours
      * that count, those j with before[j] < before[i] */
     uint32_t *before = spr__alloc((c->n ? c->n : 1) * sizeof *before);
-    if (!before) return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+    unsigned char *in = d->mode == 3 ? near_part(c, d) : NULL;
+    if (!before || (d->mode == 3 && !in)) {
+        free(before);
+        return spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
+    }
     for (size_t i = 0; i < c->n; i++) before[i] = state[i] == PLACED ? 0 : (uint32_t)i + 1;
-    spr_result r = spr__pair_graph_spatial(c, 1.0, state, PENDING_COLLIDES, before, d->threads, &d->progress, &sp, &g, err);
+    spr_result r = spr__pair_graph_spatial(c, 1.0, in, state, PENDING_COLLIDES, before, d->threads, &d->progress, &sp, &g, err);
     free(before);
+    free(in);
     st->ms_graph = spr_now_ms() - t1;
     if (r) return r;
     uint64_t max_deg = 1;
-    for (size_t q = 0; q < c->n; q++)
+    for (size_t q = 0; q < g.n; q++)
         if (g.start[q + 1] - g.start[q] > max_deg) max_deg = g.start[q + 1] - g.start[q];
     area_edge *buf = malloc(max_deg * sizeof *buf);
     float *a = malloc(max_deg * sizeof *a);
-    int32_t *lab = malloc((c->n ? c->n : 1) * sizeof *lab); /* the labels in the copy's order */
+    int32_t *lab = malloc((g.n ? g.n : 1) * sizeof *lab); /* the labels in the copy's order */
     if (!buf || !a || !lab) r = spr__fail(err, SPR_E_NOMEM, "hash: out of memory");
-    for (size_t q = 0; !r && q < c->n; q++) lab[q] = label[sp.order[q]];
+    for (size_t q = 0; !r && q < g.n; q++) lab[q] = label[sp.order[q]];
     /* the colliding splats in submission order, so the rows ahead can be
      * fetched: each is a random row of the copy, its neighbours' data and
      * labels close to it there */

@@ -548,14 +548,55 @@ spr_result spr__pair_graph_rows(const spr_cloud *c, double f, const unsigned cha
     return spatial_graph(c, f, &pf, threads, prog, 0, 0.0, g, NULL, NULL, err);
 }
 
-spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *row, unsigned char want, const uint32_t *before,
-                                   int threads, const spr_progress *prog, spr__spatial *s, spr_graph *gs, spr_error *err)
+spr_result spr__pair_graph_spatial(const spr_cloud *c, double f, const unsigned char *in, const unsigned char *row, unsigned char want,
+                                   const uint32_t *before, int threads, const spr_progress *prog, spr__spatial *s, spr_graph *gs,
+                                   spr_error *err)
 {
     memset(gs, 0, sizeof *gs);
+    memset(s, 0, sizeof *s);
     const int nt = threads > 0 ? threads : omp_get_max_threads();
+    spr_cloud part = *c; /* the splats that take part: all, or those `in` names, in submission order */
+    uint32_t *sub = NULL;
+    if (in) {
+        size_t m = 0;
+        for (size_t i = 0; i < c->n; i++) m += in[i] != 0;
+        const size_t mm = m ? m : 1;
+        memset(&part, 0, sizeof part);
+        part.n = m;
+        sub = spr__alloc(mm * sizeof *sub);
+        part.pos = spr__alloc(3 * mm * sizeof(float));
+        part.nrm = spr__alloc(3 * mm * sizeof(float));
+        part.radius = spr__alloc(mm * sizeof(float));
+        if (!sub || !part.pos || !part.nrm || !part.radius) {
+            free(sub), free(part.pos), free(part.nrm), free(part.radius);
+            return spr__fail(err, SPR_E_NOMEM, "groups: out of memory for %zu splats of the neighbour graph", m);
+        }
+        for (size_t i = 0, k = 0; i < c->n; i++)
+            if (in[i]) {
+                sub[k] = (uint32_t)i;
+                memcpy(part.pos + 3 * k, c->pos + 3 * i, 3 * sizeof(float));
+                memcpy(part.nrm + 3 * k, c->nrm + 3 * i, 3 * sizeof(float));
+                part.radius[k++] = c->radius[i];
+            }
+    }
     spr_bounds b;
-    spr_cloud_bounds(c, &b);
-    spr_result r = spr__spatial_make(c, &b, nt, s, err);
+    spr_cloud_bounds(&part, &b);
+    spr_result r = spr__spatial_make(&part, &b, nt, s, err);
+    if (in) {
+        free(part.pos), free(part.nrm), free(part.radius);
+        if (!r) { /* the copy's indices into the cloud's */
+            uint32_t *rank = spr__alloc((c->n ? c->n : 1) * sizeof *rank);
+            if (!rank) r = spr__fail(err, SPR_E_NOMEM, "groups: out of memory for the neighbour graph");
+            for (size_t i = 0; !r && i < c->n; i++) rank[i] = UINT32_MAX;
+            for (size_t q = 0; !r && q < part.n; q++) {
+                s->order[q] = sub[s->order[q]];
+                rank[s->order[q]] = (uint32_t)q;
+            }
+            if (r) spr__spatial_free(s);
+            else free(s->rank), s->rank = rank;
+        }
+        free(sub);
+    }
     if (r) return r;
     const pair_filter pf = {.row = row, .want = want, .before = before};
     if ((r = pair_graph(&s->c, &b, f, &pf, s->order, nt, prog, gs, err))) spr__spatial_free(s);
