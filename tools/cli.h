@@ -15,14 +15,10 @@
 #include <cjson/cJSON.h>
 #include "spr__options.h"
 #include "spr_history.h"
+#include "spr__inspect.h"
 
-/* One backend's history of a frame at one pixel (cli_explain.c). */
-typedef struct cli_history_run {
-    const char *name;
-    char renderer[600];
-    spr_history h;
-    int ok;
-} cli_history_run;
+/* One backend's history of a frame at one pixel (core/inspect/explain.c). */
+typedef spr__history_run cli_history_run;
 /* Render s on "cpu" or "gl" (the probe variant) recording pixel (x, y):
  * 0, 1 when GL has no device here, −1 after one line. */
 int cli_run_history(spr_scene *s, const spr_render_desc *rd, const char *which, int gl_device, int x, int y, cli_history_run *out);
@@ -48,7 +44,6 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
 struct spr_parity_report;
 /* One summary line per algorithm, then its first differing planes. */
 void cli_parity_summary(const char *algo, const struct spr_parity_report *p);
-const char *cli_cpu_flags(void);
 
 int cmd_render(int argc, char **argv);
 int cmd_info(int argc, char **argv);

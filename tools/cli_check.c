@@ -4,6 +4,7 @@
  * heat map and a side-by-side picture, exit 0 (pass) or 1 (fail). */
 #include "cli.h"
 #include "spr__scene_opts.h"
+#include "spr__inspect.h"
 #include "spr_check.h"
 #include "spr_image.h"
 #include "spr_swrast.h"
@@ -36,46 +37,6 @@ static const spr__opt compare_opts[] = {
     {"heatmap", "FILE.png", "write the per-pixel sum of |dR|+|dG|+|dB| as a heat map (black equal, white the largest)"},
     {NULL, NULL, NULL}};
 
-/* The tier options into d; bits: of the image under test.  0 or −1. */
-static int tier_opts(spr__args *a, int bits, spr_check_desc *d)
-{
-    const char *t = spr__get(a, "tier");
-    int64_t ulp = -1;
-    int lsb = -1, pos = 0;
-    double u = -1.0;
-    if (spr__get_double(a, "ulp", &u, 0.0, 4294967296.0) < 0 || spr__get_int(a, "lsb", &lsb, 0, 65535) < 0 ||
-        spr__get_int(a, "position-tolerance", &pos, 0, 1) < 0)
-        return -1;
-    if (u >= 0.0) ulp = (int64_t)u;
-    if (t && strcmp(t, "A") && strcmp(t, "B") && strcmp(t, "C")) { spr__error(a, "--tier: '%s' is not A, B or C", t); return -1; }
-    const int bounds = ulp >= 0 || lsb >= 0 || pos;
-    d->tier = t ? (spr_tier)(t[0] - 'A') : bounds ? SPR_TIER_B : SPR_TIER_A;
-    if (d->tier == SPR_TIER_A && bounds) { spr__error(a, "Tier A is bit-exact: --ulp, --lsb and --position-tolerance need --tier B"); return -1; }
-    if (ulp >= 0 && bits != 32) { spr__error(a, "--ulp applies to float (PFM) images; this one has %d-bit values: use --lsb", bits); return -1; }
-    if (d->tier == SPR_TIER_B && ulp < 0 && lsb < 0) lsb = 1; /* PARITY.md: ≤ 1 LSB expected */
-    d->bits = bits, d->ulp = ulp, d->lsb = lsb, d->position = pos;
-    return 0;
-}
-
-/* Make test's channels agree with the reference's: a grey PNG (read as
- * three equal channels) checks a one-channel plane.  0, or −1 after a line. */
-static int match_channels(spr__args *a, const char *name, float **test, int *tch, int rch, int w, int h)
-{
-    if (*tch == rch) return 0;
-    if (rch == 1 && *tch == 3) {
-        const size_t np = (size_t)w * h;
-        for (size_t p = 0; p < np; p++)
-            if ((*test)[3 * p] != (*test)[3 * p + 1] || (*test)[3 * p] != (*test)[3 * p + 2]) goto mismatch;
-        for (size_t p = 0; p < np; p++) (*test)[p] = (*test)[3 * p];
-        *tch = 1;
-        return 0;
-    }
-mismatch:
-    spr__error(a, "%s has %d channel%s, the reference has %d%s", name, *tch, *tch > 1 ? "s" : "", rch,
-              *tch == 4 ? " (write RGB without alpha)" : "");
-    return -1;
-}
-
 /* A picture of a plane for the side-by-side: colour as is, one channel as
  * grey over [lo, hi]. */
 static void to_rgb(const float *im, int ch, size_t np, double lo, double hi, float *rgb)
@@ -85,6 +46,17 @@ static void to_rgb(const float *im, int ch, size_t np, double lo, double hi, flo
             float v = im[p * ch + (ch == 1 ? 0 : c)];
             rgb[3 * p + c] = ch == 1 ? (float)(hi > lo && isfinite(v) ? (v - lo) / (hi - lo) : 0.0) : v;
         }
+}
+
+/* The tier options into d; bits: of the image under test.  0 or −1. */
+static int tier_opts(spr__args *a, int bits, spr_check_desc *d)
+{
+    int lsb = -1, pos = 0;
+    double u = -1.0;
+    if (spr__get_double(a, "ulp", &u, 0.0, 4294967296.0) < 0 || spr__get_int(a, "lsb", &lsb, 0, 65535) < 0 ||
+        spr__get_int(a, "position-tolerance", &pos, 0, 1) < 0)
+        return -1;
+    return spr__check_tier(a, spr__get(a, "tier"), u, lsb, pos, bits, d);
 }
 
 typedef struct check_io {
@@ -136,15 +108,8 @@ static int check_and_report(spr__args *a, const check_io *io, const float *ref, 
     spr_check_result r;
     spr_check_images(ref, test, w, h, ch, d, &r, heat);
     const char *cmd = a->cmd;
-    char bounds[160] = "bit-exact";
-    if (d->tier == SPR_TIER_B) {
-        size_t at = 0;
-        bounds[0] = '\0';
-        if (d->ulp >= 0) at += (size_t)snprintf(bounds + at, sizeof bounds - at, "ulp <= %lld", (long long)d->ulp);
-        if (d->lsb >= 0) at += (size_t)snprintf(bounds + at, sizeof bounds - at, "%slsb <= %d", at ? ", " : "", d->lsb);
-        if (d->position) snprintf(bounds + at, sizeof bounds - at, "%sposition +-1 pixel", at ? ", " : "");
-    }
-    if (d->tier == SPR_TIER_C) snprintf(bounds, sizeof bounds, "diagnostics only");
+    char bounds[160];
+    spr__check_bounds_text(d, bounds, sizeof bounds);
     printf("%s: %s vs %s: %s, %dx%d, %d channel%s, %s\n", cmd, io->ref_label, io->test_label, io->what, w, h, ch, ch > 1 ? "s" : "",
            d->bits == 32 ? "float" : d->bits == 16 ? "16-bit" : "8-bit");
     printf("%s: Tier %s (%s): %zu of %zu pixels differ, %zu fail%s", cmd, spr_tier_name(d->tier), bounds, r.differing, r.pixels, r.failing,
@@ -175,37 +140,8 @@ static int check_and_report(spr__args *a, const check_io *io, const float *ref, 
         if (spr_write_png(path, heat, w, h, 3, &err)) { fprintf(stderr, "splatref %s: %s\n", cmd, err.msg); rc = 2; }
         snprintf(path, sizeof path, "%s/side-by-side.png", tmp);
         if (!rc && write_side_by_side(a, path, ref, test, heat, w, h, ch)) rc = 2;
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddStringToObject(o, "reference", io->ref_label);
-        cJSON_AddStringToObject(o, "image", io->test_label);
-        cJSON_AddStringToObject(o, "plane", io->what);
-        cJSON_AddNumberToObject(o, "width", w);
-        cJSON_AddNumberToObject(o, "height", h);
-        cJSON_AddNumberToObject(o, "channels", ch);
-        cJSON_AddNumberToObject(o, "bits", d->bits);
-        cJSON_AddStringToObject(o, "tier", spr_tier_name(d->tier));
-        if (d->ulp >= 0) cJSON_AddNumberToObject(o, "ulp_bound", (double)d->ulp);
-        if (d->lsb >= 0) cJSON_AddNumberToObject(o, "lsb_bound", d->lsb);
-        cJSON_AddNumberToObject(o, "position_tolerance", d->position);
-        cJSON_AddNumberToObject(o, "pixels", (double)r.pixels);
-        cJSON_AddNumberToObject(o, "differing_pixels", (double)r.differing);
-        cJSON_AddNumberToObject(o, "failing_pixels", (double)r.failing);
-        cJSON_AddNumberToObject(o, "position_rescued_pixels", (double)r.rescued);
-        if (d->bits == 32) cJSON_AddNumberToObject(o, "max_ulp", (double)r.max_ulp);
-        cJSON_AddNumberToObject(o, "max_lsb", r.max_lsb);
-        cJSON_AddNumberToObject(o, "max_abs", isfinite(r.max_abs) ? r.max_abs : -1.0);
-        cJSON_AddNumberToObject(o, "mean_abs", r.mean_abs);
-        cJSON_AddNumberToObject(o, "zp_eps", r.zp_eps);
-        if (r.first_x >= 0) {
-            cJSON *f = cJSON_AddObjectToObject(o, r.failing ? "first_failing" : "first_differing");
-            cJSON_AddNumberToObject(f, "x", r.first_x);
-            cJSON_AddNumberToObject(f, "y", r.first_y);
-            cJSON_AddNumberToObject(f, "row_from_top", h - 1 - r.first_y);
-            cJSON_AddNumberToObject(f, "channel", r.first_channel);
-            cJSON_AddNumberToObject(f, "reference", r.first_ref);
-            cJSON_AddNumberToObject(f, "image", r.first_test);
-            if (explain[0]) cJSON_AddStringToObject(f, "explain", explain);
-        }
+        cJSON *o = spr__check_json(io->ref_label, io->test_label, io->what, w, h, ch, d, &r, explain);
+        cJSON_DeleteItemFromObject(o, "verdict"); /* last, after the pictures */
         cJSON_AddStringToObject(o, "heatmap", "heatmap.png");
         cJSON_AddStringToObject(o, "side_by_side", "side-by-side.png");
         cJSON_AddStringToObject(o, "verdict", d->tier == SPR_TIER_C ? "diagnostic" : r.pass ? "pass" : "fail");
@@ -220,29 +156,6 @@ static int check_and_report(spr__args *a, const check_io *io, const float *ref, 
     if (d->tier == SPR_TIER_C) printf("verdict: DIAGNOSTIC (Tier C never passes or fails on its own)\n");
     else printf("verdict: %s (Tier %s)\n", r.pass ? "PASS" : "FAIL", spr_tier_name(d->tier));
     return r.pass ? 0 : 1;
-}
-
-/* ---- check: capture the plane the image holds ---- */
-typedef struct plane_grab {
-    spr_plane plane;
-    int channel;      /* −1: all of the plane's channels (colour: rgb); 3: the weight */
-    int want_pass;    /* −1: the last pass that has the plane */
-    float *buf;       /* W·H·channels of the plane */
-    int got_pass;
-    char pass_name[48];
-    int failed;
-    spr_error err;
-} plane_grab;
-
-static void grab_hook(void *user, spr_backend *b, const spr_pass_info *info)
-{
-    plane_grab *g = user;
-    if (g->failed || (g->want_pass >= 0 && info->index != g->want_pass)) return;
-    if (!(spr_backend_target_planes(b, info->target) & SPR_PLANE_BIT(g->plane))) return;
-    if (spr_backend_read_plane_f(b, info->target, g->plane, g->buf)) { g->failed = 1; g->err = b->err; return; }
-    g->got_pass = info->index;
-    if (info->group >= 0) snprintf(g->pass_name, sizeof g->pass_name, "%s k%d", info->name, info->group);
-    else snprintf(g->pass_name, sizeof g->pass_name, "%s", info->name);
 }
 
 /* The command explaining a pixel of this scene: the scene options given
@@ -266,74 +179,34 @@ int cmd_check(int argc, char **argv)
     const char *image = spr__get(&a, "image"), *pname = spr__get(&a, "plane"), *out = spr__get(&a, "out");
     if (!image) { spr__error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
     if (!out) out = "check-report";
-    plane_grab g = {SPR_PLANE_COLOR, -1, -1, NULL, -1, "", 0, {0}};
-    if (pname && strcmp(pname, "color") && strcmp(pname, "colour")) {
-        int p = 0;
-        while (p < SPR_PLANE__COUNT && strcmp(spr_plane_name((spr_plane)p), pname)) p++;
-        if (!strcmp(pname, "weight")) p = SPR_PLANE_COLOR, g.channel = 3;
-        else if (p == SPR_PLANE__COUNT || p == SPR_PLANE_NORMAL) {
-            spr__error(&a, "--plane: '%s' is not color, weight, depth, test, id, count, opacity, transmittance, contrib, invdepth or surfdepth", pname);
-            return 2;
-        }
-        g.plane = (spr_plane)p;
-    }
-    if (spr__get_int(&a, "pass", &g.want_pass, 0, 100000) < 0) return 2;
-    const int final = g.plane == SPR_PLANE_COLOR && g.channel < 0 && g.want_pass < 0;
-    float *theirs = NULL;
-    int tw, th, tch, bits;
+    int pass = -1;
+    if (spr__get_int(&a, "pass", &pass, 0, 100000) < 0) return 2;
+    float *theirs = NULL, *ref = NULL;
+    int tw, th, tch, bits, rch;
     spr_error err = {0};
     if (spr_read_image_bits(image, &theirs, &tw, &th, &tch, &bits, &err)) { fprintf(stderr, "splatref check: %s\n", err.msg); return 2; }
     spr_check_desc d;
     spr_scene s;
     spr_render_desc rd;
-    spr_backend *b = NULL;
-    spr_render_result res = {0};
     int rc = 2;
+    char what[96];
     memset(&s, 0, sizeof s);
     if (tier_opts(&a, bits, &d) || spr__scene_setup(&a, &s, &rd, 0)) goto done;
     if (tw != s.view.width || th != s.view.height) {
         spr__error(&a, "%s is %dx%d, the scene renders %dx%d", image, tw, th, s.view.width, s.view.height);
         goto done;
     }
-    const size_t np = (size_t)tw * th;
-    const int pch = spr_plane_channels(g.plane);
-    if (!(g.buf = malloc(np * (size_t)pch * sizeof(float)))) { spr__error(&a, "out of memory"); goto done; }
-    if (!final) rd.hook = grab_hook, rd.hook_user = &g;
-    if (!(b = spr_swrast_create(s.threads, &err)) || spr_render(b, &s.view, &s.cloud, &rd, &res, &err)) {
-        fprintf(stderr, "splatref check: %s\n", err.msg);
+    if (spr__check_reference(&a, &s, &rd, pname, pass, &ref, &rch, what, sizeof what) ||
+        spr__check_channels(&a, image, &theirs, &tch, rch, tw, th))
         goto done;
-    }
-    if (g.failed) { fprintf(stderr, "splatref check: %s\n", g.err.msg); goto done; }
-    int rch = 3;
-    float *ref = g.buf;
-    if (final) {
-        for (size_t p = 0; p < np; p++)
-            for (int c = 0; c < 3; c++) ref[3 * p + c] = res.rgba[4 * p + c];
-    } else if (g.got_pass < 0) {
-        if (g.want_pass >= 0) spr__error(&a, "--pass %d: no such pass has a %s plane (render --dump lists them)", g.want_pass, spr_plane_name(g.plane));
-        else spr__error(&a, "no pass of %s has a %s plane", spr_algo_name(rd.algo), spr_plane_name(g.plane));
-        goto done;
-    } else if (g.plane == SPR_PLANE_COLOR) { /* rgb, or the weight alone */
-        rch = g.channel == 3 ? 1 : 3;
-        for (size_t p = 0; p < np; p++)
-            for (int c = 0; c < rch; c++) ref[rch * p + c] = ref[4 * p + (g.channel == 3 ? 3 : c)];
-    } else {
-        rch = pch; /* ids and counts as floats, none = −1 (as --dump) */
-    }
-    if (match_channels(&a, image, &theirs, &tch, rch, tw, th)) goto done;
-    char what[96], ref_label[160], explain[2400];
-    if (final) snprintf(what, sizeof what, "final colour");
-    else snprintf(what, sizeof what, "%s%s after pass %d (%s)", g.channel == 3 ? "weight" : spr_plane_name(g.plane),
-                  g.channel == 3 ? " (colour channel 4)" : "", g.got_pass, g.pass_name);
+    char ref_label[160], explain[2400];
     snprintf(ref_label, sizeof ref_label, "reference (cpu, %s)", spr_algo_name(rd.algo));
     explain_command(&a, explain, sizeof explain);
     check_io io = {ref_label, image, what, explain};
     rc = check_and_report(&a, &io, ref, theirs, tw, th, rch, &d, out);
 done:
     free(theirs);
-    free(g.buf);
-    spr_render_result_free(&res);
-    spr_backend_destroy(b);
+    free(ref);
     spr_scene_free(&s);
     return rc;
 }
@@ -365,9 +238,9 @@ int cmd_compare(int argc, char **argv)
         spr__error(&a, "%s is %dx%d, %s is %dx%d", a.positional[0], w[0], h[0], a.positional[1], w[1], h[1]);
         goto done;
     }
-    if (ch[0] == 1 && match_channels(&a, a.positional[1], &im[1], &ch[1], 1, w[0], h[0])) goto done;
-    if (ch[1] == 1 && match_channels(&a, a.positional[0], &im[0], &ch[0], 1, w[0], h[0])) goto done;
-    if (match_channels(&a, a.positional[1], &im[1], &ch[1], ch[0], w[0], h[0])) goto done;
+    if (ch[0] == 1 && spr__check_channels(&a, a.positional[1], &im[1], &ch[1], 1, w[0], h[0])) goto done;
+    if (ch[1] == 1 && spr__check_channels(&a, a.positional[0], &im[0], &ch[0], 1, w[0], h[0])) goto done;
+    if (spr__check_channels(&a, a.positional[1], &im[1], &ch[1], ch[0], w[0], h[0])) goto done;
     const size_t np = (size_t)w[0] * h[0];
     /* the [ZP] metrics on 8-bit values, as before */
     float *heat = heatmap ? malloc(np * 3 * sizeof *heat) : NULL;

@@ -23,77 +23,6 @@ static const spr__opt parity_opts[] = {
     {"first", "I", "--random: start at scene I of the seed (scene i of a seed is always the same scene; default 0)"},
     {NULL, NULL, NULL}};
 
-const char *cli_cpu_flags(void)
-{
-    static char buf[128];
-    __builtin_cpu_init();
-    snprintf(buf, sizeof buf, "fma=%d avx=%d avx2=%d avx512f=%d", __builtin_cpu_supports("fma") != 0,
-             __builtin_cpu_supports("avx") != 0, __builtin_cpu_supports("avx2") != 0, __builtin_cpu_supports("avx512f") != 0);
-    return buf;
-}
-
-typedef struct report_ref {
-    const char *dir;        /* the report's directory once it is complete */
-    const spr_scene *s;
-    const char *renderer;
-    int n;
-    const char *algo[SPR_ALGO__COUNT];
-    const spr_parity_report *rep[SPR_ALGO__COUNT];
-} report_ref;
-
-static cJSON *report_json(const report_ref *r)
-{
-    cJSON *o = cJSON_CreateObject();
-    cJSON_AddStringToObject(o, "reference", "cpu");
-    cJSON_AddStringToObject(o, "test", "gl");
-    cJSON_AddStringToObject(o, "gl_renderer", r->renderer);
-    cJSON_AddStringToObject(o, "cpu_flags", cli_cpu_flags());
-    cJSON_AddStringToObject(o, "model", r->s->model);
-    cJSON_AddNumberToObject(o, "splats", (double)r->s->cloud.n);
-    cJSON_AddNumberToObject(o, "width", r->s->view.width);
-    cJSON_AddNumberToObject(o, "height", r->s->view.height);
-    cJSON *algos = cJSON_AddArrayToObject(o, "algorithms");
-    for (int a = 0; a < r->n; a++) {
-        const spr_parity_report *p = r->rep[a];
-        cJSON *e = cJSON_CreateObject();
-        cJSON_AddStringToObject(e, "algo", r->algo[a]);
-        cJSON_AddBoolToObject(e, "bit_exact", spr_parity_exact(p));
-        cJSON_AddNumberToObject(e, "planes", p->n_planes);
-        cJSON_AddNumberToObject(e, "exact_planes", p->exact_planes);
-        cJSON_AddNumberToObject(e, "max_ulp", (double)p->max_ulp);
-        cJSON_AddNumberToObject(e, "passes_ref", p->passes_ref);
-        cJSON_AddNumberToObject(e, "passes_test", p->passes_test);
-        cJSON_AddNumberToObject(e, "stats_mismatches", p->stats_mismatches);
-        cJSON_AddStringToObject(e, "first_stats_mismatch", p->first_stats_mismatch);
-        cJSON *planes = cJSON_AddArrayToObject(e, "plane_results");
-        for (int i = 0; i < p->n_planes; i++) {
-            const spr_plane_diff *d = &p->planes[i];
-            cJSON *q = cJSON_CreateObject();
-            cJSON_AddNumberToObject(q, "pass", d->pass);
-            cJSON_AddStringToObject(q, "pass_name", d->pass_name);
-            cJSON_AddNumberToObject(q, "group", d->group);
-            cJSON_AddStringToObject(q, "plane", spr_parity_plane_name(d->plane));
-            cJSON_AddNumberToObject(q, "differing_pixels", (double)d->differing_pixels);
-            cJSON_AddNumberToObject(q, "max_ulp", (double)d->max_ulp);
-            cJSON_AddNumberToObject(q, "max_abs", d->max_abs); /* cJSON writes null for NaN and infinity */
-            if (d->differing_pixels) {
-                cJSON *f = cJSON_AddObjectToObject(q, "first");
-                cJSON_AddNumberToObject(f, "x", d->first_x);
-                cJSON_AddNumberToObject(f, "y", d->first_y);
-                cJSON_AddNumberToObject(f, "channel", d->first_channel);
-                cJSON_AddNumberToObject(f, "cpu", d->first_ref);
-                cJSON_AddNumberToObject(f, "gl", d->first_test);
-                char hm[1300];
-                snprintf(hm, sizeof hm, "%s/%s", r->dir, d->heatmap); /* where it ends up, not the temporary directory */
-                cJSON_AddStringToObject(q, "heatmap", hm);
-            }
-            cJSON_AddItemToArray(planes, q);
-        }
-        cJSON_AddItemToArray(algos, e);
-    }
-    return o;
-}
-
 /* The summary line of one algorithm, then where it first departs. */
 void cli_parity_summary(const char *algo, const spr_parity_report *p)
 {
@@ -145,7 +74,7 @@ int cmd_parity(int argc, char **argv)
     if (!(gl = spr__backend(&a, "gl", s.threads, gl_device)) || !(cpu = spr__backend(&a, "cpu", s.threads, -1))) goto done;
     printf("parity: cpu reference vs gl [%s], %s, %zu splats, %dx%d\n", spr_gl_renderer(gl), s.model, s.cloud.n, s.view.width,
            s.view.height);
-    report_ref rr = {dir, &s, spr_gl_renderer(gl), 0, {0}, {0}};
+    spr__parity_set rr = {dir, &s, spr_gl_renderer(gl), 0, {0}, {0}};
     int all_exact = 1;
     const int tier_b = rd.sampling == SPR_SAMPLE_HARDWARE;
     for (int algo = 0; algo < SPR_ALGO__COUNT; algo++) { /* the registry, in its order */
@@ -177,7 +106,7 @@ int cmd_parity(int argc, char **argv)
     if (dir) {
         char path[1200];
         snprintf(path, sizeof path, "%s/report.json", report_tmp);
-        if (spr__write_json(&a, path, report_json(&rr))) goto done;
+        if (spr__write_json(&a, path, spr__parity_json(&rr))) goto done;
         printf("report: %s/report.json\n", dir);
     }
     printf("verdict: %s\n", all_exact ? "BIT-EXACT (Tier A)" : tier_b ? "DIFFERENT (Tier B mode: bounded error expected, see above)" : "DIFFERENT");

@@ -58,6 +58,12 @@ static int near_match(const float *of, const float *in, int ref_first, int w, in
 void spr_check_images(const float *ref, const float *test, int w, int h, int ch, const spr_check_desc *d, spr_check_result *r,
                       float *heat)
 {
+    spr_check_images_state(ref, test, w, h, ch, d, r, heat, NULL);
+}
+
+void spr_check_images_state(const float *ref, const float *test, int w, int h, int ch, const spr_check_desc *d, spr_check_result *r,
+                            float *heat, unsigned char *state_out)
+{
     memset(r, 0, sizeof *r);
     r->first_x = r->first_y = r->first_channel = -1;
     r->pixels = (size_t)w * h;
@@ -65,7 +71,8 @@ void spr_check_images(const float *ref, const float *test, int w, int h, int ch,
     double sum_abs = 0.0, max_sum = 0.0;
     int first_is_failing = 0;
     double *pix_sum = heat ? calloc(r->pixels, sizeof *pix_sum) : NULL;
-    unsigned char *state = heat ? calloc(r->pixels, 1) : NULL; /* 0 equal, 1 within, 2 rescued, 3 failing */
+    unsigned char *state = state_out ? state_out : heat ? calloc(r->pixels, 1) : NULL; /* 0 equal, 1 within, 2 rescued, 3 failing */
+    if (state_out) memset(state_out, 0, r->pixels);
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             const size_t p = (size_t)y * w + x;
@@ -121,5 +128,5 @@ void spr_check_images(const float *ref, const float *test, int w, int h, int ch,
         }
     }
     free(pix_sum);
-    free(state);
+    if (state != state_out) free(state);
 }

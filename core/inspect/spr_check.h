@@ -48,6 +48,10 @@ typedef struct spr_check_result {
  * bounds, yellow rescued by position, red failing, brighter = larger). */
 void spr_check_images(const float *ref, const float *test, int w, int h, int ch, const spr_check_desc *d, spr_check_result *r,
                       float *heat);
+/* The same, and state (NULL or w·h bytes) receiving each pixel's verdict:
+ * 0 equal, 1 within the bounds, 2 passing only within one pixel, 3 failing. */
+void spr_check_images_state(const float *ref, const float *test, int w, int h, int ch, const spr_check_desc *d, spr_check_result *r,
+                            float *heat, unsigned char *state);
 /* "A", "B" or "C". */
 const char *spr_tier_name(spr_tier t);
 

@@ -109,6 +109,15 @@ static inline int spr_neighbour(const spr_pixel_in *px, int a, int b)
     return spr_rects_neighbours(px->nbr, px->nbr_words, (size_t)a, (size_t)b);
 }
 
-#include "spr_arith_parts.h" /* core/render/arith/, in the order of its ORDER file */
+/* core/render/arith/, in the order of its ORDER file; GLSL compiles the same
+ * text, where a parameter some functions leave unused cannot be cast away */
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#endif
+#include "spr_arith_parts.h"
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 #endif

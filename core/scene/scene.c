@@ -150,7 +150,7 @@ int spr__make_groups(spr__args *a, spr_scene *s, spr_grouping_desc *gd, const ch
 int spr__model_opts(spr__args *a, spr_scene *s, spr_load_desc *ld)
 {
     spr_load_defaults(ld);
-    const char *model = spr__get(a, "model") ? spr__get(a, "model") : "builtin:torus";
+    const char *model = a->cloud_in ? "arrays" : spr__get(a, "model") ? spr__get(a, "model") : "builtin:torus";
     snprintf(s->model, sizeof s->model, "%s", model);
     if ((!strncmp(model, "builtin:", 8) && spr__get_size(a, "points", &ld->points, 16, SPR_MAX_SPLATS) < 0) ||
         spr__get_int(a, "radius-k", &ld->radius_k, 1, 256) < 0 || spr__get_double(a, "radius-scale", &ld->radius_rho, 1e-6, 1e6) < 0 ||
@@ -198,11 +198,23 @@ static int stream_model(spr__args *a, spr_scene *s, const spr_load_desc *ld, int
 int spr__load_model(spr__args *a, spr_scene *s, const spr_load_desc *ld)
 {
     spr_error err = {0};
-    if (spr__scene_check_model(a, s->model)) return -1;
-    if (spr__get(a, "stream")) return stream_model(a, s, ld, s->stream_keep);
-    double t0 = spr_now_ms();
-    if (spr_load(s->model, ld, &s->cloud, &err)) { spr__error(a, "%s", err.msg); return -1; }
-    s->load_ms = spr_now_ms() - t0;
+    if (a->cloud_in) { /* arrays handed in: already checked as a file's values are */
+        if (ld->balls > 0 || spr__get(a, "stream")) { spr__error(a, "--%s: not with a cloud given as arrays", ld->balls > 0 ? "balls" : "stream"); return -1; }
+        s->cloud = *a->cloud_in;
+        memset(a->cloud_in, 0, sizeof *a->cloud_in);
+        if (ld->opacity > 0.0)
+            for (size_t i = 0; i < s->cloud.n; i++) s->cloud.alpha[i] = (float)ld->opacity;
+    } else {
+        if (spr__scene_check_model(a, s->model)) return -1;
+        if (spr__get(a, "stream")) return stream_model(a, s, ld, s->stream_keep);
+        double t0 = spr_now_ms();
+        if (spr_load(s->model, ld, &s->cloud, &err)) {
+            spr__error(a, "%s", err.msg);
+            if (a->sink) a->sink->code = err.code; /* a library call keeps the reader's code */
+            return -1;
+        }
+        s->load_ms = spr_now_ms() - t0;
+    }
     spr_bounds bd;
     spr_cloud_bounds(&s->cloud, &bd);
     spr_camera_frame(&s->cam, &bd);

@@ -33,6 +33,7 @@ typedef struct spr__args {
     const char *positional[4];
     int n_positional;
     spr_error *sink;      /* set: messages go here instead of stderr (the library's callers) */
+    spr_cloud *cloud_in;  /* set: the model is this cloud (spr_ffi.h's arrays), taken over by spr__load_model and zeroed */
 } spr__args;
 
 /* 0 on success, 1 when --help was printed, 2 after printing an error. */

@@ -1,0 +1,392 @@
+/* ffi.c — the flat interface of spr_ffi.h over the scene options, the
+ * backends, the capture hook and the reports of spr__inspect.h. */
+#include "spr_ffi.h"
+#include "spr__inspect.h"
+#include "spr__scene_opts.h"
+#include "spr_glbackend.h"
+#include "spr_image.h"
+#include "spr_swrast.h"
+#include "spr_version.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static _Thread_local spr_error last;
+
+static void fail_with(const spr_error *e)
+{
+    last = *e;
+    if (!last.code) last.code = SPR_E_ARG;
+}
+
+static void fail(int code, const char *msg)
+{
+    last.code = code;
+    snprintf(last.msg, sizeof last.msg, "%s", msg);
+}
+
+const char *spr_ffi_version(void) { return SPR_VERSION_STRING; }
+const char *spr_ffi_error(void) { return last.msg; }
+int spr_ffi_error_code(void) { return last.code; }
+void spr_ffi_free(char *s) { free(s); }
+uint8_t spr_ffi_to_u8(float v) { return spr_to_u8(v); }
+
+static const spr__opt scene_opts[] = {SPR__SCENE_OPTS, {NULL, NULL, NULL}};
+
+struct spr_ffi_scene {
+    spr__args a;
+    char *text[SPR__MAX_OPTS]; /* the option values a.value points to */
+    spr_cloud in;
+    spr_scene s;
+    spr_render_desc rd;
+    spr_error err;
+};
+
+struct spr_ffi_frame {
+    char backend[8], renderer[600];
+    spr_capture cap;
+    spr_render_result res;
+};
+
+static char *json_text(cJSON *o)
+{
+    char *t = o ? cJSON_PrintUnformatted(o) : NULL;
+    cJSON_Delete(o);
+    if (!t) fail(SPR_E_NOMEM, "out of memory");
+    return t;
+}
+
+/* The arrays as a cloud, checked as a loaded file's values are. */
+static int take_arrays(spr_ffi_scene *sc, const spr_ffi_arrays *ar)
+{
+    spr_error err = {0};
+    if (!ar->n || !ar->pos || !ar->nrm || !ar->radius) { fail(SPR_E_ARG, "arrays: n, pos, nrm and radius are required"); return -1; }
+    if (ar->n > SPR_MAX_SPLATS) { fail(SPR_E_ARG, "arrays: too many splats"); return -1; }
+    spr_cloud *c = &sc->in;
+    if (spr_cloud_alloc(c, ar->n)) { fail(SPR_E_NOMEM, "arrays: out of memory"); return -1; }
+    memcpy(c->pos, ar->pos, 3 * ar->n * sizeof(float));
+    memcpy(c->nrm, ar->nrm, 3 * ar->n * sizeof(float));
+    memcpy(c->radius, ar->radius, ar->n * sizeof(float));
+    c->flags = SPR_SRC_NORMALS | SPR_SRC_RADII;
+    if (ar->color) memcpy(c->color, ar->color, 3 * ar->n * sizeof(float)), c->flags |= SPR_SRC_COLORS;
+    if (ar->alpha) memcpy(c->alpha, ar->alpha, ar->n * sizeof(float)), c->flags |= SPR_SRC_ALPHA;
+    else
+        for (size_t i = 0; i < ar->n; i++) c->alpha[i] = 1.0f;
+    for (size_t i = 0; i < ar->n; i++)
+        if (spr__normalize3(c->nrm + 3 * i)) {
+            snprintf(err.msg, sizeof err.msg, "arrays: splat %zu: normal (%g, %g, %g) is zero or not finite", i, (double)ar->nrm[3 * i],
+                     (double)ar->nrm[3 * i + 1], (double)ar->nrm[3 * i + 2]);
+            err.code = SPR_E_VALUE;
+            fail_with(&err);
+            return -1;
+        }
+    if (spr__cloud_finish(c, "arrays", 0, 0.0, &err)) { fail_with(&err); return -1; }
+    sc->a.cloud_in = c;
+    return 0;
+}
+
+spr_ffi_scene *spr_ffi_scene_new(int n, const char *const *keys, const char *const *values, const spr_ffi_arrays *arrays)
+{
+    spr_ffi_scene *sc = calloc(1, sizeof *sc);
+    if (!sc) { fail(SPR_E_NOMEM, "out of memory"); return NULL; }
+    spr__args *a = &sc->a;
+    a->cmd = "scene";
+    a->opts = scene_opts;
+    a->sink = &sc->err;
+    const char *scene_file = NULL;
+    for (int i = 0; i < n; i++) {
+        char name[64];
+        snprintf(name, sizeof name, "%s", keys[i]);
+        for (char *p = name; *p; p++)
+            if (*p == '_') *p = '-';
+        int k = 0;
+        while (scene_opts[k].name && strcmp(scene_opts[k].name, name)) k++;
+        if (!scene_opts[k].name) {
+            snprintf(sc->err.msg, sizeof sc->err.msg, "unknown option '%s' (the scene-file keys and render's options: docs/scene-format.md)", keys[i]);
+            sc->err.code = SPR_E_ARG;
+            goto bad;
+        }
+        free(sc->text[k]);
+        if (!(sc->text[k] = strdup(values[i] ? values[i] : "1"))) { fail(SPR_E_NOMEM, "out of memory"); spr_ffi_scene_free(sc); return NULL; }
+        a->value[k] = sc->text[k];
+        if (!strcmp(name, "scene")) scene_file = sc->text[k];
+    }
+    if (arrays && take_arrays(sc, arrays)) { spr_ffi_scene_free(sc); return NULL; }
+    if (scene_file && spr__scene_read(a, scene_file)) goto bad;
+    if (spr__scene_setup(a, &sc->s, &sc->rd, 1)) goto bad;
+    return sc;
+bad:
+    fail_with(&sc->err);
+    spr_ffi_scene_free(sc);
+    return NULL;
+}
+
+void spr_ffi_scene_free(spr_ffi_scene *sc)
+{
+    if (!sc) return;
+    spr_scene_free(&sc->s);
+    spr_cloud_free(&sc->in);
+    for (int k = 0; k < SPR__MAX_OPTS; k++) free(sc->text[k]);
+    free(sc);
+}
+
+char *spr_ffi_scene_json(const spr_ffi_scene *sc)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "model", sc->s.model);
+    cJSON_AddNumberToObject(o, "splats", (double)sc->s.cloud.n);
+    cJSON_AddNumberToObject(o, "width", sc->s.view.width);
+    cJSON_AddNumberToObject(o, "height", sc->s.view.height);
+    cJSON_AddStringToObject(o, "algo", sc->s.all_algos ? "all" : spr_algo_name(sc->rd.algo));
+    cJSON_AddNumberToObject(o, "groups", sc->rd.groups ? sc->rd.groups->K : 0);
+    cJSON_AddNumberToObject(o, "threads", sc->s.threads);
+    return json_text(o);
+}
+
+const float *spr_ffi_scene_cloud(const spr_ffi_scene *sc, const char *field, size_t *n, int *comps)
+{
+    const spr_cloud *c = &sc->s.cloud;
+    *n = c->n;
+    *comps = 3;
+    if (!strcmp(field, "pos")) return c->pos;
+    if (!strcmp(field, "nrm")) return c->nrm;
+    if (!strcmp(field, "color")) return c->color;
+    *comps = 1;
+    if (!strcmp(field, "radius")) return c->radius;
+    if (!strcmp(field, "alpha")) return c->alpha;
+    fail(SPR_E_ARG, "cloud: the fields are pos, nrm, color, radius and alpha");
+    return NULL;
+}
+
+/* A backend by name: the error keeps its code (SPR_E_NO_DEVICE). */
+static spr_backend *backend_of(const char *name, int threads, int gl_device, int probe, char *renderer, size_t cap)
+{
+    spr_error err = {0};
+    spr_backend *b = NULL;
+    if (name && !strcmp(name, "gl")) {
+        spr_gl_desc d;
+        spr_gl_defaults(&d);
+        d.device = gl_device;
+        d.probe = probe;
+        if ((b = spr_gl_create(&d, &err)) && renderer) snprintf(renderer, cap, "gl [%s]", spr_gl_renderer(b));
+    } else if (!name || !strcmp(name, "cpu")) {
+        if ((b = spr_swrast_create(threads, &err)) && renderer) snprintf(renderer, cap, "cpu reference");
+    } else {
+        snprintf(err.msg, sizeof err.msg, "backend '%s' is not cpu or gl", name);
+        err.code = SPR_E_ARG;
+    }
+    if (!b) fail_with(&err);
+    return b;
+}
+
+spr_ffi_frame *spr_ffi_render(spr_ffi_scene *sc, const char *backend, int gl_device, int passes)
+{
+    if (sc->s.all_algos) { fail(SPR_E_ARG, "algo 'all' is for parity; render one algorithm"); return NULL; }
+    spr_ffi_frame *f = calloc(1, sizeof *f);
+    if (!f) { fail(SPR_E_NOMEM, "out of memory"); return NULL; }
+    snprintf(f->backend, sizeof f->backend, "%s", backend && !strcmp(backend, "gl") ? "gl" : "cpu");
+    spr_backend *b = backend_of(backend, sc->s.threads, gl_device, 0, f->renderer, sizeof f->renderer);
+    if (!b) { free(f); return NULL; }
+    spr_render_desc rd = sc->rd;
+    f->cap.as_float = 1;
+    if (passes) rd.hook = spr_capture_hook, rd.hook_user = &f->cap;
+    spr_error err = {0};
+    spr_result r = spr_render(b, &sc->s.view, &sc->s.cloud, &rd, &f->res, &err);
+    spr_backend_destroy(b);
+    if (!r && f->cap.failed) err = f->cap.err, r = err.code ? err.code : SPR_E_ARG;
+    if (r) {
+        fail_with(&err);
+        spr_ffi_frame_free(f);
+        return NULL;
+    }
+    return f;
+}
+
+void spr_ffi_frame_free(spr_ffi_frame *f)
+{
+    if (!f) return;
+    spr_capture_free(&f->cap);
+    spr_render_result_free(&f->res);
+    free(f);
+}
+
+const float *spr_ffi_frame_image(const spr_ffi_frame *f, int *w, int *h)
+{
+    *w = f->res.width, *h = f->res.height;
+    return f->res.rgba;
+}
+
+char *spr_ffi_frame_json(const spr_ffi_frame *f)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "backend", f->backend);
+    cJSON_AddStringToObject(o, "renderer", f->renderer);
+    cJSON_AddNumberToObject(o, "width", f->res.width);
+    cJSON_AddNumberToObject(o, "height", f->res.height);
+    cJSON_AddNumberToObject(o, "K", f->res.K);
+    cJSON_AddNumberToObject(o, "eps_t", f->res.eps_t);
+    cJSON *arr = cJSON_AddArrayToObject(o, "passes");
+    for (int i = 0; i < f->cap.n; i++) {
+        const spr_captured_pass *p = &f->cap.passes[i];
+        cJSON *q = cJSON_CreateObject();
+        cJSON_AddNumberToObject(q, "index", p->index);
+        cJSON_AddStringToObject(q, "name", p->name);
+        cJSON_AddNumberToObject(q, "group", p->group);
+        cJSON_AddNumberToObject(q, "target", p->target);
+        cJSON_AddBoolToObject(q, "composite", p->composite);
+        cJSON *pl = cJSON_AddArrayToObject(q, "planes");
+        for (int k = 0; k < SPR_PLANE__COUNT; k++)
+            if (p->planes & SPR_PLANE_BIT(k)) cJSON_AddItemToArray(pl, cJSON_CreateString(spr_plane_name((spr_plane)k)));
+        cJSON_AddNumberToObject(q, "generated", (double)p->stats.generated);
+        cJSON_AddNumberToObject(q, "passed", (double)p->stats.passed);
+        cJSON_AddNumberToObject(q, "ms", p->ms);
+        cJSON_AddNumberToObject(q, "records", (double)p->n_records);
+        cJSON_AddItemToArray(arr, q);
+    }
+    return json_text(o);
+}
+
+const float *spr_ffi_frame_plane(const spr_ffi_frame *f, int i, const char *plane, int *channels)
+{
+    if (i < 0 || i >= f->cap.n) { fail(SPR_E_ARG, "no such pass (render with passes kept)"); return NULL; }
+    const spr_captured_pass *p = &f->cap.passes[i];
+    for (int k = 0; k < SPR_PLANE__COUNT; k++)
+        if (!strcmp(spr_plane_name((spr_plane)k), plane)) {
+            if (!(p->planes & SPR_PLANE_BIT(k))) break;
+            *channels = spr_plane_channels((spr_plane)k);
+            return p->plane[k];
+        }
+    char m[160];
+    snprintf(m, sizeof m, "pass %d (%s) has no plane '%s'", p->index, p->name, plane);
+    fail(SPR_E_ARG, m);
+    return NULL;
+}
+
+const float *spr_ffi_frame_records(const spr_ffi_frame *f, int i, size_t *rows, int *cols)
+{
+    if (i < 0 || i >= f->cap.n || !f->cap.passes[i].records) { fail(SPR_E_ARG, "that pass has no records (a Gaussian preprocessing pass has)"); return NULL; }
+    *rows = f->cap.passes[i].n_records;
+    *cols = SPR_GREC_FLOATS;
+    return f->cap.passes[i].records;
+}
+
+char *spr_ffi_check(spr_ffi_scene *sc, const void *image, int w, int h, int ch, int bits, const char *label, const char *plane, int pass,
+                    const char *tier, double ulp, int lsb, int position, unsigned char *state)
+{
+    spr__args *a = &sc->a;
+    memset(&sc->err, 0, sizeof sc->err);
+    if (bits != 8 && bits != 16 && bits != 32) { fail(SPR_E_ARG, "check: an image of uint8, uint16 or float32 values"); return NULL; }
+    if (w != sc->s.view.width || h != sc->s.view.height) {
+        char m[200];
+        snprintf(m, sizeof m, "check: the image is %dx%d, the scene renders %dx%d", w, h, sc->s.view.width, sc->s.view.height);
+        fail(SPR_E_ARG, m);
+        return NULL;
+    }
+    if (ch < 1 || ch > 4) { fail(SPR_E_ARG, "check: 1 to 4 channels"); return NULL; }
+    spr_check_desc d;
+    if (spr__check_tier(a, tier, ulp, lsb, position, bits, &d)) { fail_with(&sc->err); return NULL; }
+    const size_t nv = (size_t)w * h * ch;
+    float *test = malloc(nv * sizeof *test), *ref = NULL;
+    if (!test) { fail(SPR_E_NOMEM, "out of memory"); return NULL; }
+    for (size_t i = 0; i < nv; i++) /* as the PNG reader: v / 255 (or 65535), divided, correctly rounded */
+        test[i] = bits == 8 ? (float)((const uint8_t *)image)[i] / 255.0f
+                  : bits == 16 ? (float)((const uint16_t *)image)[i] / 65535.0f : ((const float *)image)[i];
+    int tch = ch, rch;
+    char what[96];
+    char *out = NULL;
+    if (spr__check_reference(a, &sc->s, &sc->rd, plane, pass, &ref, &rch, what, sizeof what) ||
+        spr__check_channels(a, label ? label : "the image", &test, &tch, rch, w, h)) {
+        fail_with(&sc->err);
+        goto done;
+    }
+    spr_check_result r;
+    spr_check_images_state(ref, test, w, h, rch, &d, &r, NULL, state);
+    char ref_label[160];
+    snprintf(ref_label, sizeof ref_label, "reference (cpu, %s)", spr_algo_name(sc->rd.algo));
+    out = json_text(spr__check_json(ref_label, label ? label : "image", what, w, h, rch, &d, &r, NULL));
+done:
+    free(test);
+    free(ref);
+    return out;
+}
+
+char *spr_ffi_explain(spr_ffi_scene *sc, int x, int y, const char *which, int gl_device)
+{
+    if (!which) which = "both";
+    if (strcmp(which, "both") && strcmp(which, "cpu") && strcmp(which, "gl")) { fail(SPR_E_ARG, "explain: backend is both, cpu or gl"); return NULL; }
+    if (sc->s.all_algos) { fail(SPR_E_ARG, "algo 'all' is for parity; explain one algorithm"); return NULL; }
+    if (x < 0 || y < 0 || x >= sc->s.view.width || y >= sc->s.view.height) {
+        char m[160];
+        snprintf(m, sizeof m, "explain: pixel %d,%d lies outside the %dx%d image", x, y, sc->s.view.width, sc->s.view.height);
+        fail(SPR_E_ARG, m);
+        return NULL;
+    }
+    spr__history_run runs[2];
+    memset(runs, 0, sizeof runs);
+    int nr = 0;
+    char *out = NULL;
+    spr_error err = {0};
+    if (strcmp(which, "gl")) {
+        if (spr__history_run_one(&sc->s, &sc->rd, "cpu", gl_device, x, y, &runs[nr], &err)) { fail_with(&err); goto done; }
+        nr++;
+    }
+    if (strcmp(which, "cpu")) {
+        const int r = spr__history_run_one(&sc->s, &sc->rd, "gl", gl_device, x, y, &runs[nr], &err);
+        if (r < 0 || (r > 0 && !strcmp(which, "gl"))) { fail_with(&err); goto done; }
+        if (r == 0) nr++;
+    }
+    out = json_text(spr__explain_json(&sc->s, &sc->rd, x, y, runs, nr));
+done:
+    for (int i = 0; i < 2; i++) spr_history_free(&runs[i].h);
+    return out;
+}
+
+char *spr_ffi_parity(spr_ffi_scene *sc, const char *algo, int gl_device)
+{
+    int want = -1;
+    if (algo && strcmp(algo, "all")) {
+        for (int k = 0; k < SPR_ALGO__COUNT; k++)
+            if (!strcmp(spr_algo_name((spr_algo)k), algo)) want = k;
+        if (want < 0) { fail(SPR_E_ARG, "parity: no such algorithm"); return NULL; }
+    } else if (!algo && !sc->s.all_algos) {
+        want = (int)sc->rd.algo;
+    }
+    spr_backend *cpu = NULL, *gl = NULL;
+    spr_parity_report reps[SPR_ALGO__COUNT];
+    memset(reps, 0, sizeof reps);
+    int nrep = 0;
+    char *out = NULL;
+    if (!(gl = backend_of("gl", sc->s.threads, gl_device, 0, NULL, 0)) || !(cpu = backend_of("cpu", sc->s.threads, -1, 0, NULL, 0))) goto done;
+    spr__parity_set set = {NULL, &sc->s, spr_gl_renderer(gl), 0, {0}, {0}};
+    for (int k = 0; k < SPR_ALGO__COUNT; k++) {
+        if (want >= 0 && k != want) continue;
+        spr_render_desc d = sc->rd;
+        d.algo = (spr_algo)k;
+        if (!(spr_algo_info_of(d.algo)->uses & SPR_USES_GROUPS)) d.groups = NULL;
+        spr_error err = {0};
+        if (spr_parity_run(cpu, gl, &sc->s.view, &sc->s.cloud, &d, &d, NULL, spr_algo_name(d.algo), &reps[nrep], &err)) {
+            fail_with(&err);
+            goto done;
+        }
+        set.algo[nrep] = spr_algo_name(d.algo);
+        set.rep[nrep] = &reps[nrep];
+        set.n = ++nrep;
+    }
+    out = json_text(spr__parity_json(&set));
+done:
+    for (int i = 0; i < nrep; i++) spr_parity_report_free(&reps[i]);
+    spr_backend_destroy(cpu);
+    spr_backend_destroy(gl);
+    return out;
+}
+
+int spr_ffi_write_image(const char *path, const float *img, int w, int h, int ch)
+{
+    spr_error err = {0};
+    const size_t n = strlen(path);
+    const int pfm = n > 4 && !strcmp(path + n - 4, ".pfm");
+    if (!(n > 4 && (pfm || !strcmp(path + n - 4, ".png")))) { fail(SPR_E_ARG, "write_image: a .png or .pfm name"); return -1; }
+    if ((pfm ? spr_write_pfm(path, img, w, h, ch, &err) : spr_write_png(path, img, w, h, ch, &err))) { fail_with(&err); return -1; }
+    return 0;
+}
