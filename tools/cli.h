@@ -39,11 +39,29 @@ int cli_outdir_begin(spr__args *a, const char *opt, const char *dir, char *tmp, 
 int cli_outdir_end(spr__args *a, const char *opt, const char *tmp, const char *dir, int commit);
 
 /* parity --random: N generated scenes from seed on both backends (cli_random.c). */
-int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, int gl_device);
+int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, int gl_device, const char *junit);
 
 struct spr_parity_report;
 /* One summary line per algorithm, then its first differing planes. */
-void cli_parity_summary(const char *algo, const struct spr_parity_report *p);
+void cli_parity_summary(FILE *f, const char *algo, const struct spr_parity_report *p);
+/* One differing plane as the summary prints it ("pass 3 geometry k2 plane depth: 5 pixels differ, …"). */
+void cli_parity_plane_line(FILE *f, const struct spr_plane_diff *d);
+
+/* JUnit XML reports (cli_junit.c): cases collected, then written through
+ * a temporary file.  A NULL report (no --junit) takes every call as a no-op. */
+typedef struct cli_junit cli_junit;
+enum { CLI_JUNIT_PASS = 0, CLI_JUNIT_FAILURE, CLI_JUNIT_ERROR, CLI_JUNIT_SKIPPED };
+cli_junit *cli_junit_new(const char *suite);
+/* status CLI_JUNIT_*; message: the failure's first line; text: what the terminal showed. */
+void cli_junit_add(cli_junit *j, const char *classname, const char *name, double seconds, int status, const char *message, const char *text);
+int cli_junit_write(spr__args *a, cli_junit *j, const char *path);
+void cli_junit_free(cli_junit *j);
+/* Text printed to stdout and kept (a test case's failure text): print into
+ * the FILE begin returns, end prints it and returns it, free releases it. */
+typedef struct cli_text { FILE *f; char *buf; size_t len; } cli_text;
+FILE *cli_text_begin(cli_text *t);
+const char *cli_text_end(cli_text *t);
+void cli_text_free(cli_text *t);
 
 int cmd_render(int argc, char **argv);
 int cmd_info(int argc, char **argv);

@@ -26,6 +26,7 @@ static const spr__opt check_opts[] = {
     {"pass", "N", "the plane after pass N (as numbered by render --dump; default: the last pass that has it)"},
     CLI_TIER_OPTS,
     {"out", "DIR", "report.json, heatmap.png and side-by-side.png (default check-report)"},
+    {"junit", "F.xml", "also write a JUnit XML report (one test case: the plane checked) for CI servers"},
     SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
@@ -99,8 +100,8 @@ static int write_side_by_side(spr__args *a, const char *path, const float *ref, 
 
 /* Compare, print the verdict, write the report directory (out may be NULL).
  * 0 pass, 1 fail, 2 error. */
-static int check_and_report(spr__args *a, const check_io *io, const float *ref, const float *test, int w, int h, int ch,
-                            const spr_check_desc *d, const char *out)
+static int check_and_report(FILE *tx, spr__args *a, const check_io *io, const float *ref, const float *test, int w, int h, int ch,
+                            const spr_check_desc *d, const char *out, spr_check_result *res)
 {
     const size_t np = (size_t)w * h;
     float *heat = malloc(np * 3 * sizeof *heat);
@@ -110,25 +111,25 @@ static int check_and_report(spr__args *a, const check_io *io, const float *ref, 
     const char *cmd = a->cmd;
     char bounds[160];
     spr__check_bounds_text(d, bounds, sizeof bounds);
-    printf("%s: %s vs %s: %s, %dx%d, %d channel%s, %s\n", cmd, io->ref_label, io->test_label, io->what, w, h, ch, ch > 1 ? "s" : "",
+    fprintf(tx, "%s: %s vs %s: %s, %dx%d, %d channel%s, %s\n", cmd, io->ref_label, io->test_label, io->what, w, h, ch, ch > 1 ? "s" : "",
            d->bits == 32 ? "float" : d->bits == 16 ? "16-bit" : "8-bit");
-    printf("%s: Tier %s (%s): %zu of %zu pixels differ, %zu fail%s", cmd, spr_tier_name(d->tier), bounds, r.differing, r.pixels, r.failing,
+    fprintf(tx, "%s: Tier %s (%s): %zu of %zu pixels differ, %zu fail%s", cmd, spr_tier_name(d->tier), bounds, r.differing, r.pixels, r.failing,
            r.failing == 1 ? "s" : "");
-    if (d->position) printf(", %zu pass only within one pixel (edges)", r.rescued);
-    printf("\n%s: ", cmd);
-    if (d->bits == 32) printf("max %llu ulp, ", (unsigned long long)r.max_ulp);
-    printf("max %d LSB (%s), max abs %.9g, mean abs %.3g, [ZP] eps %.4f\n", r.max_lsb, d->bits == 16 ? "16-bit" : "8-bit", r.max_abs,
+    if (d->position) fprintf(tx, ", %zu pass only within one pixel (edges)", r.rescued);
+    fprintf(tx, "\n%s: ", cmd);
+    if (d->bits == 32) fprintf(tx, "max %llu ulp, ", (unsigned long long)r.max_ulp);
+    fprintf(tx, "max %d LSB (%s), max abs %.9g, mean abs %.3g, [ZP] eps %.4f\n", r.max_lsb, d->bits == 16 ? "16-bit" : "8-bit", r.max_abs,
            r.mean_abs, r.zp_eps);
     char explain[2600] = "";
     if (r.first_x >= 0) {
-        printf("%s: first %s pixel x %d, y %d (row %d from the top), channel %d: reference %.9g, %s %.9g", cmd,
+        fprintf(tx, "%s: first %s pixel x %d, y %d (row %d from the top), channel %d: reference %.9g, %s %.9g", cmd,
                r.failing ? "failing" : "differing", r.first_x, r.first_y, h - 1 - r.first_y, r.first_channel, r.first_ref, io->test_label,
                r.first_test);
-        if (d->bits == 8) printf(" (8-bit %d and %d)", spr_to_u8((float)r.first_ref), spr_to_u8((float)r.first_test));
-        printf("\n");
+        if (d->bits == 8) fprintf(tx, " (8-bit %d and %d)", spr_to_u8((float)r.first_ref), spr_to_u8((float)r.first_test));
+        fprintf(tx, "\n");
         if (io->explain) {
             snprintf(explain, sizeof explain, "%s --pixel %d,%d", io->explain, r.first_x, r.first_y);
-            printf("%s: why: %s\n", cmd, explain);
+            fprintf(tx, "%s: why: %s\n", cmd, explain);
         }
     }
     int rc = 0;
@@ -148,13 +149,14 @@ static int check_and_report(spr__args *a, const check_io *io, const float *ref, 
         snprintf(path, sizeof path, "%s/report.json", tmp);
         if (!rc && spr__write_json(a, path, o)) rc = 2;
         if (cli_outdir_end(a, "out", tmp, out, rc == 0)) rc = 2;
-        if (!rc) printf("%s: report %s/report.json, heat map %s/heatmap.png (blue within bounds, yellow only within one pixel, red failing), "
+        if (!rc) fprintf(tx, "%s: report %s/report.json, heat map %s/heatmap.png (blue within bounds, yellow only within one pixel, red failing), "
                         "side by side %s/side-by-side.png (reference | image | heat map)\n", cmd, out, out, out);
     }
     free(heat);
     if (rc) return rc;
-    if (d->tier == SPR_TIER_C) printf("verdict: DIAGNOSTIC (Tier C never passes or fails on its own)\n");
-    else printf("verdict: %s (Tier %s)\n", r.pass ? "PASS" : "FAIL", spr_tier_name(d->tier));
+    if (d->tier == SPR_TIER_C) fprintf(tx, "verdict: DIAGNOSTIC (Tier C never passes or fails on its own)\n");
+    else fprintf(tx, "verdict: %s (Tier %s)\n", r.pass ? "PASS" : "FAIL", spr_tier_name(d->tier));
+    *res = r;
     return r.pass ? 0 : 1;
 }
 
@@ -176,7 +178,7 @@ int cmd_check(int argc, char **argv)
     spr__args a;
     int pr = spr__parse(&a, "check", check_opts, "--scene S.json | [scene options]  --image THEIRS.png|.pfm [--plane P] [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    const char *image = spr__get(&a, "image"), *pname = spr__get(&a, "plane"), *out = spr__get(&a, "out");
+    const char *image = spr__get(&a, "image"), *pname = spr__get(&a, "plane"), *out = spr__get(&a, "out"), *junit = spr__get(&a, "junit");
     if (!image) { spr__error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
     if (!out) out = "check-report";
     int pass = -1;
@@ -203,7 +205,22 @@ int cmd_check(int argc, char **argv)
     snprintf(ref_label, sizeof ref_label, "reference (cpu, %s)", spr_algo_name(rd.algo));
     explain_command(&a, explain, sizeof explain);
     check_io io = {ref_label, image, what, explain};
-    rc = check_and_report(&a, &io, ref, theirs, tw, th, rch, &d, out);
+    cli_text tx;
+    spr_check_result r;
+    memset(&r, 0, sizeof r);
+    rc = check_and_report(cli_text_begin(&tx), &a, &io, ref, theirs, tw, th, rch, &d, out, &r);
+    const char *text = cli_text_end(&tx);
+    if (junit) {
+        cli_junit *ju = cli_junit_new("splatref check");
+        char name[400], msg[160];
+        snprintf(name, sizeof name, "%s: %s", image, what);
+        snprintf(msg, sizeof msg, "Tier %s: %zu of %zu pixels fail", spr_tier_name(d.tier), r.failing, r.pixels);
+        cli_junit_add(ju, "splatref.check", name, 0.0, rc == 0 ? CLI_JUNIT_PASS : rc == 1 ? CLI_JUNIT_FAILURE : CLI_JUNIT_ERROR,
+                      rc == 1 ? msg : "the report could not be written", text);
+        if (cli_junit_write(&a, ju, junit)) rc = 2;
+        cli_junit_free(ju);
+    }
+    cli_text_free(&tx);
 done:
     free(theirs);
     free(ref);
@@ -282,7 +299,8 @@ int cmd_compare(int argc, char **argv)
         free(heat);
     }
     check_io io = {a.positional[0], a.positional[1], "images", NULL};
-    rc = check_and_report(&a, &io, im[0], im[1], w[0], h[0], ch[0], &d, out);
+    spr_check_result r;
+    rc = check_and_report(stdout, &a, &io, im[0], im[1], w[0], h[0], ch[0], &d, out, &r);
 done:
     free(im[0]);
     free(im[1]);

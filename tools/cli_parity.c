@@ -21,26 +21,59 @@ static const spr__opt parity_opts[] = {
     {"random", "N", "instead of one scene: N generated adversarial scenes, every algorithm; mismatches saved (and minimised) in --report DIR (default parity-random)"},
     {"seed", "S", "--random: the seed of the scene generator (default 1)"},
     {"first", "I", "--random: start at scene I of the seed (scene i of a seed is always the same scene; default 0)"},
+    {"junit", "F.xml", "also write a JUnit XML report (one test case per plane; --random: per scene and algorithm) for CI servers"},
     {NULL, NULL, NULL}};
 
-/* The summary line of one algorithm, then where it first departs. */
-void cli_parity_summary(const char *algo, const spr_parity_report *p)
+void cli_parity_plane_line(FILE *f, const spr_plane_diff *d)
 {
-    printf("parity %s: %d/%d planes bit-exact, max ulp %llu%s\n", algo, p->exact_planes, p->n_planes,
-           (unsigned long long)p->max_ulp, p->stats_mismatches ? ", fragment counts differ" : "");
+    char where[64] = "";
+    if (d->group >= 0) snprintf(where, sizeof where, " k=%d", d->group);
+    fprintf(f, "pass %d %s%s plane %s: %zu pixels differ, max %llu ulp (%.3g), first at (%d,%d) ch %d: cpu %.9g gl %.9g", d->pass, d->pass_name,
+            where, spr_parity_plane_name(d->plane), d->differing_pixels, (unsigned long long)d->max_ulp, d->max_abs, d->first_x, d->first_y,
+            d->first_channel, d->first_ref, d->first_test);
+}
+
+/* The summary line of one algorithm, then where it first departs. */
+void cli_parity_summary(FILE *f, const char *algo, const spr_parity_report *p)
+{
+    fprintf(f, "parity %s: %d/%d planes bit-exact, max ulp %llu%s\n", algo, p->exact_planes, p->n_planes,
+            (unsigned long long)p->max_ulp, p->stats_mismatches ? ", fragment counts differ" : "");
     int shown = 0;
     for (int i = 0; i < p->n_planes && shown < 3; i++) {
         const spr_plane_diff *d = &p->planes[i];
         if (!d->differing_pixels) continue;
-        char where[64] = "";
-        if (d->group >= 0) snprintf(where, sizeof where, " k=%d", d->group);
-        printf("  first differences: pass %d %s%s plane %s: %zu pixels differ, max %llu ulp (%.3g), first at (%d,%d) ch %d: cpu %.9g gl %.9g\n",
-               d->pass, d->pass_name, where, spr_parity_plane_name(d->plane),
-               d->differing_pixels, (unsigned long long)d->max_ulp, d->max_abs, d->first_x, d->first_y, d->first_channel,
-               d->first_ref, d->first_test);
+        fprintf(f, "  first differences: ");
+        cli_parity_plane_line(f, d);
+        fprintf(f, "\n");
         shown++;
     }
-    if (p->stats_mismatches) printf("  %s\n", p->first_stats_mismatch);
+    if (p->stats_mismatches) fprintf(f, "  %s\n", p->first_stats_mismatch);
+}
+
+/* parity's JUnit cases: one per plane of every pass and the final image,
+ * one for the passes' fragment counts. */
+static void junit_planes(cli_junit *j, const char *algo, const spr_parity_report *p, double seconds)
+{
+    char cls[96];
+    snprintf(cls, sizeof cls, "splatref.parity.%s", algo);
+    for (int i = 0; i < p->n_planes; i++) {
+        const spr_plane_diff *d = &p->planes[i];
+        char name[160], where[32] = "";
+        if (d->group >= 0) snprintf(where, sizeof where, " k=%d", d->group);
+        if (d->pass < 0) snprintf(name, sizeof name, "final image");
+        else snprintf(name, sizeof name, "pass %d %s%s plane %s", d->pass, d->pass_name, where, spr_parity_plane_name(d->plane));
+        if (!d->differing_pixels) { cli_junit_add(j, cls, name, seconds / p->n_planes, CLI_JUNIT_PASS, NULL, NULL); continue; }
+        char *text = NULL;
+        size_t len = 0;
+        FILE *f = open_memstream(&text, &len);
+        if (f) cli_parity_plane_line(f, d), fclose(f);
+        char msg[96];
+        snprintf(msg, sizeof msg, "%zu pixels differ, max %llu ulp", d->differing_pixels, (unsigned long long)d->max_ulp);
+        cli_junit_add(j, cls, name, seconds / p->n_planes, CLI_JUNIT_FAILURE, msg, text ? text : "");
+        free(text);
+    }
+    cli_junit_add(j, cls, "fragment counts of every pass", 0.0, p->stats_mismatches ? CLI_JUNIT_FAILURE : CLI_JUNIT_PASS,
+                  p->stats_mismatches ? "generated or passed fragments differ" : NULL, p->first_stats_mismatch);
 }
 
 int cmd_parity(int argc, char **argv)
@@ -52,7 +85,7 @@ int cmd_parity(int argc, char **argv)
     char report_tmp[1200] = "";
     double gl_eps = 0.0;
     if (spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || spr__get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
-    const char *dir = spr__get(&a, "report");
+    const char *dir = spr__get(&a, "report"), *junit = spr__get(&a, "junit");
     if (spr__get(&a, "random")) { /* differential fuzzing: no scene options apply */
         int count = 0, first = 0;
         size_t seed = 1;
@@ -60,13 +93,14 @@ int cmd_parity(int argc, char **argv)
             spr__get_int(&a, "first", &first, 0, 2000000000) < 0 ||
             (spr__flag(&a, "quiet"), spr__reject_unused(&a)))
             return 2;
-        return cli_parity_random(&a, first, count, (uint64_t)seed, dir, gl_device);
+        return cli_parity_random(&a, first, count, (uint64_t)seed, dir, gl_device, junit);
     }
     spr_scene s;
     spr_render_desc rd;
     spr_backend *cpu = NULL, *gl = NULL;
     spr_parity_report reps[SPR_ALGO__COUNT];
     int nrep = 0;
+    cli_junit *ju = junit ? cli_junit_new("splatref parity") : NULL;
     memset(reps, 0, sizeof reps);
     if (spr__scene_setup(&a, &s, &rd, 1)) goto done;
     if (dir && cli_outdir_begin(&a, "report", dir, report_tmp, sizeof report_tmp)) goto done;
@@ -85,11 +119,13 @@ int cmd_parity(int argc, char **argv)
         dt = d;
         if (gl_eps > 0.0) dt.eps = gl_eps;
         spr_error err = {0};
+        const double t0 = spr_now_ms();
         if (spr_parity_run(cpu, gl, &s.view, &s.cloud, &d, &dt, dir ? report_tmp : NULL, spr_algo_name(d.algo), &reps[nrep], &err)) {
             fprintf(stderr, "splatref parity: %s\n", err.msg);
             goto done;
         }
-        cli_parity_summary(spr_algo_name(d.algo), &reps[nrep]);
+        cli_parity_summary(stdout, spr_algo_name(d.algo), &reps[nrep]);
+        junit_planes(ju, spr_algo_name(d.algo), &reps[nrep], (spr_now_ms() - t0) / 1000.0);
         if (tier_b && (spr_algo_info_of(d.algo)->uses & SPR_USES_RECTS)) { /* PARITY.md Tier B: GL's texture() filter */
             const spr_parity_report *p = &reps[nrep];
             for (int i = 0; i < p->n_planes; i++)
@@ -109,12 +145,14 @@ int cmd_parity(int argc, char **argv)
         if (spr__write_json(&a, path, spr__parity_json(&rr))) goto done;
         printf("report: %s/report.json\n", dir);
     }
+    if (ju && cli_junit_write(&a, ju, junit)) goto done;
     printf("verdict: %s\n", all_exact ? "BIT-EXACT (Tier A)" : tier_b ? "DIFFERENT (Tier B mode: bounded error expected, see above)" : "DIFFERENT");
     rc = all_exact ? 0 : 1;
 done:
     /* the report of a finished comparison (equal or not) appears whole; a failed run leaves none */
     if (report_open && cli_outdir_end(&a, "report", report_tmp, dir, rc != 2)) rc = 2;
     for (int i = 0; i < nrep; i++) spr_parity_report_free(&reps[i]);
+    cli_junit_free(ju);
     spr_backend_destroy(cpu);
     spr_backend_destroy(gl);
     spr_scene_free(&s);

@@ -469,7 +469,7 @@ static int differs(spr_backend *cpu, spr_backend *gl, const rscene *s, const uin
 
 /* Write the splats keep[0..m) of s as NAME.ply and NAME.groups and print
  * the command that replays the comparison. */
-static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, const char *name, spr_error *err)
+static int save(FILE *out, const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, const char *name, spr_error *err)
 {
     spr_cloud c;
     int32_t *lab;
@@ -507,38 +507,38 @@ static int save(const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, 
     if (bad) return -1;
     const spr_camera_desc *cam = &s->cam;
     const spr_algo_info *ai = spr_algo_info_of(algo);
-    printf("  replay: splatref parity --model %s --algo %s", ply, ai->name);
-    if (ai->uses & SPR_USES_GROUPS) printf(" --groups-file %s", grp);
-    printf(" --size %dx%d --eye %.17g,%.17g,%.17g --target %.17g,%.17g,%.17g --up %.17g,%.17g,%.17g --near %.17g --far %.17g", cam->width,
+    fprintf(out, "  replay: splatref parity --model %s --algo %s", ply, ai->name);
+    if (ai->uses & SPR_USES_GROUPS) fprintf(out, " --groups-file %s", grp);
+    fprintf(out, " --size %dx%d --eye %.17g,%.17g,%.17g --target %.17g,%.17g,%.17g --up %.17g,%.17g,%.17g --near %.17g --far %.17g", cam->width,
            cam->height, cam->eye[0], cam->eye[1], cam->eye[2], cam->target[0], cam->target[1], cam->target[2], cam->up[0], cam->up[1],
            cam->up[2], cam->near_plane, cam->far_plane);
-    if (cam->ortho_height > 0.0) printf(" --ortho %.17g", cam->ortho_height);
-    else printf(" --fov %.17g", cam->fov_deg);
-    printf(" --background %.9g,%.9g,%.9g", s->background[0], s->background[1], s->background[2]);
-    if (ai->uses & SPR_USES_KERNEL) printf(" --kernel %s", spr_kernel_name(s->kernel));
-    if (ai->uses & SPR_USES_EPS) printf(" --eps %.17g", s->eps);
-    if ((ai->uses & SPR_USES_VORONOI) && s->voronoi) printf(" --voronoi");
+    if (cam->ortho_height > 0.0) fprintf(out, " --ortho %.17g", cam->ortho_height);
+    else fprintf(out, " --fov %.17g", cam->fov_deg);
+    fprintf(out, " --background %.9g,%.9g,%.9g", s->background[0], s->background[1], s->background[2]);
+    if (ai->uses & SPR_USES_KERNEL) fprintf(out, " --kernel %s", spr_kernel_name(s->kernel));
+    if (ai->uses & SPR_USES_EPS) fprintf(out, " --eps %.17g", s->eps);
+    if ((ai->uses & SPR_USES_VORONOI) && s->voronoi) fprintf(out, " --voronoi");
     if (((ai->uses & SPR_USES_VORONOI) && s->voronoi) || (ai->uses & SPR_USES_LOWRES))
-        if (s->lowres_n > 0.0) printf(" --lowres-n %.17g", s->lowres_n);
-    if (ai->uses & SPR_USES_ORDER) printf(" --order %s", s->order == SPR_ORDER_SORT ? "sort" : "bsp");
-    if ((ai->uses & SPR_USES_ALPHA) && s->alpha > 0.0f) printf(" --alpha %.9g", s->alpha);
+        if (s->lowres_n > 0.0) fprintf(out, " --lowres-n %.17g", s->lowres_n);
+    if (ai->uses & SPR_USES_ORDER) fprintf(out, " --order %s", s->order == SPR_ORDER_SORT ? "sort" : "bsp");
+    if ((ai->uses & SPR_USES_ALPHA) && s->alpha > 0.0f) fprintf(out, " --alpha %.9g", s->alpha);
     const spr_shading *sh = &s->shade;
     const int phong = (ai->uses & SPR_USES_SHADE) && sh->model == SPR_SHADE_PHONG, env = (ai->uses & SPR_USES_ENV) && sh->env;
     if (phong)
-        printf(" --shade phong --light %.17g,%.17g,%.17g --material %.17g,%.17g,%.17g,%d", sh->light_eye[0], sh->light_eye[1], sh->light_eye[2],
+        fprintf(out, " --shade phong --light %.17g,%.17g,%.17g --material %.17g,%.17g,%.17g,%d", sh->light_eye[0], sh->light_eye[1], sh->light_eye[2],
                sh->ka, sh->kd, sh->ks, sh->exponent);
     if (env)
-        printf(" --env %s --env-size %d --eta %.17g,%.17g,%.17g --env-layers %s", s->env_name, sh->env->size, sh->eta[0], sh->eta[1],
+        fprintf(out, " --env %s --env-size %d --eta %.17g,%.17g,%.17g --env-layers %s", s->env_name, sh->env->size, sh->eta[0], sh->eta[1],
                sh->eta[2], sh->multilayer ? "multi" : "single");
-    if (ai->uses & SPR_USES_LAYERS) printf(" --layers %d", s->layers);
+    if (ai->uses & SPR_USES_LAYERS) fprintf(out, " --layers %d", s->layers);
     if (level >= 0)
-        printf(" --level %d --texel %.17g%s --sampling %s", level, s->dom_texel, s->dom_strict ? " --domain strict" : "",
+        fprintf(out, " --level %d --texel %.17g%s --sampling %s", level, s->dom_texel, s->dom_strict ? " --domain strict" : "",
                s->sampling == SPR_SAMPLE_LINEAR ? "linear" : "nearest");
-    if ((ai->uses & SPR_USES_ALPHAREF) && s->alpha_ref > 0.0f) printf(" --alpha-ref %.9g", s->alpha_ref);
-    if (s->gauss && s->g_sh_k > 1) printf(" --sh-degree 3");
-    if ((ai->uses & SPR_USES_GAUSS) && s->gauss_aa) printf(" --gauss-aa");
-    if ((ai->uses & SPR_USES_GAUSS) && s->flavor == SPR_FLAVOR_GSPLAT) printf(" --gauss-flavor gsplat");
-    printf("\n");
+    if ((ai->uses & SPR_USES_ALPHAREF) && s->alpha_ref > 0.0f) fprintf(out, " --alpha-ref %.9g", s->alpha_ref);
+    if (s->gauss && s->g_sh_k > 1) fprintf(out, " --sh-degree 3");
+    if ((ai->uses & SPR_USES_GAUSS) && s->gauss_aa) fprintf(out, " --gauss-aa");
+    if ((ai->uses & SPR_USES_GAUSS) && s->flavor == SPR_FLAVOR_GSPLAT) fprintf(out, " --gauss-flavor gsplat");
+    fprintf(out, "\n");
     return 0;
 }
 
@@ -571,7 +571,7 @@ static size_t minimise(spr_backend *cpu, spr_backend *gl, const rscene *s, spr_a
     return m;
 }
 
-int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, int gl_device)
+int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, int gl_device, const char *junit)
 {
     const char *out_dir = dir ? dir : "parity-random";
     spr_error err = {0};
@@ -587,6 +587,7 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
            count, (unsigned long long)seed);
     if (first) printf("parity random: scenes %d to %d of the seed\n", first, first + count - 1);
     int mismatches = 0, failed = 0, made_dir = 0, gauss_scenes = 0;
+    cli_junit *ju = junit ? cli_junit_new("splatref parity --random") : NULL;
     long comparisons = 0, gauss_comparisons = 0;
     for (int i = first; i < first + count && !failed; i++) {
         rscene s;
@@ -604,17 +605,35 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
             if ((spr_algo_info_of((spr_algo)al)->uses & SPR_USES_RECTS) && !s.has_rects) continue;
             if ((spr_algo_info_of((spr_algo)al)->uses & SPR_USES_GAUSS) && s.view.ortho) continue; /* pinhole only (SPEC 10.2) */
             spr_parity_report rep;
+            const double t0 = spr_now_ms();
             int d = differs(cpu, gl, &s, keep, s.cloud.n, (spr_algo)al, &rep, &err);
+            char cname[96];
+            snprintf(cname, sizeof cname, "scene %d %s", i, spr_algo_name((spr_algo)al));
             comparisons++;
             gauss_comparisons += (spr_algo_info_of((spr_algo)al)->uses & SPR_USES_GAUSS) != 0;
-            if (d < 0) { fprintf(stderr, "splatref %s: scene %d: %s\n", a->cmd, i, err.msg); failed = 1; break; }
-            if (!d) { spr_parity_report_free(&rep); continue; }
+            if (d < 0) {
+                fprintf(stderr, "splatref %s: scene %d: %s\n", a->cmd, i, err.msg);
+                cli_junit_add(ju, "splatref.parity_random", cname, (spr_now_ms() - t0) / 1000.0, CLI_JUNIT_ERROR, err.msg, err.msg);
+                failed = 1;
+                break;
+            }
+            if (!d) {
+                spr_parity_report_free(&rep);
+                cli_junit_add(ju, "splatref.parity_random", cname, (spr_now_ms() - t0) / 1000.0, CLI_JUNIT_PASS, NULL, NULL);
+                continue;
+            }
             mismatches++;
-            printf("MISMATCH scene %d (%zu splats, %dx%d, %s) %s:\n", i, s.cloud.n, s.cam.width, s.cam.height, s.features[0] ? s.features : "plain",
-                   spr_algo_name((spr_algo)al));
-            cli_parity_summary(spr_algo_name((spr_algo)al), &rep);
+            cli_text tx;
+            FILE *out = cli_text_begin(&tx);
+            fprintf(out, "MISMATCH scene %d (%zu splats, %dx%d, %s) %s:\n", i, s.cloud.n, s.cam.width, s.cam.height, s.features[0] ? s.features : "plain",
+                    spr_algo_name((spr_algo)al));
+            cli_parity_summary(out, spr_algo_name((spr_algo)al), &rep);
+            char msg[128];
+            snprintf(msg, sizeof msg, "%d/%d planes bit-exact, max ulp %llu", rep.exact_planes, rep.n_planes, (unsigned long long)rep.max_ulp);
             spr_parity_report_free(&rep);
             if (!made_dir && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
+                cli_text_end(&tx);
+                cli_text_free(&tx);
                 spr__error(a, "--report: cannot create %s: %s", out_dir, strerror(errno));
                 failed = 1;
                 break;
@@ -622,19 +641,25 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
             made_dir = 1;
             char name[1100];
             snprintf(name, sizeof name, "%s/random_%llu_%d_%s", out_dir, (unsigned long long)seed, i, spr_algo_name((spr_algo)al));
-            if (save(&s, keep, s.cloud.n, (spr_algo)al, name, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); failed = 1; break; }
-            uint32_t *mk = malloc(s.cloud.n * sizeof *mk);
-            if (!mk) { failed = 1; break; }
-            memcpy(mk, keep, s.cloud.n * sizeof *mk);
-            size_t m = minimise(cpu, gl, &s, (spr_algo)al, mk, s.cloud.n, &err);
-            printf("  minimised to %zu of %zu splats:\n", m, s.cloud.n);
-            snprintf(name, sizeof name, "%s/random_%llu_%d_%s_min", out_dir, (unsigned long long)seed, i, spr_algo_name((spr_algo)al));
-            if (save(&s, mk, m, (spr_algo)al, name, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); failed = 1; }
-            if (differs(cpu, gl, &s, mk, m, (spr_algo)al, &rep, &err) == 1) {
-                cli_parity_summary(spr_algo_name((spr_algo)al), &rep);
-                spr_parity_report_free(&rep);
+            uint32_t *mk = NULL;
+            if (save(out, &s, keep, s.cloud.n, (spr_algo)al, name, &err)) fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg), failed = 1;
+            else if (!(mk = malloc(s.cloud.n * sizeof *mk))) failed = 1;
+            if (mk) {
+                memcpy(mk, keep, s.cloud.n * sizeof *mk);
+                size_t m = minimise(cpu, gl, &s, (spr_algo)al, mk, s.cloud.n, &err);
+                fprintf(out, "  minimised to %zu of %zu splats:\n", m, s.cloud.n);
+                snprintf(name, sizeof name, "%s/random_%llu_%d_%s_min", out_dir, (unsigned long long)seed, i, spr_algo_name((spr_algo)al));
+                if (save(out, &s, mk, m, (spr_algo)al, name, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); failed = 1; }
+                if (differs(cpu, gl, &s, mk, m, (spr_algo)al, &rep, &err) == 1) {
+                    cli_parity_summary(out, spr_algo_name((spr_algo)al), &rep);
+                    spr_parity_report_free(&rep);
+                }
+                free(mk);
             }
-            free(mk);
+            const char *text = cli_text_end(&tx);
+            cli_junit_add(ju, "splatref.parity_random", cname, (spr_now_ms() - t0) / 1000.0, CLI_JUNIT_FAILURE, msg, text);
+            cli_text_free(&tx);
+            if (failed) break;
         }
         free(keep);
         rscene_free(&s);
@@ -644,7 +669,9 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
     remove(tmp);
     spr_backend_destroy(cpu);
     spr_backend_destroy(gl);
-    if (failed) return 2;
+    const int jrc = cli_junit_write(a, ju, junit);
+    cli_junit_free(ju);
+    if (failed || jrc) return 2;
     printf("parity random: %d scenes (%d of Gaussian captures), %ld comparisons (%ld by the Gaussian algorithms), %d mismatches (seed %llu)\n",
            count, gauss_scenes, comparisons, gauss_comparisons, mismatches, (unsigned long long)seed);
     printf("verdict: %s\n", mismatches ? "DIFFERENT" : "BIT-EXACT (Tier A)");

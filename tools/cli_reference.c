@@ -26,6 +26,7 @@ static const spr__opt ref_opts[] = {
     {"gl-device", "N", "GL backend on the N-th EGL device"},
     {"threads", "N", "CPU threads (default: all cores)"},
     {"quiet", NULL, "no progress on stderr"},
+    {"junit", "F.xml", "also write a JUnit XML report, one test case per scene (checking, not --update)"},
     {NULL, NULL, NULL}};
 
 static const spr__opt scene_opts[] = {SPR__SCENE_OPTS, {NULL, NULL, NULL}};
@@ -89,7 +90,7 @@ int cmd_reference(int argc, char **argv)
     int pr = spr__parse(&a, "reference", ref_opts, "[--dir DIR] [--update] [--only NAME]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     const char *dir = spr__get(&a, "dir") ? spr__get(&a, "dir") : "reference_images";
-    const char *only = spr__get(&a, "only");
+    const char *only = spr__get(&a, "only"), *junit = spr__get(&a, "junit");
     int update = spr__flag(&a, "update"), gl_device = -1, threads = 0;
     if ((!update && spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0) || spr__get_int(&a, "threads", &threads, 0, 1024) < 0 ||
         (spr__flag(&a, "quiet"), spr__reject_unused(&a)))
@@ -117,13 +118,19 @@ int cmd_reference(int argc, char **argv)
         else printf("reference: GL renderer %s\n", spr_gl_renderer(gl));
     }
     int bad = 0, checked = 0, skipped = 0, per_algo[SPR_ALGO__COUNT] = {0};
+    cli_junit *ju = junit && !update ? cli_junit_new("splatref reference") : NULL;
     /* SPLATREF_TEST_SIZE=small (the sanitizer build of .ci/run): the scenes of
      * built-in models only; the data-file scenes are the full-size run's */
     const char *size = getenv("SPLATREF_TEST_SIZE");
     int small = size && !strcmp(size, "small");
     for (int i = 0; i < n && bad < 1000; i++) {
         if (only && strcmp(only, sl[i].name)) continue;
-        if (small && strstr(sl[i].args, "--model ") && !strstr(sl[i].args, "--model builtin:")) { skipped++; continue; }
+        if (small && strstr(sl[i].args, "--model ") && !strstr(sl[i].args, "--model builtin:")) {
+            skipped++;
+            cli_junit_add(ju, "splatref.reference", sl[i].name, 0.0, CLI_JUNIT_SKIPPED, "a data file's scene: left to the full-size run", "");
+            continue;
+        }
+        const double t0 = spr_now_ms();
         char args[1024], *sargv[64];
         snprintf(args, sizeof args, "%s", sl[i].args);
         int sargc = split(args, sargv, 62);
@@ -133,14 +140,25 @@ int cmd_reference(int argc, char **argv)
         spr_render_desc rd;
         char cmd[80];
         snprintf(cmd, sizeof cmd, "reference %.63s", sl[i].name);
-        if (spr__parse(&sa, cmd, scene_opts, "", 0, sargc, sargv) || spr__scene_setup(&sa, &s, &rd, 0)) {
+        spr_error serr = {0};
+        sa.sink = NULL;
+        if (spr__parse(&sa, cmd, scene_opts, "", 0, sargc, sargv)) {
             bad++;
+            cli_junit_add(ju, "splatref.reference", sl[i].name, 0.0, CLI_JUNIT_ERROR, "the manifest's options do not parse", sl[i].args);
+            continue;
+        }
+        sa.sink = &serr; /* the message goes to the terminal and to the report */
+        if (spr__scene_setup(&sa, &s, &rd, 0)) {
+            fprintf(stderr, "splatref %s: %s\n", cmd, serr.msg);
+            bad++;
+            cli_junit_add(ju, "splatref.reference", sl[i].name, (spr_now_ms() - t0) / 1000.0, CLI_JUNIT_ERROR, serr.msg, serr.msg);
             continue;
         }
         spr_error err = {0};
         spr_render_result res;
         if (spr_render(cpu, &s.view, &s.cloud, &rd, &res, &err)) {
             fprintf(stderr, "splatref reference: %s: %s\n", sl[i].name, err.msg);
+            cli_junit_add(ju, "splatref.reference", sl[i].name, (spr_now_ms() - t0) / 1000.0, CLI_JUNIT_ERROR, err.msg, err.msg);
             spr_scene_free(&s);
             bad++;
             continue;
@@ -154,22 +172,32 @@ int cmd_reference(int argc, char **argv)
             if (spr_write_png(png, res.rgba, res.width, res.height, 4, &err)) { fprintf(stderr, "splatref reference: %s\n", err.msg); bad++; }
             printf("reference %-28s %s  updated %s\n", sl[i].name, hash, png);
         } else {
-            int cpu_ok = !strcmp(hash, sl[i].hash);
+            int cpu_ok = !strcmp(hash, sl[i].hash), gl_ok = 1, gl_err = 0;
             char gl_verdict[200] = "gl skipped";
+            cli_text tx;
+            FILE *out = cli_text_begin(&tx);
             if (gl) {
                 spr_parity_report rep;
                 if (spr_parity_run(cpu, gl, &s.view, &s.cloud, &rd, &rd, NULL, sl[i].name, &rep, &err)) {
                     snprintf(gl_verdict, sizeof gl_verdict, "gl failed: %.150s", err.msg);
                     bad++;
+                    gl_err = 1;
                 } else {
-                    int ex = spr_parity_exact(&rep);
+                    gl_ok = spr_parity_exact(&rep);
                     snprintf(gl_verdict, sizeof gl_verdict, "gl %d/%d planes bit-exact, max ulp %llu", rep.exact_planes, rep.n_planes,
                              (unsigned long long)rep.max_ulp);
-                    if (!ex) { bad++; cli_parity_summary(spr_algo_name(rd.algo), &rep); }
+                    if (!gl_ok) { bad++; cli_parity_summary(out, spr_algo_name(rd.algo), &rep); }
                     spr_parity_report_free(&rep);
                 }
             }
-            printf("reference %-28s cpu %s (%s)  %s\n", sl[i].name, cpu_ok ? "matches" : "DIFFERS", hash, gl_verdict);
+            fprintf(out, "reference %-28s cpu %s (%s)  %s\n", sl[i].name, cpu_ok ? "matches" : "DIFFERS", hash, gl_verdict);
+            const char *text = cli_text_end(&tx);
+            char msg[320];
+            snprintf(msg, sizeof msg, "%s%s%s", cpu_ok ? "" : "the CPU image's hash differs from the manifest's",
+                     !cpu_ok && (!gl_ok || gl_err) ? "; " : "", gl_err || !gl_ok ? gl_verdict : "");
+            cli_junit_add(ju, "splatref.reference", sl[i].name, (spr_now_ms() - t0) / 1000.0,
+                          gl_err ? CLI_JUNIT_ERROR : cpu_ok && gl_ok ? CLI_JUNIT_PASS : CLI_JUNIT_FAILURE, msg, text);
+            cli_text_free(&tx);
             bad += !cpu_ok;
         }
         checked++;
@@ -190,11 +218,17 @@ int cmd_reference(int argc, char **argv)
     printf("\n");
     for (int al = 0; al < SPR_ALGO__COUNT && !only && !small; al++)
         if (!per_algo[al]) {
-            printf("reference: algorithm %s has no scene in %s\n", spr_algo_name((spr_algo)al), mpath);
+            char line[1400];
+            snprintf(line, sizeof line, "reference: algorithm %s has no scene in %s\n", spr_algo_name((spr_algo)al), mpath);
+            fputs(line, stdout);
+            cli_junit_add(ju, "splatref.reference", spr_algo_name((spr_algo)al), 0.0, CLI_JUNIT_FAILURE, "no canonical scene", line);
             bad++;
         }
     if (skipped) printf("reference: %d scenes of data files left to the full-size run (SPLATREF_TEST_SIZE=small)\n", skipped);
     printf("reference: %d scenes, %d failed%s%s\n", checked, bad, gl_reason ? "; GL skipped: " : "", gl_reason ? gl_reason : "");
+    const int jrc = cli_junit_write(&a, ju, junit);
+    cli_junit_free(ju);
+    if (jrc) return 2;
     if (bad) return 1;
     const char *req = getenv("SPLATREF_REQUIRE_GL");
     if (gl_reason && !update && req && *req && strcmp(req, "0")) return 1; /* CI: GL must run */

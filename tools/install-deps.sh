@@ -11,7 +11,7 @@ pkgs="build-essential cmake pkg-config ca-certificates \
   python3-numpy python3-pytest python3-venv python3-pip python3-junitparser libxml2-utils \
   jupyter-nbconvert python3-ipykernel python3-matplotlib \
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
-  libqhull-dev libcjson-dev libcgal-demo \
+  libqhull-dev libcjson-dev libxml2-dev libcgal-demo \
   clang libclang-rt-14-dev \
   chromium"
 
