@@ -131,7 +131,16 @@ uint64_t spr_hash64_continue(uint64_t h, const void *data, size_t n)
 /* PNG through libpng's classic interface, so 16-bit samples keep their
  * bits (the simplified interface would treat them as linear light and
  * convert): palette and low-bit grey expanded, tRNS to alpha, grey to RGB. */
-typedef struct png_in { FILE *f; png_structp png; png_infop info; png_bytep *rows; float *img; } png_in;
+typedef struct png_in { FILE *f; png_structp png; png_infop info; png_bytep *rows; float *img; char why[160]; } png_in;
+
+/* libpng's errors and warnings kept for our one line instead of printed on stderr */
+static void png_in_error(png_structp png, png_const_charp msg)
+{
+    png_in *s = png_get_error_ptr(png);
+    snprintf(s->why, sizeof s->why, "%s", msg);
+    png_longjmp(png, 1);
+}
+static void png_in_warning(png_structp png, png_const_charp msg) { (void)png, (void)msg; }
 
 static void png_in_free(png_in *s)
 {
@@ -151,14 +160,37 @@ static spr_result read_png(const char *path, float **img, int *w, int *h, int *c
         fclose(s.f);
         return spr__fail(err, SPR_E_FORMAT, "%s: byte 0: not a PNG signature", path);
     }
-    s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    /* libpng allocates a chunk's stated length before reading it: walk the chunks
+     * first, so a damaged length is a line naming its byte, not gigabytes allocated */
+    if (fseek(s.f, 0, SEEK_END) == 0) {
+        const long size = ftell(s.f);
+        long at = 8;
+        while (at + 12 <= size) {
+            unsigned char hd[8];
+            if (fseek(s.f, at, SEEK_SET) || fread(hd, 1, 8, s.f) != 8) break;
+            const unsigned long len = (unsigned long)hd[0] << 24 | (unsigned long)hd[1] << 16 | (unsigned long)hd[2] << 8 | hd[3];
+            if (len > 0x7fffffffUL || (long)len > size - at - 12) {
+                fclose(s.f);
+                return spr__fail(err, SPR_E_TRUNCATED, "%s: byte %ld: chunk '%c%c%c%c' of %lu bytes runs past the end of the file (%ld bytes)", path, at,
+                                 hd[4] >= 32 && hd[4] < 127 ? hd[4] : '?', hd[5] >= 32 && hd[5] < 127 ? hd[5] : '?',
+                                 hd[6] >= 32 && hd[6] < 127 ? hd[6] : '?', hd[7] >= 32 && hd[7] < 127 ? hd[7] : '?', len, size);
+            }
+            if (!memcmp(hd + 4, "IEND", 4)) break;
+            at += 12 + (long)len;
+        }
+    }
+    if (fseek(s.f, 8, SEEK_SET)) { fclose(s.f); return spr__fail(err, SPR_E_IO, "%s: cannot read", path); }
+    s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s, png_in_error, png_in_warning);
     s.info = s.png ? png_create_info_struct(s.png) : NULL;
     if (!s.png || !s.info) { png_in_free(&s); return spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); }
     if (setjmp(png_jmpbuf(s.png))) {
         free(s.img);
         png_in_free(&s);
-        return spr__fail(err, SPR_E_FORMAT, "%s: malformed or truncated PNG data", path);
+        char why[160];
+        snprintf(why, sizeof why, "%s", s.why);
+        return spr__fail(err, SPR_E_FORMAT, "%s: malformed or truncated PNG data%s%s%s", path, why[0] ? " (libpng: " : "", why, why[0] ? ")" : "");
     }
+    png_set_user_limits(s.png, 65536, 65536);
     png_init_io(s.png, s.f);
     png_set_sig_bytes(s.png, 8);
     png_read_info(s.png, s.info);

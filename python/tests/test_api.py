@@ -167,3 +167,15 @@ def test_to_u8_is_the_librarys():
                         (np.arange(256, dtype=np.float32) + np.float32(0.5)) / np.float32(255)]).astype(np.float32)
     want = np.array([sr._lib.to_u8(float(x)) for x in v], dtype=np.uint8)
     assert np.array_equal(sr.to_u8(v), want)
+
+
+def test_a_png_chunk_longer_than_its_file_is_one_line(tmp_path):
+    """The fuzzer's finding (tests/fuzz/corpus/image/finding_chunk_length_1_6gb): a tEXt length of
+    1.66e9 bytes in a 300-byte file made libpng allocate 1.6 GB before reading it."""
+    src = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "fuzz", "corpus", "image", "finding_chunk_length_1_6gb")
+    png = tmp_path / "long-chunk.png"
+    png.write_bytes(open(src, "rb").read()[1:])  # its first byte chose PNG
+    p = cli("compare", str(png), str(png))
+    assert p.returncode == 2
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and str(png) in lines[0] and "byte 33: chunk 'tEXt' of 1660944441 bytes runs past the end" in lines[0], p.stderr

@@ -2,6 +2,7 @@
  *
  * One source, one harness per reader, chosen at compile time with
  * -DSPR_FUZZ_PLY / _OFF / _XYZ / _GROUPS / _SPLAT / _SPZ / _GLB / _CAMERAS (issue 15:
+ * the Gaussian-splat readers) / _IMAGE (issue 25: the PNG and PFM readers of check;
  * the Gaussian-splat readers; their first input byte picks the options).  The readers run over the input
  * as it is, in memory (spr__parse_*; the groups reader through a memfd):
  * any crash, leak, hang or out-of-memory libFuzzer or the sanitizers find
@@ -16,6 +17,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 #include "spr_group.h"
+#include "spr_image.h"
 #include "spr_io.h"
 
 static void check_message(spr_result r, const spr_error *err, const char *name)
@@ -100,6 +102,32 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         spr_groups_free(&g);
     }
     close(fd);
+#elif defined(SPR_FUZZ_IMAGE)
+    /* what users hand to `check` (issue 25): the first byte picks PNG (even) or PFM (odd), the rest is the file,
+     * written to tmpfs under a name with that extension (the reader goes by it) */
+    if (size < 1) return 0;
+    static char path[96];
+    if (!path[0]) snprintf(path, sizeof path, "/dev/shm/splatref-fuzz-%ld", (long)getpid());
+    char file[128];
+    snprintf(file, sizeof file, "%s.%s", path, data[0] & 1 ? "pfm" : "png");
+    FILE *f = fopen(file, "wb");
+    if (!f) return 0;
+    const int ok = fwrite(data + 1, 1, size - 1, f) == size - 1;
+    fclose(f);
+    if (!ok) { remove(file); return 0; }
+    float *img = NULL;
+    int w, h, ch, bits;
+    spr_result r = spr_read_image_bits(file, &img, &w, &h, &ch, &bits, &err);
+    check_message(r, &err, file);
+    if (!r) {
+        /* an accepted image is one: a size, 1..4 channels, 8, 16 or 32 bits, every value readable */
+        if (w < 1 || h < 1 || ch < 1 || ch > 4 || (bits != 8 && bits != 16 && bits != 32)) abort();
+        volatile float sum = 0.0f;
+        for (size_t i = 0; i < (size_t)w * h * ch; i++) sum += img[i];
+        free(img);
+    }
+    remove(file);
+    (void)c;
 #else
 #error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB, SPR_FUZZ_CAMERAS"
 #endif
