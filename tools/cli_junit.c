@@ -1,8 +1,8 @@
 /* cli_junit.c — JUnit XML reports (--junit F.xml) of check, parity,
  * parity --random and reference: one <testcase> per plane, scene or image,
  * its <failure> text the lines the terminal showed for it.  Written with
- * libxml2's xmlTextWriter (escaping, encoding, well-formedness), into a
- * temporary file renamed over F.  The layout is the one CI servers read
+ * libxml2's xmlTextWriter (escaping, encoding, well-formedness) into memory,
+ * then through spr__write_atomic (a temporary file renamed over F).  The layout is the one CI servers read
  * (Jenkins' JUnit and xUnit schema; tests/data/junit/ has the schema the
  * tests validate against). */
 #include "cli.h"
@@ -79,6 +79,13 @@ static void xml_clean(char *s)
         if (*p < 0x20 && *p != '\t' && *p != '\n' && *p != '\r') *p = '?';
 }
 
+static int write_buffer(FILE *f, const void *user)
+{
+    const xmlBufferPtr b = (xmlBufferPtr)user;
+    const size_t n = (size_t)xmlBufferLength(b);
+    return fwrite(xmlBufferContent(b), 1, n, f) == n ? 0 : -1;
+}
+
 int cli_junit_write(spr__args *a, cli_junit *j, const char *path)
 {
     if (!j || !path) return 0;
@@ -90,11 +97,11 @@ int cli_junit_write(spr__args *a, cli_junit *j, const char *path)
         xml_clean(j->c[i].message), xml_clean(j->c[i].text), xml_clean(j->c[i].name), xml_clean(j->c[i].classname);
     }
     const double total = (spr_now_ms() - j->t0) / 1000.0;
-    char tmp[1200], host[256] = "localhost";
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
+    char host[256] = "localhost";
     gethostname(host, sizeof host - 1);
-    xmlTextWriterPtr w = xmlNewTextWriterFilename(tmp, 0);
-    if (!w) { spr__error(a, "--junit: cannot write %s", tmp); return -1; }
+    xmlBufferPtr buf = xmlBufferCreate();
+    xmlTextWriterPtr w = buf ? xmlNewTextWriterMemory(buf, 0) : NULL;
+    if (!w) { xmlBufferFree(buf); spr__error(a, "--junit: out of memory"); return -1; }
     int r = 0;
     xmlTextWriterSetIndent(w, 1);
     r |= xmlTextWriterStartDocument(w, NULL, "UTF-8", NULL) < 0;
@@ -128,9 +135,11 @@ int cli_junit_write(spr__args *a, cli_junit *j, const char *path)
     }
     r |= xmlTextWriterEndDocument(w) < 0;
     xmlFreeTextWriter(w);
-    if (r || rename(tmp, path)) {
-        remove(tmp);
-        spr__error(a, "--junit: cannot write %s", path);
+    spr_error err = {0};
+    if (!r) r = spr__write_atomic(path, write_buffer, buf, &err) != SPR_OK; /* through a temporary file, renamed */
+    xmlBufferFree(buf);
+    if (r) {
+        spr__error(a, "--junit: %s", err.msg[0] ? err.msg : "cannot write the report");
         return -1;
     }
     return 0;

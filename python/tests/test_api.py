@@ -18,6 +18,14 @@ def cli(*args, cwd=None):
     return subprocess.run([CLI, *args], cwd=cwd, capture_output=True, text=True)
 
 
+def scene_args():
+    """SCENE as command-line options."""
+    opts = []
+    for k, v in SCENE.items():
+        opts += ["--" + k.replace("_", "-")] + ([] if v is True else [sr._fmt(k, v)])
+    return opts
+
+
 @pytest.fixture(scope="module")
 def scene():
     with sr.Scene(**SCENE) as s:
@@ -50,9 +58,7 @@ def test_check_equals_the_command_line(scene, tmp_path):
     img[5, 7, 1] = min(1.0, img[5, 7, 1] + 2.5 / 255)  # two or three LSB off once in 8 bits
     png = str(tmp_path / "theirs.png")
     sr.write_image(png, img)
-    opts = []
-    for k, v in SCENE.items():
-        opts += ["--" + k.replace("_", "-")] + ([] if v is True else [sr._fmt(k, v)])
+    opts = scene_args()
     for tier in ([], ["--tier", "B", "--lsb", "1"], ["--tier", "B", "--lsb", "3"]):
         out = tmp_path / ("report" + "".join(tier))
         p = cli("check", *opts, "--image", png, "--out", str(out), "--quiet", *tier)
@@ -71,9 +77,7 @@ def test_check_equals_the_command_line(scene, tmp_path):
 
 
 def test_render_equals_the_command_lines_float_image(scene, tmp_path):
-    opts = []
-    for k, v in SCENE.items():
-        opts += ["--" + k.replace("_", "-")] + ([] if v is True else [sr._fmt(k, v)])
+    opts = scene_args()
     pfm = tmp_path / "a.pfm"
     p = cli("render", *opts, "--float", str(pfm), "--out", str(tmp_path / "a.png"), "--quiet")
     assert p.returncode == 0, p.stderr
@@ -102,9 +106,7 @@ def test_every_plane_of_every_pass(scene):
 def test_explain_equals_the_command_line(scene):
     x, y = 40, 30
     got = sr.explain(scene, x, y, backend="cpu")
-    opts = []
-    for k, v in SCENE.items():
-        opts += ["--" + k.replace("_", "-")] + ([] if v is True else [sr._fmt(k, v)])
+    opts = scene_args()
     p = cli("explain", *opts, "--pixel", "%d,%d" % (x, y), "--backend", "cpu", "--json", "--quiet")
     assert p.returncode == 0, p.stderr
     assert got == json.loads(p.stdout)
