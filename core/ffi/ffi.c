@@ -114,7 +114,9 @@ spr_ffi_scene *spr_ffi_scene_new(int n, const char *const *keys, const char *con
     }
     if (arrays && take_arrays(sc, arrays)) { spr_ffi_scene_free(sc); return NULL; }
     if (scene_file && spr__scene_read(a, scene_file)) goto bad;
-    if (spr__scene_setup(a, &sc->s, &sc->rd, 1)) goto bad;
+    /* render's default algorithm unless "all" is asked for (parity's default there) */
+    const char *algo = spr__get(a, "algo");
+    if (spr__scene_setup(a, &sc->s, &sc->rd, algo && !strcmp(algo, "all"))) goto bad;
     return sc;
 bad:
     fail_with(&sc->err);
@@ -159,24 +161,17 @@ const float *spr_ffi_scene_cloud(const spr_ffi_scene *sc, const char *field, siz
     return NULL;
 }
 
-/* A backend by name: the error keeps its code (SPR_E_NO_DEVICE). */
-static spr_backend *backend_of(const char *name, int threads, int gl_device, int probe, char *renderer, size_t cap)
+/* A backend by name (spr__backend; its error keeps its code, SPR_E_NO_DEVICE). */
+static spr_backend *backend_of(spr_ffi_scene *sc, const char *name, int gl_device, char *renderer, size_t cap)
 {
-    spr_error err = {0};
-    spr_backend *b = NULL;
-    if (name && !strcmp(name, "gl")) {
-        spr_gl_desc d;
-        spr_gl_defaults(&d);
-        d.device = gl_device;
-        d.probe = probe;
-        if ((b = spr_gl_create(&d, &err)) && renderer) snprintf(renderer, cap, "gl [%s]", spr_gl_renderer(b));
-    } else if (!name || !strcmp(name, "cpu")) {
-        if ((b = spr_swrast_create(threads, &err)) && renderer) snprintf(renderer, cap, "cpu reference");
-    } else {
-        snprintf(err.msg, sizeof err.msg, "backend '%s' is not cpu or gl", name);
-        err.code = SPR_E_ARG;
+    if (name && strcmp(name, "cpu") && strcmp(name, "gl")) { fail(SPR_E_ARG, "backend: not cpu or gl"); return NULL; }
+    memset(&sc->err, 0, sizeof sc->err);
+    spr_backend *b = spr__backend(&sc->a, name ? name : "cpu", sc->s.threads, gl_device);
+    if (!b) { fail_with(&sc->err); return NULL; }
+    if (renderer) {
+        if (name && !strcmp(name, "gl")) snprintf(renderer, cap, "gl [%s]", spr_gl_renderer(b));
+        else snprintf(renderer, cap, "cpu reference");
     }
-    if (!b) fail_with(&err);
     return b;
 }
 
@@ -186,7 +181,7 @@ spr_ffi_frame *spr_ffi_render(spr_ffi_scene *sc, const char *backend, int gl_dev
     spr_ffi_frame *f = calloc(1, sizeof *f);
     if (!f) { fail(SPR_E_NOMEM, "out of memory"); return NULL; }
     snprintf(f->backend, sizeof f->backend, "%s", backend && !strcmp(backend, "gl") ? "gl" : "cpu");
-    spr_backend *b = backend_of(backend, sc->s.threads, gl_device, 0, f->renderer, sizeof f->renderer);
+    spr_backend *b = backend_of(sc, backend, gl_device, f->renderer, sizeof f->renderer);
     if (!b) { free(f); return NULL; }
     spr_render_desc rd = sc->rd;
     f->cap.as_float = 1;
@@ -357,7 +352,7 @@ char *spr_ffi_parity(spr_ffi_scene *sc, const char *algo, int gl_device)
     memset(reps, 0, sizeof reps);
     int nrep = 0;
     char *out = NULL;
-    if (!(gl = backend_of("gl", sc->s.threads, gl_device, 0, NULL, 0)) || !(cpu = backend_of("cpu", sc->s.threads, -1, 0, NULL, 0))) goto done;
+    if (!(gl = backend_of(sc, "gl", gl_device, NULL, 0)) || !(cpu = backend_of(sc, "cpu", -1, NULL, 0))) goto done;
     spr__parity_set set = {NULL, &sc->s, spr_gl_renderer(gl), 0, {0}, {0}};
     for (int k = 0; k < SPR_ALGO__COUNT; k++) {
         if (want >= 0 && k != want) continue;

@@ -452,7 +452,10 @@ spr_backend *spr__backend(spr__args *a, const char *name, int threads, int gl_de
     } else {
         b = spr_swrast_create(threads, &err);
     }
-    if (!b) spr__error(a, "%s", err.msg);
+    if (!b) {
+        spr__error(a, "%s", err.msg);
+        if (a->sink) a->sink->code = err.code; /* a library call keeps SPR_E_NO_DEVICE */
+    }
     return b;
 }
 
