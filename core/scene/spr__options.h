@@ -78,9 +78,25 @@ int spr__load_model(spr__args *a, spr_scene *s, const spr_load_desc *ld);
 int spr__parse_group_opts(spr__args *a, const char *method_opt, spr_grouping_desc *gd, const char **hash_near);
 /* Group s->cloud as gd says (hash mode 3's eye from s->cam). */
 int spr__make_groups(spr__args *a, spr_scene *s, spr_grouping_desc *gd, const char *hash_near);
-/* Read the scene options, load and frame the model, build the groups when
- * the algorithm uses them; fills rd (no hook).  allow_all: accept --algo all.
- * Options not used are refused (spr__reject_unused).  0 or −1 after one line. */
+/* What a scene's options ask to be done, once they are all read and checked. */
+typedef struct spr__scene_plan {
+    spr_load_desc ld;       /* how to load the model */
+    spr_grouping_desc gd;   /* SPR_USES_GROUPS: how to group */
+    const char *hash_near;  /* hash mode 3: --hash-near as given ("centre" or a distance) */
+    unsigned uses;          /* SPR_USES_* of the algorithm(s) */
+    int stream, quiet;
+    const char *env;        /* SPR_USES_ENV: the cube map, sky | checker | a folder; NULL: none */
+    int env_size;           /* texels a side of a built-in cube map */
+    const char *save;       /* --save-scene F, or NULL */
+    int save_matrices;      /* --scene-camera matrices */
+} spr__scene_plan;
+/* Read and check every scene option into s (camera, model name, domain
+ * options), rd (no hook, no targets) and p, refusing options not used
+ * (spr__reject_unused); nothing is loaded or built.  0 or −1 after one line. */
+int spr__scene_opts(spr__args *a, spr_scene *s, spr_render_desc *rd, spr__scene_plan *p, int allow_all);
+/* spr__scene_opts, then the work: the cube map, load and frame the model,
+ * the BSP tree, the groups and the domain primitives when the algorithm uses
+ * them, --save-scene.  allow_all: accept --algo all.  0 or −1 after one line. */
 int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_all);
 /* "cpu" or "gl" backend, or NULL after printing the reason. */
 spr_backend *spr__backend(spr__args *a, const char *name, int threads, int gl_device);
