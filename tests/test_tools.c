@@ -150,6 +150,15 @@ START_TEST(scene_bad_files)
         {"{\"splatref_scene\": 1, \"camera\": {\"view-matrix\": [[1,0,0,0]]}}", "camera.view-matrix: expected 4 rows"},
         {"{\"splatref_scene\": 1, \"model\": {\"path\": \"" SPR_DATA_DIR "/meshes/bunny00.off\", \"fnv1a64\": \"0123456789abcdef\"}}",
          "changed since the scene was saved"},
+        /* issue 25's fuzz_scene: a key or a value holding a newline is shown escaped, the message one line */
+        {"{\"splatref_scene\": 1, \"cam\\nera\": {}}", "unknown key 'cam\\nera'"},
+        {"{\"splatref_scene\": 1, \"render\": {\"algo\": \"deferred\", \"shade\": \"ph\\nong\"}}", "--shade: 'ph\\nong' is not none"},
+        /* an error about options the file gave names the file, whatever follows the option's name */
+        {"{\"splatref_scene\": 1, \"render\": {\"algo\": \"gauss3d\"}, \"camera\": {\"intrinsics\": [30, 30, 16, 12], "
+         "\"world-to-camera\": [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4]]}}",
+         "--intrinsics/--world-to-camera: the rotation is not rigid (|RᵀR − I| reaches 3, det 2; a rotation has 0 and +1) (from "},
+        {"{\"splatref_scene\": 1, \"camera\": {\"cameras\": \"none.json\", \"camera\": 1}}", "none.json: cannot open: No such file or directory (from "},
+        {"{\"splatref_scene\": 1, \"camera\": {\"camera\": 1}}", "--cameras and --camera go together (from "},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         write_file(in_dir("bad.json"), cases[i].text);

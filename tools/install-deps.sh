@@ -12,7 +12,7 @@ pkgs="build-essential cmake pkg-config ca-certificates \
   jupyter-nbconvert python3-ipykernel python3-matplotlib \
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
   libqhull-dev libcjson-dev libxml2-dev libcgal-demo \
-  clang libclang-rt-14-dev \
+  clang libclang-rt-14-dev libomp-14-dev \
   chromium"
 
 missing=""

@@ -129,6 +129,7 @@ void spr_ffi_scene_free(spr_ffi_scene *sc)
     if (!sc) return;
     spr_scene_free(&sc->s);
     spr_cloud_free(&sc->in);
+    spr__scene_forget(&sc->a);
     for (int k = 0; k < SPR__MAX_OPTS; k++) free(sc->text[k]);
     free(sc);
 }

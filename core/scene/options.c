@@ -11,16 +11,29 @@
 
 void spr__error(spr__args *a, const char *fmt, ...)
 {
-    char msg[2048];
+    char raw[2048], msg[2048];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
-    /* a bad value read from --scene: say which file it came from */
+    /* one line whatever a value or a scene file's key holds: control characters as C escapes */
+    size_t o = 0;
+    for (const unsigned char *p = (const unsigned char *)raw; *p && o + 5 < sizeof msg; p++) {
+        if (*p >= 0x20 && *p != 0x7f) msg[o++] = (char)*p;
+        else if (*p == '\n') msg[o++] = '\\', msg[o++] = 'n';
+        else o += (size_t)snprintf(msg + o, sizeof msg - o, "\\x%02x", *p);
+    }
+    msg[o] = '\0';
+    /* about an option read from --scene ("--NAME: …", "--A and --NAME go together"): say which file it came from */
     const char *where = "";
-    for (int k = 0; a->opts && a->opts[k].name; k++) {
-        size_t L = strlen(a->opts[k].name);
-        if (a->from_scene[k] && !strncmp(msg, "--", 2) && !strncmp(msg + 2, a->opts[k].name, L) && msg[2 + L] == ':') where = a->scene_file;
+    for (int k = 0; a->opts && a->opts[k].name && !*where; k++) {
+        if (!a->from_scene[k]) continue;
+        const size_t L = strlen(a->opts[k].name);
+        for (const char *m = strstr(msg, "--"); m && !*where; m = strstr(m + 2, "--")) {
+            const char after = m[2 + strnlen(m + 2, L)];
+            if (!strncmp(m + 2, a->opts[k].name, L) && after != '-' && !(after >= 'a' && after <= 'z') && !(after >= '0' && after <= '9'))
+                where = a->scene_file;
+        }
     }
     if (a->sink) { /* a library call: the message is the error */
         a->sink->code = SPR_E_ARG;

@@ -179,7 +179,9 @@ spr_result spr_scene_load(const char *path, int threads, spr_scene *s, spr_rende
         if (!strcmp(opts[k].name, "quiet")) a.value[k] = "1";
         if (!strcmp(opts[k].name, "threads")) a.value[k] = thr;
     }
-    if (spr__scene_read(&a, path) || spr__scene_setup(&a, s, rd, 0)) {
+    const int bad = spr__scene_read(&a, path) || spr__scene_setup(&a, s, rd, 0);
+    spr__scene_forget(&a); /* s keeps no pointer into the option values */
+    if (bad) {
         if (!err->code) err->code = SPR_E_ARG;
         return err->code;
     }

@@ -1,4 +1,4 @@
-/* cli_scenefile.c — scene files (docs/scene-format.md): `--save-scene F`
+/* scenefile.c — scene files (docs/scene-format.md): `--save-scene F`
  * writes everything that determines the image as JSON, `--scene F` reads it
  * back as option values the command line did not give.
  *
@@ -95,14 +95,17 @@ static int displaced_by_command_line(const spr__args *a, const char *key)
     return 0;
 }
 
-/* Strings made from the scene live as long as the process (the option
- * values point into them); kept reachable here. */
-static char *scene_pool[SPR__MAX_OPTS * 2];
-static int scene_pool_n;
-static const char *keep(char *s)
+/* The option values a scene file gave are malloc'd strings that a->value
+ * points to; a command keeps them to its end (held in a->scene_text, so they
+ * stay reachable), a library caller frees them with spr__scene_forget(). */
+void spr__scene_forget(spr__args *a)
 {
-    if (s && scene_pool_n < (int)(sizeof scene_pool / sizeof scene_pool[0])) scene_pool[scene_pool_n++] = s;
-    return s;
+    for (int k = 0; k < SPR__MAX_OPTS; k++)
+        if (a->scene_text[k]) {
+            if (a->value[k] == a->scene_text[k]) a->value[k] = NULL, a->from_scene[k] = 0;
+            free(a->scene_text[k]);
+            a->scene_text[k] = NULL;
+        }
 }
 
 static char *fmt_number(double v)
@@ -254,7 +257,7 @@ int spr__scene_read(spr__args *a, const char *file)
                 free(v);
                 v = p;
             }
-            a->value[k] = keep(v);
+            a->value[k] = a->scene_text[k] = v;
             a->from_scene[k] = 1;
         }
     }

@@ -216,7 +216,7 @@ static int camera_pinhole(spr__args *a, spr_camera_desc *c)
         long n = strtol(id, &e, 10);
         if (e == id || *e || errno) { spr__error(a, "--camera: '%s' is not a whole-number id", id); return -1; }
         int w, h;
-        if (spr_cameras_json(file, n, p, &w, &h, &err)) { spr__error(a, "%s", err.msg); return -1; }
+        if (spr_cameras_json(file, n, p, &w, &h, &err)) { spr__error(a, "--cameras: %s", err.msg); return -1; }
         if (!spr__get(a, "size")) c->width = w, c->height = h;
         else { /* another size: the same field of view, as the training code's --resolution scales its cameras */
             const double sx = (double)c->width / w, sy = (double)c->height / h;

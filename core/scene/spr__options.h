@@ -28,6 +28,7 @@ typedef struct spr__args {
     const char *value[SPR__MAX_OPTS]; /* NULL = not given; flags get "1" */
     unsigned char used[SPR__MAX_OPTS]; /* read by the command (spr__get) */
     unsigned char from_scene[SPR__MAX_OPTS]; /* value read from --scene (never refused as unused) */
+    char *scene_text[SPR__MAX_OPTS]; /* the values --scene gave, owned (spr__scene_forget) */
     char scene_hash[32];  /* the scene's model.fnv1a64 while its model is used ("" otherwise) */
     char scene_file[1024];
     const char *positional[4];
@@ -105,6 +106,9 @@ spr_backend *spr__backend(spr__args *a, const char *name, int threads, int gl_de
  * --scene F itself: its values fill the options the command line did not
  * give.  0, or −1 after one line naming the file and the key. */
 int spr__scene_read(spr__args *a, const char *file);
+/* Free the values spr__scene_read gave a (they are NULL again); once done
+ * with a and with what spr__scene_setup made of it.  Commands need not. */
+void spr__scene_forget(spr__args *a);
 /* 1 for the options that determine an image (a scene file's keys) and --scene. */
 int spr__is_scene_option(const char *name);
 /* −1 after one line when the model file differs from the scene's hash. */

@@ -3,7 +3,8 @@
  * One source, one harness per reader, chosen at compile time with
  * -DSPR_FUZZ_PLY / _OFF / _XYZ / _GROUPS / _SPLAT / _SPZ / _GLB / _CAMERAS (issue 15:
  * the Gaussian-splat readers) / _IMAGE (issue 25: the PNG and PFM readers of check;
- * the Gaussian-splat readers; their first input byte picks the options).  The readers run over the input
+ * the Gaussian-splat readers; their first input byte picks the options) / _SCENE (issue 25:
+ * scene files, read and checked).  The readers run over the input
  * as it is, in memory (spr__parse_*; the groups reader through a memfd):
  * any crash, leak, hang or out-of-memory libFuzzer or the sanitizers find
  * is a bug, and every such input goes into corpus/<reader>/ as a
@@ -19,6 +20,12 @@
 #include "spr_group.h"
 #include "spr_image.h"
 #include "spr_io.h"
+#ifdef SPR_FUZZ_SCENE
+#include <errno.h>
+#include <sys/stat.h>
+#include "spr__options.h"
+#include "spr__scene_opts.h"
+#endif
 
 static void check_message(spr_result r, const spr_error *err, const char *name)
 {
@@ -128,8 +135,54 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     remove(file);
     (void)c;
+#elif defined(SPR_FUZZ_SCENE)
+    /* scene files (issue 25): the input is the file, read and every option in it checked as spr_scene_load does
+     * before any work (spr__scene_read, spr__scene_opts; nothing is loaded).  It lies in a folder of its own on
+     * tmpfs, beside a cameras.json (tests/fuzz/scene-cameras.json), so relative paths resolve there; an accepted camera is then
+     * framed on a unit box and made into a view (or refused in one line). */
+    static char dir[96], file[128];
+    if (!dir[0]) {
+        snprintf(dir, sizeof dir, "/dev/shm/splatref-fuzz-scene-%ld", (long)getpid());
+        snprintf(file, sizeof file, "%s/scene.json", dir);
+        char cams[160], *text = NULL;
+        size_t len = 0;
+        snprintf(cams, sizeof cams, "%s/cameras.json", dir);
+        if ((mkdir(dir, 0700) && errno != EEXIST) || spr__read_file(SPR_FUZZ_CAMERAS_JSON, &text, &len, &err)) abort();
+        FILE *f = fopen(cams, "wb");
+        if (!f || fwrite(text, 1, len, f) != len || fclose(f)) abort();
+        free(text);
+    }
+    FILE *f = fopen(file, "wb");
+    if (!f) return 0;
+    const int ok = fwrite(data, 1, size, f) == size;
+    if (fclose(f) || !ok) return 0;
+    static const spr__opt opts[] = {SPR__SCENE_OPTS, {NULL, NULL, NULL}};
+    spr__args a;
+    memset(&a, 0, sizeof a);
+    a.cmd = "scene";
+    a.opts = opts;
+    a.sink = &err;
+    for (int k = 0; opts[k].name; k++) {
+        if (!strcmp(opts[k].name, "quiet")) a.value[k] = "1";
+        if (!strcmp(opts[k].name, "threads")) a.value[k] = "1";
+    }
+    spr_scene s;
+    spr_render_desc rd;
+    spr__scene_plan plan;
+    memset(&s, 0, sizeof s);
+    spr_result r = spr__scene_read(&a, file) || spr__scene_opts(&a, &s, &rd, &plan, (int)(size & 1)) ? SPR_E_ARG : SPR_OK;
+    check_message(r, &err, file); /* every option came from the file: the error names it */
+    if (!r) {
+        const spr_bounds unit = {{-1, -1, -1}, {1, 1, 1}, 0.1, 0.05, 0.01};
+        spr_view v;
+        spr_camera_frame(&s.cam, &unit);
+        memset(&err, 0, sizeof err);
+        if (spr_view_make(&s.cam, &v, &err) && (!err.msg[0] || strchr(err.msg, '\n'))) abort();
+    }
+    spr__scene_forget(&a); /* the option phase holds nothing else */
+    (void)c;
 #else
-#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB, SPR_FUZZ_CAMERAS"
+#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB, SPR_FUZZ_CAMERAS, SPR_FUZZ_IMAGE, SPR_FUZZ_SCENE"
 #endif
     return 0;
 }
