@@ -144,7 +144,36 @@ char *spr_ffi_scene_json(const spr_ffi_scene *sc)
     cJSON_AddStringToObject(o, "algo", sc->s.all_algos ? "all" : spr_algo_name(sc->rd.algo));
     cJSON_AddNumberToObject(o, "groups", sc->rd.groups ? sc->rd.groups->K : 0);
     cJSON_AddNumberToObject(o, "threads", sc->s.threads);
+    if (sc->rd.rects) {
+        const spr_scene_domain *d = &sc->s.dom;
+        const spr_prims_stats *st = &sc->s.prims;
+        cJSON *p = cJSON_AddObjectToObject(o, "primitives");
+        cJSON_AddNumberToObject(p, "level", d->level_used);
+        cJSON_AddNumberToObject(p, "levels", d->levels);
+        cJSON_AddNumberToObject(p, "regions", (double)d->regions);
+        cJSON_AddNumberToObject(p, "polygons", (double)st->polygons);
+        cJSON_AddNumberToObject(p, "texels", (double)st->texels);
+        cJSON_AddNumberToObject(p, "error", st->error);
+        cJSON_AddNumberToObject(p, "error_norm", st->error_norm);
+        cJSON_AddNumberToObject(p, "points_per_polygon", st->points);
+        cJSON_AddNumberToObject(p, "ms_decompose", d->ms_decomp);
+        cJSON_AddNumberToObject(p, "ms_primitives", st->ms);
+    }
     return json_text(o);
+}
+
+const float *spr_ffi_scene_rects(const spr_ffi_scene *sc, size_t *n, const uint32_t **ints, const float **texels, size_t *n_texels)
+{
+    const spr_rects *r = sc->rd.rects;
+    if (!r) {
+        fail(SPR_E_ARG, "primitives: the scene's algorithm draws no domain primitives (algo domain-*)");
+        return NULL;
+    }
+    *n = r->n;
+    *ints = r->i;
+    *texels = r->texels;
+    *n_texels = r->n_texels;
+    return r->f;
 }
 
 const float *spr_ffi_scene_cloud(const spr_ffi_scene *sc, const char *field, size_t *n, int *comps)

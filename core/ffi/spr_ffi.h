@@ -54,11 +54,23 @@ void spr_ffi_free(char *s);
  * model option). */
 spr_ffi_scene *spr_ffi_scene_new(int n, const char *const *keys, const char *const *values, const spr_ffi_arrays *arrays);
 void spr_ffi_scene_free(spr_ffi_scene *s);
-/* {"model", "splats", "width", "height", "algo", "groups" (K, 0: none), "threads"}. */
+/* {"model", "splats", "width", "height", "algo", "groups" (K, 0: none), "threads"}, and for a domain-*
+ * algorithm "primitives": {"level", "levels", "regions", "polygons", "texels", "error", "error_norm",
+ * "points_per_polygon", "ms_decompose", "ms_primitives"} (SPEC §7; `splatref domains --stats`' columns). */
 char *spr_ffi_scene_json(const spr_ffi_scene *s);
 /* The loaded cloud: field "pos", "nrm" (3 floats a splat), "radius",
  * "alpha" (1), "color" (3); *n the splats, *comps the floats a splat. */
 const float *spr_ffi_scene_cloud(const spr_ffi_scene *s, const char *field, size_t *n, int *comps);
+
+/* The domain primitives a domain-* scene draws (SPEC §7.4, §7.5): *n
+ * rectangles of SPR_RECT_FLOATS (17) floats each, the returned array: centre
+ * c, normal n, axes u and v (3 each), umin, umax, vmin, vmax, texel side h;
+ * *ints: SPR_RECTI_COUNT (4) integers each: texels along u (tw) and v (th),
+ * the first texel, the domain (region) number; *texels: RGBA (colour, alpha
+ * = the basis function), *n_texels of them, texel (x, y) of a rectangle at
+ * first + y·tw + x, y = 0 at vmin.  NULL after an error when the scene
+ * draws none. */
+const float *spr_ffi_scene_rects(const spr_ffi_scene *s, size_t *n, const uint32_t **ints, const float **texels, size_t *n_texels);
 
 /* Render on "cpu" or "gl" (gl_device −1: the surfaceless platform);
  * passes: keep every plane of every pass.  GL without a device fails with

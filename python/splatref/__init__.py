@@ -26,7 +26,7 @@ import numpy as np
 
 from . import _lib
 
-__all__ = ["Error", "NoDevice", "Cloud", "Scene", "Frame", "CheckResult", "load", "render", "check", "explain", "parity",
+__all__ = ["Error", "NoDevice", "Cloud", "Scene", "Frame", "Primitives", "CheckResult", "load", "render", "check", "explain", "parity",
            "write_image", "to_u8", "__version__"]
 
 __version__ = _lib.version().decode()
@@ -177,6 +177,20 @@ class Scene:
             out[f] = a.reshape(n.value, comps.value) if comps.value > 1 else a
         return Cloud(**out)
 
+    def primitives(self):
+        """The domain primitives a domain-* scene draws (SPEC §7.4, §7.5),
+        as a Primitives of copies; info["primitives"] has the level's figures."""
+        n, ntex = ctypes.c_size_t(), ctypes.c_size_t()
+        ints = ctypes.POINTER(ctypes.c_uint32)()
+        tex = _lib.c_float_p()
+        f = _lib.scene_rects(self._handle(), ctypes.byref(n), ctypes.byref(ints), ctypes.byref(tex), ctypes.byref(ntex))
+        if not f:
+            _raise()
+        return Primitives(np.ctypeslib.as_array(f, shape=(n.value * 17,)).reshape(n.value, 17).copy(),
+                          np.ctypeslib.as_array(ints, shape=(n.value * 4,)).reshape(n.value, 4).copy(),
+                          np.ctypeslib.as_array(tex, shape=(ntex.value * 4,)).reshape(ntex.value, 4).copy()
+                          if ntex.value else np.zeros((0, 4), np.float32))
+
     def render(self, backend="cpu", passes=False, gl_device=-1):
         """Render on "cpu" (the reference) or "gl"; passes=True keeps every
         plane of every pass (Frame.plane)."""
@@ -193,6 +207,37 @@ class Scene:
 
     def parity(self, algo=None, gl_device=-1):
         return parity(self, algo, gl_device)
+
+
+class Primitives:
+    """Domain primitives ([R]; SPEC §7.4, §7.5): rectangle k is
+    {centre + s*u + t*v : extent[k] = (umin, umax, vmin, vmax)} in the
+    plane through centre[k] with normal[k], covered by a texture of
+    size[k] = (tw, th) square texels of side texel[k]; domain[k] is its
+    region of the decomposition.  Arrays (n, 3), (n, 4), (n,), (n, 2), (n,)."""
+
+    def __init__(self, f, i, texels):
+        self.centre, self.normal, self.u, self.v = f[:, 0:3], f[:, 3:6], f[:, 6:9], f[:, 9:12]
+        self.extent, self.texel = f[:, 12:16], f[:, 16]
+        self.size, self.domain = i[:, 0:2].astype(np.int64), i[:, 3].astype(np.int64)
+        self._first, self._texels = i[:, 2].astype(np.int64), texels
+
+    def __len__(self):
+        return len(self.centre)
+
+    def texture(self, k):
+        """Rectangle k's texture, (th, tw, 4) float32: colour and alpha (the
+        basis function), row 0 = the top (v = vmax), as an image shows it."""
+        tw, th = self.size[k]
+        t = self._texels[self._first[k]:self._first[k] + tw * th].reshape(th, tw, 4)
+        return np.ascontiguousarray(t[::-1])
+
+    def corners(self, k):
+        """Rectangle k's corners in world space, (4, 3): (umin, vmin),
+        (umax, vmin), (umax, vmax), (umin, vmax)."""
+        umin, umax, vmin, vmax = (float(x) for x in self.extent[k])
+        c, u, v = (a[k].astype(np.float64) for a in (self.centre, self.u, self.v))
+        return np.array([c + s * u + t * v for s, t in ((umin, vmin), (umax, vmin), (umax, vmax), (umin, vmax))])
 
 
 def _top_first(a, h, w, ch):

@@ -181,3 +181,38 @@ def test_a_png_chunk_longer_than_its_file_is_one_line(tmp_path):
     assert p.returncode == 2
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and str(png) in lines[0] and "byte 33: chunk 'tEXt' of 1660944441 bytes runs past the end" in lines[0], p.stderr
+
+
+def test_domain_primitives_of_the_octahedron():
+    # builtin:octahedron is |x|+|y|+|z| = 1 with one colour per face (core/io/builtin.c); its level 2 has one
+    # region per face (docs/domains.md): eight rectangles, each in its face's plane, normal (±1,±1,±1)/√3.
+    s = sr.Scene(model="builtin:octahedron", algo="domain-noblend", size=(64, 64), level=2)
+    info = s.info["primitives"]
+    assert (info["level"], info["regions"], info["polygons"]) == (2, 8, 8)
+    p = s.primitives()
+    assert len(p) == 8 and sorted(p.domain) == list(range(8))
+    face_colours = {tuple(np.round(c, 6)) for c in s.cloud().color}
+    assert len(face_colours) == 8
+    for k in range(8):
+        n = p.normal[k]
+        assert np.allclose(np.abs(n), 1 / math.sqrt(3), atol=1e-3), n
+        t = p.texture(k)
+        tw, th = p.size[k]
+        assert t.shape == (th, tw, 4) and t[:, :, 3].min() >= 0 and t[:, :, 3].max() <= 1 + 1e-6
+        # interior texels (alpha = the basis function near 1) lie on the face and carry its colour; row 0 is vmax
+        rows, cols = np.nonzero(t[:, :, 3] > 0.99)
+        assert len(rows) > 100
+        umin, umax, vmin, vmax = p.extent[k]
+        h = p.texel[k]
+        su = umin + (cols + 0.5) * h
+        sv = vmin + (th - 1 - rows + 0.5) * h
+        x = p.centre[k] + su[:, None] * p.u[k] + sv[:, None] * p.v[k]
+        # on the face's plane, and inside its triangle up to the splats' reach past its edges (a texel or two)
+        assert np.allclose(x @ np.sign(n), 1.0, atol=2e-3)
+        assert (x * np.sign(n)).min() > -2 * h, "texels off the face: the texture's rows are flipped"
+
+        inner = (x * np.sign(n)).min(axis=1) > 3 * h  # beyond the reach of the next face's splats
+        colours = {tuple(np.round(c, 6)) for c in t[rows[inner], cols[inner], :3]}
+        assert len(colours) == 1 and colours <= face_colours, colours
+    with pytest.raises(sr.Error, match="draws no domain primitives"):
+        sr.Scene(**SCENE).primitives()
