@@ -1,5 +1,7 @@
-/* spr_scene.c — what render, parity and reference share: reading the scene
- * options, loading and framing the model, grouping, making a backend. */
+/* scene.c — what render, parity and reference share: the scene's work once
+ * its options are read and checked (sceneopts.c): the cube map, loading and
+ * framing the model, the BSP tree, grouping, the domain primitives, making a
+ * backend. */
 #include "spr_util.h"
 #include "spr__options.h"
 #include "spr__scene_opts.h"
@@ -7,12 +9,10 @@
 #include "spr_swrast.h"
 #include "spr_envmap.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 void spr_scene_free(spr_scene *s)
 {
