@@ -61,6 +61,24 @@ static void print_help(const char *cmd, const spr__opt *opts, const char *usage)
         }
 }
 
+/* A command's option values live as long as the process, argv's and a scene
+ * file's alike: the scene's strings move from a (a command's local) to this
+ * list, reachable to the end (the library's callers free theirs instead,
+ * spr__scene_forget). */
+static char **exit_kept;
+static size_t exit_kept_n;
+static void keep_to_exit(spr__args *a)
+{
+    for (int k = 0; k < SPR__MAX_OPTS; k++) {
+        if (!a->scene_text[k]) continue;
+        char **grown = realloc(exit_kept, (exit_kept_n + 1) * sizeof *grown);
+        if (!grown) return; /* left in a: at worst a leak report, never a dangling value */
+        exit_kept = grown;
+        exit_kept[exit_kept_n++] = a->scene_text[k];
+        a->scene_text[k] = NULL;
+    }
+}
+
 int spr__parse(spr__args *a, const char *cmd, const spr__opt *opts, const char *usage, int max_positional, int argc, char **argv)
 {
     memset(a, 0, sizeof *a);
@@ -108,9 +126,11 @@ int spr__parse(spr__args *a, const char *cmd, const spr__opt *opts, const char *
     /* a scene file fills what the command line left out (tables with the scene rows, SPR__SCENE_OPTS) */
     int has_scene_rows = 0;
     for (int k = 0; opts[k].name; k++) has_scene_rows |= !strcmp(opts[k].name, "save-scene");
+    int bad = 0;
     for (int k = 0; has_scene_rows && opts[k].name; k++)
-        if (!strcmp(opts[k].name, "scene") && a->value[k] && (a->used[k] = 1, spr__scene_read(a, a->value[k]))) return 2;
-    return 0;
+        if (!strcmp(opts[k].name, "scene") && a->value[k]) a->used[k] = 1, bad = spr__scene_read(a, a->value[k]) != 0;
+    keep_to_exit(a);
+    return bad ? 2 : 0;
 }
 
 const char *spr__get(spr__args *a, const char *name)
