@@ -26,14 +26,10 @@ void spr__error(spr__args *a, const char *fmt, ...)
     msg[o] = '\0';
     /* about an option read from --scene ("--NAME: …", "--A and --NAME go together"): say which file it came from */
     const char *where = "";
-    for (int k = 0; a->opts && a->opts[k].name && !*where; k++) {
-        if (!a->from_scene[k]) continue;
-        const size_t L = strlen(a->opts[k].name);
-        for (const char *m = strstr(msg, "--"); m && !*where; m = strstr(m + 2, "--")) {
-            const char after = m[2 + strnlen(m + 2, L)];
-            if (!strncmp(m + 2, a->opts[k].name, L) && after != '-' && !(after >= 'a' && after <= 'z') && !(after >= '0' && after <= '9'))
-                where = a->scene_file;
-        }
+    for (const char *m = strstr(msg, "--"); m && !*where; m = strstr(m + 2, "--")) {
+        size_t L = strspn(m + 2, "abcdefghijklmnopqrstuvwxyz0123456789-"); /* the option name m starts */
+        for (int k = 0; a->opts && a->opts[k].name && !*where; k++)
+            if (a->from_scene[k] && strlen(a->opts[k].name) == L && !strncmp(m + 2, a->opts[k].name, L)) where = a->scene_file;
     }
     if (a->sink) { /* a library call: the message is the error */
         a->sink->code = SPR_E_ARG;

@@ -97,8 +97,7 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     spr_error err = {0};
     if (spr__scene_opts(a, s, rd, &p, allow_all)) return -1;
     const unsigned uses = p.uses;
-    const int stream = p.stream;
-    spr_grouping_desc gd = p.gd;
+    spr_grouping_desc *gd = &p.gd;
     if (p.env) { /* a built-in cube map or six PNG faces, before the model (the cheaper failure first) */
         const int builtin = !strcmp(p.env, "sky") || !strcmp(p.env, "checker");
         if ((builtin ? spr_envmap_builtin(p.env, p.env_size, &s->env, &err) : spr_envmap_load(p.env, &s->env, &err))) {
@@ -110,23 +109,23 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     if (spr__load_model(a, s, &p.ld)) return -1;
     if (spr_view_make(&s->cam, &s->view, &err)) { spr__error(a, "%s", err.msg); return -1; }
     int32_t *axes = NULL;
-    if ((uses & SPR_USES_ORDER) && rd->order == SPR_ORDER_BSP && !stream) { /* the tree of [ZP] §5.2.1, once for every frame */
+    if ((uses & SPR_USES_ORDER) && rd->order == SPR_ORDER_BSP && !p.stream) { /* the tree of [ZP] §5.2.1, once for every frame */
         if (spr_bsp_build(&s->cloud, &s->bsp, &err)) { spr__error(a, "%s", err.msg); return -1; }
         rd->bsp = &s->bsp;
-        if ((uses & SPR_USES_GROUPS) && gd.method == SPR_GROUP_HASH && gd.hash.axis == SPR_HASH_AXIS_BSP) { /* hash's axes: the same tree */
+        if ((uses & SPR_USES_GROUPS) && gd->method == SPR_GROUP_HASH && gd->hash.axis == SPR_HASH_AXIS_BSP) { /* hash's axes: the same tree */
             if (!(axes = malloc(s->cloud.n * sizeof *axes))) { spr__error(a, "out of memory for %zu hash axes", s->cloud.n); return -1; }
             spr_hash_axes_of_bsp(&s->bsp, axes);
-            gd.hash.axes = axes;
+            gd->hash.axes = axes;
         }
     }
     if (uses & SPR_USES_GROUPS) {
-        gd.progress = spr__progress(p.quiet);
-        int rc = spr__make_groups(a, s, &gd, p.hash_near);
+        gd->progress = spr__progress(p.quiet);
+        int rc = spr__make_groups(a, s, gd, p.hash_near);
         free(axes);
         if (rc) return -1;
         rd->groups = &s->g.groups;
     }
-    if (stream) { /* grouped: only the chunks are held from here on */
+    if (p.stream) { /* grouped: only the chunks are held from here on */
         size_t n = s->cloud.n;
         unsigned fl = s->cloud.flags;
         spr_cloud_free(&s->cloud);
@@ -142,7 +141,6 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     if (p.save && spr__scene_save(a, s, rd, p.save, p.save_matrices)) return -1;
     return 0;
 }
-
 
 spr_backend *spr__backend(spr__args *a, const char *name, int threads, int gl_device)
 {

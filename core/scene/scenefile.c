@@ -96,8 +96,8 @@ static int displaced_by_command_line(const spr__args *a, const char *key)
 }
 
 /* The option values a scene file gave are malloc'd strings that a->value
- * points to; a command keeps them to its end (held in a->scene_text, so they
- * stay reachable), a library caller frees them with spr__scene_forget(). */
+ * points to, owned by a->scene_text: spr__parse hands a command's to the
+ * process (options.c), a library caller frees its own with spr__scene_forget(). */
 void spr__scene_forget(spr__args *a)
 {
     for (int k = 0; k < SPR__MAX_OPTS; k++)
