@@ -7,8 +7,9 @@
  * other plane is a colour attachment in table order, whose index is also the
  * fragment output location (SPR_LOC_*): RGBA32F colour blended as the pass
  * says, R32F stored depth replaced, R32UI id never blended, R32F count
- * blended (ONE, ONE), exact below 2^24.  Fragments generated are counted by
- * an atomic counter, fragments passed by a GL_SAMPLES_PASSED query.
+ * blended (ONE, ONE), exact below 2^24.  Fragments generated are counted in
+ * a shader-storage word (spr_count_fragment, gl_buffers.c's rules), fragments
+ * passed by a GL_SAMPLES_PASSED query.
  */
 #include "gl_internal.h"
 
@@ -16,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void spr_gl_defaults(spr_gl_desc *d) { d->device = -1, d->probe = 0; }
+void spr_gl_defaults(spr_gl_desc *d) { d->device = -1, d->driver = SPR_GL_DRIVER_DEFAULT, d->probe = 0; }
 
 const char *spr_gl_renderer(const spr_backend *b) { return ((const gl_context *)b)->renderer; }
 
@@ -338,10 +339,9 @@ void gl__pass_state(const spr_pass_state *s)
 
 void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st)
 {
-    static const GLuint zero = 0;
     const int keep = c->base.probe ? c->base.probe->n_frags : 0;
     gl__probe_begin(c);
-    glNamedBufferSubData(c->counters, 0, sizeof zero, &zero);
+    gl__buffer_fill(c->counters, 0, sizeof(GLuint), 0);
     GLuint q;
     glGenQueries(1, &q);
     glBeginQuery(GL_SAMPLES_PASSED, q);
@@ -352,7 +352,7 @@ void gl__draw_instances(gl_context *c, size_t m, spr_draw_stats *st)
     glGetQueryObjectui64v(q, GL_QUERY_RESULT, &passed);
     glDeleteQueries(1, &q);
     GLuint generated = 0;
-    glGetNamedBufferSubData(c->counters, 0, sizeof generated, &generated);
+    gl__buffer_read(c->counters, 0, sizeof generated, &generated);
     st->generated = generated;
     st->passed = passed;
     gl__probe_end(c, keep);
@@ -367,12 +367,8 @@ void gl__probe_begin(gl_context *c)
 {
     const spr_probe *p = c->base.probe;
     if (!p) return;
-    if (!c->probe_buf) {
-        glCreateBuffers(1, &c->probe_buf);
-        glNamedBufferData(c->probe_buf, 16 + (GLsizeiptr)2 * SPR_PROBE_MAX * 64, NULL, GL_DYNAMIC_READ);
-    }
-    static const GLuint zero[4] = {0, 0, 0, 0};
-    glNamedBufferSubData(c->probe_buf, 0, sizeof zero, zero);
+    gl__buffer_reserve(&c->probe_buf, &c->probe_cap, 16 + (size_t)2 * SPR_PROBE_MAX * 64, GL_DYNAMIC_READ);
+    gl__buffer_fill(c->probe_buf, 0, 16, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c->probe_buf);
     GLint prog = 0;
     glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
@@ -383,13 +379,12 @@ spr_result gl__probe_end(gl_context *c, int keep)
 {
     spr_probe *p = c->base.probe;
     if (!p) return SPR_OK;
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     GLuint n = 0;
-    glGetNamedBufferSubData(c->probe_buf, 0, sizeof n, &n);
+    gl__buffer_read(c->probe_buf, 0, sizeof n, &n);
     if (n > 2u * SPR_PROBE_MAX) p->overflow = 1, n = 2u * SPR_PROBE_MAX;
     uint32_t *rec = malloc((size_t)(n ? n : 1) * 64);
     if (!rec) return spr__fail(&c->base.err, SPR_E_NOMEM, "gl: out of memory reading the probe");
-    if (n) glGetNamedBufferSubData(c->probe_buf, 16, (GLsizeiptr)n * 64, rec);
+    gl__buffer_read(c->probe_buf, 16, (size_t)n * 64, rec);
     p->n_frags = keep;
     for (GLuint i = 0; i < n; i++) {
         const uint32_t *r = rec + 16 * (size_t)i;
@@ -524,9 +519,8 @@ static void setup_vao(gl_context *c)
 {
     glCreateVertexArrays(1, &c->vao);
     glCreateBuffers(1, &c->instances);
-    glCreateBuffers(1, &c->counters);
-    glNamedBufferData(c->counters, sizeof(GLuint), NULL, GL_DYNAMIC_DRAW);
-    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, c->counters);
+    gl__buffer_reserve(&c->counters, &c->counters_cap, sizeof(GLuint), GL_DYNAMIC_DRAW);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GL_SSBO_COUNTER, c->counters);
     glNamedBufferData(c->instances, 1024, NULL, GL_STREAM_DRAW);
     c->instances_cap = 1024;
     GLuint vao = c->vao;
@@ -573,7 +567,7 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     b->gauss_draw = gl__gauss_draw;
     b->read_plane = gl_read_plane;
     b->destroy = gl_destroy;
-    if (gl__egl_open(c, d->device, err) || gl__build_programs(c, err)) {
+    if (gl__egl_open(c, d->device, d->driver, err) || gl__build_programs(c, err)) {
         gl_destroy(b);
         return NULL;
     }

@@ -38,36 +38,111 @@ static PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display(void)
 /* EGL displays are per process: eglGetPlatformDisplay returns the same
  * handle to every backend on one platform/device, and eglTerminate on it
  * would end the contexts of every other backend too.  Each display is
- * terminated when the last backend that initialised it closes. */
+ * terminated when the last backend that initialised it closes.  A display
+ * runs one driver from eglInitialize to eglTerminate: the table keeps how
+ * its GL_RENDERER begins, so a backend asking for another driver while it
+ * is open is refused instead of silently given this one. */
 #define GL_MAX_DISPLAYS 8
-static struct { EGLDisplay dpy; int refs; } displays[GL_MAX_DISPLAYS];
+static struct { EGLDisplay dpy; int refs; char renderer[64]; } displays[GL_MAX_DISPLAYS];
+
+static int display_slot(EGLDisplay d)
+{
+    for (int i = 0; i < GL_MAX_DISPLAYS; i++)
+        if (displays[i].refs && displays[i].dpy == d) return i;
+    return -1;
+}
 
 static void display_ref(EGLDisplay d)
 {
-    int free_slot = -1;
-    for (int i = 0; i < GL_MAX_DISPLAYS; i++) {
-        if (displays[i].refs && displays[i].dpy == d) { displays[i].refs++; return; }
-        if (!displays[i].refs && free_slot < 0) free_slot = i;
-    }
-    if (free_slot >= 0) { displays[free_slot].dpy = d; displays[free_slot].refs = 1; }
+    int i = display_slot(d);
+    if (i >= 0) { displays[i].refs++; return; }
+    for (i = 0; i < GL_MAX_DISPLAYS; i++)
+        if (!displays[i].refs) { displays[i].dpy = d, displays[i].refs = 1, displays[i].renderer[0] = '\0'; return; }
 }
 
 /* 1 when this was the last reference (terminate it). */
 static int display_unref(EGLDisplay d)
 {
-    for (int i = 0; i < GL_MAX_DISPLAYS; i++)
-        if (displays[i].refs && displays[i].dpy == d) return --displays[i].refs == 0;
-    return 1;
+    const int i = display_slot(d);
+    return i < 0 || --displays[i].refs == 0;
 }
 
-spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
+static const struct { const char *name, *gallium, *renderer, *package; } drivers[SPR_GL_DRIVER__COUNT] = {
+#define GL__DRV(e, name, gallium, renderer, package) {name, gallium, renderer, package},
+    SPR_GL_DRIVER_LIST(GL__DRV)
+#undef GL__DRV
+};
+
+const char *spr_gl_driver_name(spr_gl_driver d) { return (unsigned)d < SPR_GL_DRIVER__COUNT ? drivers[d].name : NULL; }
+
+int spr_gl_driver_parse(const char *name, spr_gl_driver *out)
 {
+    for (int d = 0; name && d < SPR_GL_DRIVER__COUNT; d++)
+        if (!strcmp(name, drivers[d].name)) { *out = (spr_gl_driver)d; return 0; }
+    return -1;
+}
+
+const char *spr_gl_driver_names(void)
+{
+#define GL__NAME(e, name, gallium, renderer, package) " | " name
+    static const char all[] = SPR_GL_DRIVER_LIST(GL__NAME);
+#undef GL__NAME
+    return all + 3;
+}
+
+/* Mesa's environment for `driver` while the display initialises (the
+ * loader reads it then), then the caller's own again, so a later backend
+ * asking for the default gets what the user set.  Zink: Mesa's Vulkan
+ * device-selection layer is skipped (NODEVICE_SELECT, its manifest's switch)
+ * unless the user set it: it only orders GPUs, and looking for a Wayland
+ * compositor it prints "XDG_RUNTIME_DIR is invalid" on a machine without one. */
+#define GL_ENV_VARS 3
+typedef struct gl_env { const char *name[GL_ENV_VARS]; char *saved[GL_ENV_VARS]; int n; } gl_env;
+
+static void env_set(gl_env *e, const char *name, const char *value, int overwrite)
+{
+    const char *old = getenv(name);
+    if (!overwrite && old) return;
+    e->name[e->n] = name;
+    e->saved[e->n] = old ? strdup(old) : NULL;
+    e->n++;
+    setenv(name, value, 1);
+}
+
+static void env_driver(gl_env *e, spr_gl_driver driver)
+{
+    memset(e, 0, sizeof *e);
+    if (driver != SPR_GL_DRIVER_DEFAULT) {
+        env_set(e, "LIBGL_ALWAYS_SOFTWARE", "1", 1);
+        env_set(e, "GALLIUM_DRIVER", drivers[driver].gallium, 1);
+    }
+    const char *g = getenv("GALLIUM_DRIVER");
+    if (g && !strcmp(g, "zink")) env_set(e, "NODEVICE_SELECT", "1", 0);
+}
+
+static void env_restore(gl_env *e)
+{
+    for (int i = e->n - 1; i >= 0; i--) {
+        if (e->saved[i]) setenv(e->name[i], e->saved[i], 1);
+        else unsetenv(e->name[i]);
+        free(e->saved[i]);
+    }
+    e->n = 0;
+}
+
+spr_result gl__egl_open(gl_context *c, int device, spr_gl_driver driver, spr_error *err)
+{
+    if ((unsigned)driver >= SPR_GL_DRIVER__COUNT) return spr__fail(err, SPR_E_ARG, "gl: driver %d is not one of %s", (int)driver, spr_gl_driver_names());
+    const char *want = drivers[driver].renderer; /* NULL: the default, any driver */
+    if (want && device >= 0)
+        return spr__fail(err, SPR_E_ARG, "gl: --gl-driver %s runs on the surfaceless platform, not on --gl-device %d (an EGL device brings its own driver)",
+                         drivers[driver].name, device);
     /* Mesa's loader warnings would add lines to our one-line errors. */
     setenv("EGL_LOG_LEVEL", "fatal", 0);
     PFNEGLGETPLATFORMDISPLAYEXTPROC gpd = get_platform_display();
     if (!gpd) return spr__fail(err, SPR_E_NO_DEVICE, "gl: EGL has no eglGetPlatformDisplayEXT (is libegl-mesa0 installed?)");
     const char *platform = getenv("EGL_PLATFORM");
-    if (device < 0 && platform && *platform && strcmp(platform, "surfaceless") != 0) {
+    if (device < 0 && !want && platform && *platform && strcmp(platform, "surfaceless") != 0) {
         /* The user named another platform: let EGL's default display resolve it. */
         c->dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
     } else if (device < 0) {
@@ -84,9 +159,23 @@ spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
     if (c->dpy == EGL_NO_DISPLAY)
         return spr__fail(err, SPR_E_NO_DEVICE, "gl: no EGL display for the %s platform (EGL error 0x%x; is libegl-mesa0 installed?)",
                          device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
-    EGLint maj, min;
-    if (!eglInitialize(c->dpy, &maj, &min)) {
+    const int open = display_slot(c->dpy);
+    if (want && open >= 0 && strncmp(displays[open].renderer, want, strlen(want))) {
         c->dpy = EGL_NO_DISPLAY;
+        return spr__fail(err, SPR_E_ARG, "gl: --gl-driver %s: this process already has a GL backend open on %s; EGL runs one driver a display, so close that one first",
+                         drivers[driver].name, displays[open].renderer);
+    }
+    gl_env env;
+    env_driver(&env, open >= 0 ? SPR_GL_DRIVER_DEFAULT : driver);
+    EGLint maj, min;
+    const EGLBoolean inited = eglInitialize(c->dpy, &maj, &min);
+    env_restore(&env);
+    if (!inited) {
+        c->dpy = EGL_NO_DISPLAY;
+        if (want)
+            return spr__fail(err, SPR_E_NO_DEVICE, "gl: --gl-driver %s: eglInitialize failed on the surfaceless platform (EGL error 0x%x)%s%s%s",
+                             drivers[driver].name, (unsigned)eglGetError(), drivers[driver].package ? "; is Debian's " : "",
+                             drivers[driver].package ? drivers[driver].package : "", drivers[driver].package ? " installed?" : "");
         return spr__fail(err, SPR_E_NO_DEVICE, "gl: eglInitialize failed on the %s platform (EGL error 0x%x): no usable GL driver there",
                          device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
     }
@@ -111,8 +200,14 @@ spr_result gl__egl_open(gl_context *c, int device, spr_error *err)
 #if defined(SPR_PIN_DRIVERS)
     dl_iterate_phdr(pin, NULL);
 #endif
-    snprintf(c->renderer, sizeof c->renderer, "%s | %s", (const char *)glGetString(GL_RENDERER),
-             (const char *)glGetString(GL_VERSION));
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    snprintf(c->renderer, sizeof c->renderer, "%s | %s", renderer ? renderer : "?", (const char *)glGetString(GL_VERSION));
+    const int slot = display_slot(c->dpy);
+    if (slot >= 0 && !displays[slot].renderer[0]) snprintf(displays[slot].renderer, sizeof displays[slot].renderer, "%s", renderer ? renderer : "?");
+    if (want && (!renderer || strncmp(renderer, want, strlen(want))))
+        return spr__fail(err, SPR_E_NO_DEVICE, "gl: --gl-driver %s: EGL gave the driver '%s'%s%s%s", drivers[driver].name, renderer ? renderer : "?",
+                         drivers[driver].package ? " (is Debian's " : "", drivers[driver].package ? drivers[driver].package : "",
+                         drivers[driver].package ? " installed?)" : "");
     return SPR_OK;
 }
 

@@ -29,14 +29,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* `bytes` of data into buffer *buf (made or grown as needed). */
+/* `bytes` of data into buffer *buf (made or grown as needed); the shaders only read it. */
 static void upload(GLuint *buf, size_t *cap, size_t bytes, const void *data)
 {
-    if (!*buf) glCreateBuffers(1, buf);
-    if (bytes > *cap || !*cap) {
-        *cap = bytes > 16 ? bytes : 16;
-        glNamedBufferData(*buf, (GLsizeiptr)*cap, NULL, GL_DYNAMIC_DRAW);
-    }
+    gl__buffer_reserve(buf, cap, bytes, GL_DYNAMIC_DRAW);
     if (bytes && data) glNamedBufferSubData(*buf, 0, (GLsizeiptr)bytes, data);
 }
 
@@ -89,7 +85,7 @@ spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *
     upload(&c->gbuf[GL_GBUF_IN], &c->gcap[GL_GBUF_IN], d->n * 14 * sizeof *in, in);
     free(in);
     const size_t rbytes = d->n * SPR_GREC_FLOATS * sizeof(float);
-    upload(&c->gbuf[GL_GBUF_REC], &c->gcap[GL_GBUF_REC], rbytes, NULL);
+    gl__buffer_reserve(&c->gbuf[GL_GBUF_REC], &c->gcap[GL_GBUF_REC], rbytes, GL_DYNAMIC_DRAW); /* written by the program */
     const GLuint p = c->gprog[GL_GPROG_PRE];
     glUseProgram(p);
     glUniform1fv(glGetUniformLocation(p, "u_g"), SPR_GPRM_COUNT, d->prm);
@@ -106,8 +102,7 @@ spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *
         glUniform1ui(glGetUniformLocation(p, "u_base"), (GLuint)base);
         draw_bare(c, (int)(m < width ? m : width), (int)((m + width - 1) / width));
     }
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    glGetNamedBufferSubData(c->gbuf[GL_GBUF_REC], 0, (GLsizeiptr)rbytes, rec);
+    gl__buffer_read(c->gbuf[GL_GBUF_REC], 0, rbytes, rec);
     return gl__check(b, "gauss preprocess");
 }
 
@@ -123,9 +118,10 @@ spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
     upload(&c->gbuf[GL_GBUF_RECTEX], &c->gcap[GL_GBUF_RECTEX], d->n * SPR_GREC_FLOATS * sizeof(float), d->rec);
     upload(&c->gbuf[GL_GBUF_RANGE], &c->gcap[GL_GBUF_RANGE], (tiles + 1) * sizeof(uint32_t), d->range);
     upload(&c->gbuf[GL_GBUF_LIST], &c->gcap[GL_GBUF_LIST], entries * sizeof(uint32_t), d->list);
-    uint32_t *counts = calloc(2 * tiles, sizeof *counts);
+    uint32_t *counts = malloc(2 * tiles * sizeof *counts);
     if (!counts) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu tiles", tiles);
-    upload(&c->gbuf[GL_GBUF_COUNT], &c->gcap[GL_GBUF_COUNT], 2 * tiles * sizeof *counts, counts);
+    gl__buffer_reserve(&c->gbuf[GL_GBUF_COUNT], &c->gcap[GL_GBUF_COUNT], 2 * tiles * sizeof *counts, GL_DYNAMIC_DRAW);
+    gl__buffer_fill(c->gbuf[GL_GBUF_COUNT], 0, 2 * tiles * sizeof *counts, 0);
     if ((r = texture_of(c, &c->gtex[0], GL_R32F, c->gbuf[GL_GBUF_RECTEX], d->n * SPR_GREC_FLOATS * sizeof(float), 10, "Gaussian records")) ||
         (r = texture_of(c, &c->gtex[1], GL_R32UI, c->gbuf[GL_GBUF_RANGE], (tiles + 1) * sizeof(uint32_t), 11, "tile ranges")) ||
         (r = texture_of(c, &c->gtex[2], GL_R32UI, c->gbuf[GL_GBUF_LIST], entries * sizeof(uint32_t), 12, "tile lists"))) {
@@ -160,7 +156,7 @@ spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
         free(counts);
         return r;
     }
-    glGetNamedBufferSubData(c->gbuf[GL_GBUF_COUNT], 0, (GLsizeiptr)(2 * tiles * sizeof *counts), counts);
+    gl__buffer_read(c->gbuf[GL_GBUF_COUNT], 0, 2 * tiles * sizeof *counts, counts);
     st->splats = d->n;
     for (size_t t = 0; t < tiles; t++) st->generated += counts[2 * t], st->passed += counts[2 * t + 1];
     free(counts);

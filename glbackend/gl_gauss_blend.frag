@@ -10,7 +10,6 @@ flat in vec4 v_e;
 flat in uint v_id;
 flat in uint v_seq;
 uniform float u_g[SPR_GPRM_COUNT];
-layout(binding = 0, offset = 0) uniform atomic_uint u_generated;
 layout(location = SPR_LOC_COLOR) out vec4 o_color;
 void main()
 {
@@ -21,7 +20,7 @@ void main()
     float src[4];
     float power;
     float alpha;
-    atomicCounterIncrement(u_generated);
+    spr_count_fragment();
     if (spr_gauss_blend_frag(u_g, v_pr.x, v_pr.y, v_pr.z, v_pr.w, v_na.x, v_na.y, c, fi, fj, src, power, alpha) == 0) discard;
 #ifdef SPR_PROBE
     spr_probe_frag(v_seq, v_id, power, alpha, 0.0, src, alpha);

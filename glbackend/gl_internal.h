@@ -51,6 +51,10 @@ enum {
 /* The Gaussian programs (gl_gauss.c), linked on first use, and their buffers. */
 enum { GL_GPROG_PRE = 0, GL_GPROG_RASTER, GL_GPROG_BLEND, GL_GPROG__COUNT };
 enum { GL_GBUF_IN = 0, GL_GBUF_REC, GL_GBUF_RECTEX, GL_GBUF_RANGE, GL_GBUF_LIST, GL_GBUF_COUNT, GL_GBUF__COUNT };
+/* Shader-storage binding of the draws' fragment counter (SPR_SSBO_COUNTER in
+ * GLSL: gl_prelude.glsl's spr_count_fragment); 0-7 are the rectangles',
+ * the lists', the Gaussian passes' and the probe's. */
+#define GL_SSBO_COUNTER 8
 /* gl__plane_attachment of a plane that is no attachment: the image planes (SPR_PLANE_*_IMAGE). */
 #define GL_NOT_ATTACHED (-2)
 
@@ -70,10 +74,11 @@ typedef struct gl_context {
     int atlas_w, atlas_h;
     GLuint list_meta, list_src, list_head; /* fragment lists of target list_target */
     GLuint list_tex[4];        /* buffer textures the prefix op reads them (and the neighbour bits) through */
-    size_t list_cap;
+    size_t list_cap;           /* nodes the lists hold */
+    size_t list_meta_cap, list_src_cap, list_head_cap; /* their buffers' bytes (gl__buffer_reserve) */
     int list_target;
-    GLuint vao, instances, counters;
-    size_t instances_cap;
+    GLuint vao, instances, counters; /* counters: the draw's fragment counter, storage binding GL_SSBO_COUNTER */
+    size_t instances_cap, counters_cap;
     GLuint pool[SPR_PLANE__COUNT]; /* one 2D array texture per plane, a layer per target handle */
     int pool_layers, pool_w, pool_h;
     gl_target *targets;
@@ -86,16 +91,24 @@ typedef struct gl_context {
     GLuint gfbo;        /* the Gaussian programs' attachment-less framebuffer (its size set per draw) */
     int probe_programs; /* programs built with SPR_PROBE (spr_gl_desc.probe) */
     GLuint probe_buf;   /* their records (gl_prelude.glsl) */
+    size_t probe_cap;
 } gl_context;
 
 static inline gl_context *gl_ctx(spr_backend *b) { return (gl_context *)b; }
 
 /* gl_context.c */
-spr_result gl__egl_open(gl_context *c, int device, spr_error *err);
+spr_result gl__egl_open(gl_context *c, int device, spr_gl_driver driver, spr_error *err);
 void gl__egl_close(gl_context *c);
 /* Make c's context current on this thread if it is not (several GL
  * backends may live in one process). */
 void gl__make_current(gl_context *c);
+/* gl_buffers.c: buffers that shaders write, made, reset and read by its rules. */
+/* *buf made if 0; new storage (contents undefined) only when bytes exceed *cap. */
+void gl__buffer_reserve(GLuint *buf, size_t *cap, size_t bytes, GLenum usage);
+/* Bytes [offset, offset + bytes) of buf set to the 32-bit word (offset and bytes multiples of 4). */
+void gl__buffer_fill(GLuint buf, size_t offset, size_t bytes, uint32_t word);
+/* Bytes [offset, offset + bytes) of buf into out, after the barrier that makes shader writes visible. */
+void gl__buffer_read(GLuint buf, size_t offset, size_t bytes, void *out);
 /* gl_shaders.c */
 spr_result gl__build_programs(gl_context *c, spr_error *err);
 /* The program of composite op `op`, linked on its first use. */

@@ -36,6 +36,10 @@ uniform int u_in_layer[SPR_MAX_INPUTS];
 layout(std430, binding = 0) readonly buffer SprTexels { vec4 spr_texels[]; };
 layout(std430, binding = 1) readonly buffer SprRectF { float spr_rect_f[]; };
 layout(std430, binding = 2) readonly buffer SprRectI { uint spr_rect_i[]; };
+/* The draw's fragment counter (gl_backend.c): a shader-storage word, not an
+ * atomic counter buffer (gl_buffers.c says why). */
+layout(std430, binding = SPR_SSBO_COUNTER) buffer SprCounter { uint spr_generated; };
+void spr_count_fragment() { atomicAdd(spr_generated, 1u); }
 /* Fragment lists and neighbours are read through buffer textures: on
  * llvmpipe 22.3 a shader-storage load inside a loop whose trip count it
  * cannot see stopped a list walk after one node (measured; gl_rect.c). */

@@ -34,6 +34,7 @@ void gl__rects_free(gl_context *c)
     glDeleteTextures(4, c->list_tex);
     memset(c->list_tex, 0, sizeof c->list_tex);
     c->atlas = c->atlas_org = c->list_meta = c->list_src = c->list_head = 0;
+    c->list_meta_cap = c->list_src_cap = c->list_head_cap = 0;
     c->rects_serial = 0;
     c->list_cap = 0;
     c->list_target = -1;
@@ -96,14 +97,14 @@ static void reset_lists(gl_context *c, size_t cap)
 {
     const size_t np = (size_t)c->base.view.width * c->base.view.height;
     if (cap > c->list_cap || !c->list_meta) {
-        buffer_data(&c->list_meta, 16 + cap * 16, NULL);
-        buffer_data(&c->list_src, cap * 16, NULL);
+        gl__buffer_reserve(&c->list_meta, &c->list_meta_cap, 16 + cap * 16, GL_DYNAMIC_DRAW);
+        gl__buffer_reserve(&c->list_src, &c->list_src_cap, cap * 16, GL_DYNAMIC_DRAW);
         c->list_cap = cap;
     }
-    buffer_data(&c->list_head, np * sizeof(uint32_t), NULL);
-    const uint32_t nil = 0xffffffffu, hdr[4] = {0, (uint32_t)(c->list_cap > 0xffffffffu ? 0xffffffffu : c->list_cap), 0, 0};
-    glClearNamedBufferData(c->list_head, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &nil);
-    glNamedBufferSubData(c->list_meta, 0, sizeof hdr, hdr);
+    gl__buffer_reserve(&c->list_head, &c->list_head_cap, np * sizeof(uint32_t), GL_DYNAMIC_DRAW);
+    gl__buffer_fill(c->list_head, 0, np * sizeof(uint32_t), 0xffffffffu); /* every list empty */
+    gl__buffer_fill(c->list_meta, 0, 4, 0);                               /* nodes used */
+    gl__buffer_fill(c->list_meta, 4, 4, (uint32_t)(c->list_cap > 0xffffffffu ? 0xffffffffu : c->list_cap));
 }
 
 spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *d, spr_draw_stats *st)
@@ -172,9 +173,8 @@ spr_result gl__draw_rects(spr_backend *b, int target, const spr_rect_draw_desc *
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->list_src);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c->list_head);
         gl__draw_instances(c, m, st);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         uint32_t used = 0;
-        glGetNamedBufferSubData(c->list_meta, 0, sizeof used, &used);
+        gl__buffer_read(c->list_meta, 0, sizeof used, &used);
         if ((res = gl__check(b, "list draw"))) return res;
         if (used <= c->list_cap) break;
         if (used >= 0x7fffffffu / 16) return spr__fail(&b->err, SPR_E_TOO_LARGE, "gl: %u list fragments in one draw", used);

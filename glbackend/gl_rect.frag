@@ -17,7 +17,6 @@ uniform int u_depth, u_output, u_sampling, u_list;
 uniform vec2 u_atlas_size;
 layout(binding = 5) uniform sampler2D u_atlas;
 layout(std430, binding = 7) readonly buffer SprAtlasOrg { ivec2 spr_atlas_org[]; };
-layout(binding = 0, offset = 0) uniform atomic_uint u_generated;
 /* the fragment lists, written here (read by the prefix op through buffer textures) */
 layout(std430, binding = 3) coherent buffer SprListMeta { uint spr_list_alloc; uint spr_list_cap; uint spr_list_pad0; uint spr_list_pad1; uvec4 spr_list_meta[]; };
 layout(std430, binding = 4) coherent buffer SprListSrc { vec4 spr_list_srcv[]; };
@@ -53,7 +52,7 @@ void main()
         spr_rect_sample(px, R, tw, th, off, u_sampling == SPR_SAMPLE_LINEAR ? 1 : 0, s, w, tx);
     }
     if (spr_rect_alpha_passes(tx[3], u_alpha_ref) == 0) discard;
-    atomicCounterIncrement(u_generated);
+    spr_count_fragment();
     float src[4];
     spr_rect_fragment(u_output, tx, src);
     float z = spr_test_depth(u_depth, u_eps, 0.0, 1.0, 1.0, 1.0, t, 0.0);

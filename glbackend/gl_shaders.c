@@ -70,7 +70,7 @@ static void add_constants(strbuf *b)
         {"SPR_NOTE_GAUSS_POWER", SPR_NOTE_GAUSS_POWER}, {"SPR_NOTE_GAUSS_FAINT", SPR_NOTE_GAUSS_FAINT},
         {"SPR_NOTE_GAUSS_STOP", SPR_NOTE_GAUSS_STOP}, {"SPR_NOTE_GAUSS_PARALLEL", SPR_NOTE_GAUSS_PARALLEL},
         {"SPR_NOTE_GAUSS_BEHIND", SPR_NOTE_GAUSS_BEHIND}, {"SPR_NOTE_GAUSS_END", SPR_NOTE_GAUSS_END},
-        {"SPR_GPRM_COUNT", SPR_GPRM_COUNT}, {"SPR_GREC_FLOATS", SPR_GREC_FLOATS}, {"SPR_EXP_COEFS", SPR_EXP_COEFS},
+        {"SPR_SSBO_COUNTER", GL_SSBO_COUNTER}, {"SPR_GPRM_COUNT", SPR_GPRM_COUNT}, {"SPR_GREC_FLOATS", SPR_GREC_FLOATS}, {"SPR_EXP_COEFS", SPR_EXP_COEFS},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) sb_add(b, "#define %s %d\n", k[i].name, k[i].value);
     /* fragment output location of each plane = its colour attachment */

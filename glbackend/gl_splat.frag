@@ -11,7 +11,6 @@ flat in uint v_seq;
 uniform float u_M[16];
 uniform float u_sx, u_sy, u_eps, u_dmin, u_dmax, u_n, u_invn, u_kscale;
 uniform int u_kernel, u_depth, u_output, u_cull, u_mask;
-layout(binding = 0, offset = 0) uniform atomic_uint u_generated;
 layout(location = SPR_LOC_COLOR) out vec4 o_color;
 layout(location = SPR_LOC_DEPTH) out float o_depth;
 layout(location = SPR_LOC_ID) out uint o_id;
@@ -32,7 +31,7 @@ void main()
     float rho;
     float e[4] = float[4](v_e.x, v_e.y, v_e.z, v_e.w);
     if (spr_splat_covers(o0, d, p, n, e, v_pr.w, u_cull, u_mask, z_near, u_eps, t, rho2, rho) == 0) discard;
-    atomicCounterIncrement(u_generated);
+    spr_count_fragment();
     float z = spr_test_depth(u_depth, u_eps, u_dmin, u_dmax, u_n, u_invn, t, rho);
     gl_FragDepth = z;
     float c[3] = float[3](v_c.x, v_c.y, v_c.z);

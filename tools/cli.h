@@ -14,6 +14,7 @@
 #include "spr_domain.h"
 #include <cjson/cJSON.h>
 #include "spr__options.h"
+#include "spr_glbackend.h"
 #include "spr_history.h"
 #include "spr__inspect.h"
 
@@ -21,7 +22,7 @@
 typedef spr__history_run cli_history_run;
 /* Render s on "cpu" or "gl" (the probe variant) recording pixel (x, y):
  * 0, 1 when GL has no device here, −1 after one line. */
-int cli_run_history(spr_scene *s, const spr_render_desc *rd, const char *which, int gl_device, int x, int y, cli_history_run *out);
+int cli_run_history(spr_scene *s, const spr_render_desc *rd, const char *which, const spr_gl_desc *gd, int x, int y, cli_history_run *out);
 struct spr_hist_event;
 /* One call of a pixel history as text (cli_explain.c); other: the same
  * call on a second backend (NULL: none), diff_ev/diff_frag: the first
@@ -39,7 +40,7 @@ int cli_outdir_begin(spr__args *a, const char *opt, const char *dir, char *tmp, 
 int cli_outdir_end(spr__args *a, const char *opt, const char *tmp, const char *dir, int commit);
 
 /* parity --random: N generated scenes from seed on both backends (cli_random.c). */
-int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, int gl_device, const char *junit);
+int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, const spr_gl_desc *gd, const char *junit);
 
 struct spr_parity_report;
 /* One summary line per algorithm, then its first differing planes. */

@@ -5,6 +5,7 @@
  */
 #include "spr_util.h"
 #include "cli.h"
+#include "spr__scene_opts.h"
 #include "spr_glbackend.h"
 #include "spr_swrast.h"
 #include "spr_envmap.h"
@@ -22,6 +23,7 @@ static const spr__opt bench_opts[] = {
     {"reps", "N", "renders per configuration, best kept (default 5)"},
     {"points", "N", "size of the armadillo resampling (default 1000000)"},
     {"gl-device", "N", "GL rows on the N-th EGL device (a GPU driver) instead of the surfaceless platform"},
+    SPR__BACKEND_OPTS,
     {"rows", "LIST", "only the rows of these algorithms (and pbr2p1, the /pbr2p1 column's), comma-separated registry names, e.g. transparent2,domain-overlap (default every row)"},
     {"quiet", NULL, "no progress on stderr"},
     {NULL, NULL, NULL}};
@@ -326,13 +328,14 @@ int cmd_bench(int argc, char **argv)
     spr__args a;
     int pr = spr__parse(&a, "bench", bench_opts, "[--scene bunny|armadillo-1m|capture-1m|all] [--size WxH] [--reps N]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    int W = 1024, H = 1024, reps = 5, quiet = spr__flag(&a, "quiet"), gl_device = -1;
+    int W = 1024, H = 1024, reps = 5, quiet = spr__flag(&a, "quiet");
+    spr_gl_desc gd;
     size_t npts = 1000000;
     const char *scene = spr__get(&a, "scene") ? spr__get(&a, "scene") : "all";
     bench_rows = spr__get(&a, "rows");
     if ((strcmp(scene, "grouping") && spr__get_wh(&a, "size", &W, &H) < 0) || spr__get_int(&a, "reps", &reps, 1, 100) < 0 ||
         (strcmp(scene, "bunny") && spr__get_size(&a, "points", &npts, 100, SPR_MAX_SPLATS) < 0) ||
-        spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || spr__reject_unused(&a))
+        spr__gl_opts(&a, &gd) < 0 || spr__reject_unused(&a))
         return 2;
     if (bench_rows) {
         for (const char *p = bench_rows;;) {
@@ -358,9 +361,6 @@ int cmd_bench(int argc, char **argv)
         return 2;
     }
     spr_error gerr = {0};
-    spr_gl_desc gd;
-    spr_gl_defaults(&gd);
-    gd.device = gl_device;
     bench_gl = spr_gl_create(&gd, &gerr);
     bench_gl_reason = bench_gl ? NULL : gerr.msg;
     printf("splatref bench: CPU reference on 1 and 2 OpenMP threads and the GL backend [%s], best of %d\n",

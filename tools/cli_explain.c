@@ -22,10 +22,10 @@ static const spr__opt explain_opts[] = {
 
 
 
-int cli_run_history(spr_scene *s, const spr_render_desc *rd, const char *which, int gl_device, int x, int y, cli_history_run *out)
+int cli_run_history(spr_scene *s, const spr_render_desc *rd, const char *which, const spr_gl_desc *gd, int x, int y, cli_history_run *out)
 {
     spr_error err = {0};
-    const int r = spr__history_run_one(s, rd, which, gl_device, x, y, out, &err);
+    const int r = spr__history_run_one(s, rd, which, gd, x, y, out, &err);
     if (r) fprintf(stderr, "splatref explain: %s\n", err.msg);
     return r;
 }
@@ -187,12 +187,14 @@ int cmd_explain(int argc, char **argv)
     if (pr) return pr == 1 ? 0 : 2;
     const char *pix = spr__get(&a, "pixel"), *which = spr__get(&a, "backend");
     const int json = spr__flag(&a, "json");
-    int x, y, gl_device = -1;
+    int x, y;
+    spr_gl_desc gd;
+    spr_gl_defaults(&gd);
     char tail;
     if (!pix || sscanf(pix, "%d,%d%c", &x, &y, &tail) != 2) { spr__error(&a, "--pixel X,Y is required (two whole numbers)"); return 2; }
     if (!which) which = "both";
     if (strcmp(which, "both") && strcmp(which, "cpu") && strcmp(which, "gl")) { spr__error(&a, "--backend: '%s' is not both, cpu or gl", which); return 2; }
-    if (strcmp(which, "cpu") && spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
+    if (strcmp(which, "cpu") && spr__gl_opts(&a, &gd) < 0) return 2;
     spr_scene s;
     spr_render_desc rd;
     cli_history_run runs[2];
@@ -204,11 +206,11 @@ int cmd_explain(int argc, char **argv)
         goto done;
     }
     if (strcmp(which, "gl")) {
-        if (cli_run_history(&s, &rd, "cpu", gl_device, x, y, &runs[nr])) goto done;
+        if (cli_run_history(&s, &rd, "cpu", &gd, x, y, &runs[nr])) goto done;
         nr++;
     }
     if (strcmp(which, "cpu")) {
-        int r = cli_run_history(&s, &rd, "gl", gl_device, x, y, &runs[nr]);
+        int r = cli_run_history(&s, &rd, "gl", &gd, x, y, &runs[nr]);
         if (r < 0 || (r > 0 && !strcmp(which, "gl"))) goto done;
         if (r == 0) nr++;
         else fprintf(stderr, "splatref explain: no GL device here: the CPU reference alone\n");

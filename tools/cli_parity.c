@@ -81,10 +81,11 @@ int cmd_parity(int argc, char **argv)
     spr__args a;
     int pr = spr__parse(&a, "parity", parity_opts, "[scene and algorithm options as for render] [--report DIR]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
-    int gl_device = -1, rc = 2, report_open = 0;
+    int rc = 2, report_open = 0;
     char report_tmp[1200] = "";
     double gl_eps = 0.0;
-    if (spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0 || spr__get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
+    spr_gl_desc gd;
+    if (spr__gl_opts(&a, &gd) < 0 || spr__get_double(&a, "gl-eps", &gl_eps, 1e-30, 1e30) < 0) return 2;
     const char *dir = spr__get(&a, "report"), *junit = spr__get(&a, "junit");
     if (spr__get(&a, "random")) { /* differential fuzzing: no scene options apply */
         int count = 0, first = 0;
@@ -93,7 +94,7 @@ int cmd_parity(int argc, char **argv)
             spr__get_int(&a, "first", &first, 0, 2000000000) < 0 ||
             (spr__flag(&a, "quiet"), spr__reject_unused(&a)))
             return 2;
-        return cli_parity_random(&a, first, count, (uint64_t)seed, dir, gl_device, junit);
+        return cli_parity_random(&a, first, count, (uint64_t)seed, dir, &gd, junit);
     }
     spr_scene s;
     spr_render_desc rd;
@@ -105,7 +106,7 @@ int cmd_parity(int argc, char **argv)
     if (spr__scene_setup(&a, &s, &rd, 1)) goto done;
     if (dir && cli_outdir_begin(&a, "report", dir, report_tmp, sizeof report_tmp)) goto done;
     report_open = dir != NULL;
-    if (!(gl = spr__backend(&a, "gl", s.threads, gl_device)) || !(cpu = spr__backend(&a, "cpu", s.threads, -1))) goto done;
+    if (!(gl = spr__backend(&a, "gl", s.threads, &gd)) || !(cpu = spr__backend(&a, "cpu", s.threads, NULL))) goto done;
     printf("parity: cpu reference vs gl [%s], %s, %zu splats, %dx%d\n", spr_gl_renderer(gl), s.model, s.cloud.n, s.view.width,
            s.view.height);
     spr__parity_set rr = {dir, &s, spr_gl_renderer(gl), 0, {0}, {0}};

@@ -571,14 +571,11 @@ static size_t minimise(spr_backend *cpu, spr_backend *gl, const rscene *s, spr_a
     return m;
 }
 
-int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, int gl_device, const char *junit)
+int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const char *dir, const spr_gl_desc *gd, const char *junit)
 {
     const char *out_dir = dir ? dir : "parity-random";
     spr_error err = {0};
-    spr_gl_desc gd;
-    spr_gl_defaults(&gd);
-    gd.device = gl_device;
-    spr_backend *gl = spr_gl_create(&gd, &err), *cpu = NULL;
+    spr_backend *gl = spr_gl_create(gd, &err), *cpu = NULL;
     if (!gl) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); return 2; }
     if (!(cpu = spr_swrast_create(0, &err))) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); spr_backend_destroy(gl); return 2; }
     char tmp[1200];

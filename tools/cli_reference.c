@@ -24,6 +24,7 @@ static const spr__opt ref_opts[] = {
     {"update", NULL, "re-render on the CPU and rewrite hashes and PNGs"},
     {"only", "NAME", "just this scene"},
     {"gl-device", "N", "GL backend on the N-th EGL device"},
+    SPR__BACKEND_OPTS,
     {"threads", "N", "CPU threads (default: all cores)"},
     {"quiet", NULL, "no progress on stderr"},
     {"junit", "F.xml", "also write a JUnit XML report, one test case per scene (checking, not --update)"},
@@ -91,8 +92,10 @@ int cmd_reference(int argc, char **argv)
     if (pr) return pr == 1 ? 0 : 2;
     const char *dir = spr__get(&a, "dir") ? spr__get(&a, "dir") : "reference_images";
     const char *only = spr__get(&a, "only"), *junit = spr__get(&a, "junit");
-    int update = spr__flag(&a, "update"), gl_device = -1, threads = 0;
-    if ((!update && spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0) || spr__get_int(&a, "threads", &threads, 0, 1024) < 0 ||
+    int update = spr__flag(&a, "update"), threads = 0;
+    spr_gl_desc gd;
+    spr_gl_defaults(&gd);
+    if ((!update && spr__gl_opts(&a, &gd) < 0) || spr__get_int(&a, "threads", &threads, 0, 1024) < 0 ||
         (spr__flag(&a, "quiet"), spr__reject_unused(&a)))
         return 2;
     char mpath[1200];
@@ -100,14 +103,11 @@ int cmd_reference(int argc, char **argv)
     static scene_line sl[MAX_SCENES];
     int n;
     if (read_manifest(mpath, sl, &n)) return 2;
-    spr_backend *cpu = spr__backend(&a, "cpu", threads, -1), *gl = NULL;
+    spr_backend *cpu = spr__backend(&a, "cpu", threads, NULL), *gl = NULL;
     if (!cpu) return 2;
     const char *gl_reason = NULL;
     spr_error gerr = {0};
     if (!update) {
-        spr_gl_desc gd;
-        spr_gl_defaults(&gd);
-        gd.device = gl_device;
         gl = spr_gl_create(&gd, &gerr);
         if (!gl) gl_reason = gerr.msg;
         if (!gl && gerr.code != SPR_E_NO_DEVICE) { /* a context exists but the backend does not build: a failure */

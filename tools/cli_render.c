@@ -146,13 +146,14 @@ int cmd_render(int argc, char **argv)
     spr_render_desc rd;
     const char *out = spr__get(&a, "out") ? spr__get(&a, "out") : "splatref.png";
     const char *bname = spr__get(&a, "backend") ? spr__get(&a, "backend") : "cpu";
-    int gl_device = -1;
+    spr_gl_desc gd;
+    spr_gl_defaults(&gd);
     if (strcmp(bname, "cpu") && strcmp(bname, "gl")) { spr__error(&a, "--backend: '%s' is not cpu or gl", bname); return 2; }
-    if (!strcmp(bname, "gl") && spr__get_int(&a, "gl-device", &gl_device, 0, 64) < 0) return 2;
+    if (!strcmp(bname, "gl") && spr__gl_opts(&a, &gd) < 0) return 2;
     const char *trace_out = spr__get(&a, "trace"), *dump_dir = spr__get(&a, "dump"), *groups_out = spr__get(&a, "groups-out"), *float_out = spr__get(&a, "float"), *stats_out = spr__get(&a, "stats");
     if (spr__scene_setup(&a, &s, &rd, 0)) goto done;
     if (groups_out && !rd.groups) { spr__error(&a, "--groups-out: %s uses no groups", spr_algo_name(rd.algo)); goto done; }
-    if (!(b = spr__backend(&a, bname, s.threads, gl_device))) goto done;
+    if (!(b = spr__backend(&a, bname, s.threads, &gd))) goto done;
     if (trace_out) { /* the trace backend in front of the real one; written out at the end */
         spr_backend *tb = (trace_f = open_memstream(&trace_buf, &trace_len)) ? spr_trace_create(b, trace_f, &err) : NULL;
         if (!tb) { spr__error(&a, "--trace: %s", trace_f ? err.msg : "out of memory"); goto done; }

@@ -540,7 +540,7 @@ int cmd_step(int argc, char **argv)
                     int dup = 0;
                     for (int i = 0; i < nh; i++) dup |= hist[i].h.x == x && hist[i].h.y == y;
                     if (dup) continue;
-                    if (cli_run_history(&s, &rd, "cpu", -1, x, y, &hist[nh]) < 0) goto done;
+                    if (cli_run_history(&s, &rd, "cpu", NULL, x, y, &hist[nh]) < 0) goto done;
                     nh++;
                 }
     }

@@ -10,7 +10,7 @@ pkgs="build-essential cmake pkg-config ca-certificates \
   libpng-dev zlib1g-dev libzstd-dev \
   python3-numpy python3-pytest python3-venv python3-pip python3-junitparser libxml2-utils \
   jupyter-nbconvert python3-ipykernel python3-matplotlib \
-  libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri \
+  libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-vulkan-drivers \
   libqhull-dev libcjson-dev libxml2-dev libcgal-demo \
   clang libclang-rt-14-dev libomp-14-dev \
   chromium"

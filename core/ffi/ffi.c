@@ -40,6 +40,7 @@ struct spr_ffi_scene {
     spr_cloud in;
     spr_scene s;
     spr_render_desc rd;
+    spr_gl_desc gl; /* the scene's gl-driver (spr__gl_opts); the device comes with each call */
     spr_error err;
 };
 
@@ -114,6 +115,7 @@ spr_ffi_scene *spr_ffi_scene_new(int n, const char *const *keys, const char *con
     }
     if (arrays && take_arrays(sc, arrays)) { spr_ffi_scene_free(sc); return NULL; }
     if (scene_file && spr__scene_read(a, scene_file)) goto bad;
+    if (spr__gl_opts(a, &sc->gl)) goto bad;
     /* render's default algorithm unless "all" is asked for (parity's default there) */
     const char *algo = spr__get(a, "algo");
     if (spr__scene_setup(a, &sc->s, &sc->rd, algo && !strcmp(algo, "all"))) goto bad;
@@ -191,12 +193,21 @@ const float *spr_ffi_scene_cloud(const spr_ffi_scene *sc, const char *field, siz
     return NULL;
 }
 
+/* The scene's GL options on device gl_device (−1: the surfaceless platform). */
+static spr_gl_desc gl_of(const spr_ffi_scene *sc, int gl_device)
+{
+    spr_gl_desc d = sc->gl;
+    d.device = gl_device;
+    return d;
+}
+
 /* A backend by name (spr__backend; its error keeps its code, SPR_E_NO_DEVICE). */
 static spr_backend *backend_of(spr_ffi_scene *sc, const char *name, int gl_device, char *renderer, size_t cap)
 {
     if (name && strcmp(name, "cpu") && strcmp(name, "gl")) { fail(SPR_E_ARG, "backend: not cpu or gl"); return NULL; }
     memset(&sc->err, 0, sizeof sc->err);
-    spr_backend *b = spr__backend(&sc->a, name ? name : "cpu", sc->s.threads, gl_device);
+    const spr_gl_desc gd = gl_of(sc, gl_device);
+    spr_backend *b = spr__backend(&sc->a, name ? name : "cpu", sc->s.threads, &gd);
     if (!b) { fail_with(&sc->err); return NULL; }
     if (renderer) {
         if (name && !strcmp(name, "gl")) snprintf(renderer, cap, "gl [%s]", spr_gl_renderer(b));
@@ -352,12 +363,13 @@ char *spr_ffi_explain(spr_ffi_scene *sc, int x, int y, const char *which, int gl
     int nr = 0;
     char *out = NULL;
     spr_error err = {0};
+    const spr_gl_desc gd = gl_of(sc, gl_device);
     if (strcmp(which, "gl")) {
-        if (spr__history_run_one(&sc->s, &sc->rd, "cpu", gl_device, x, y, &runs[nr], &err)) { fail_with(&err); goto done; }
+        if (spr__history_run_one(&sc->s, &sc->rd, "cpu", &gd, x, y, &runs[nr], &err)) { fail_with(&err); goto done; }
         nr++;
     }
     if (strcmp(which, "cpu")) {
-        const int r = spr__history_run_one(&sc->s, &sc->rd, "gl", gl_device, x, y, &runs[nr], &err);
+        const int r = spr__history_run_one(&sc->s, &sc->rd, "gl", &gd, x, y, &runs[nr], &err);
         if (r < 0 || (r > 0 && !strcmp(which, "gl"))) { fail_with(&err); goto done; }
         if (r == 0) nr++;
     }

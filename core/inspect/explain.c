@@ -16,7 +16,7 @@ const char *const spr__blend_names[SPR_BLEND__COUNT] = {"replace", "add", "over"
 typedef struct explain_ctx { spr_history *h; } explain_ctx;
 static void label_hook(void *user, spr_backend *b, const spr_pass_info *info) { spr_history_pass(((explain_ctx *)user)->h, info); }
 
-int spr__history_run_one(spr_scene *s, const spr_render_desc *rd0, const char *which, int gl_device, int x, int y, spr__history_run *out,
+int spr__history_run_one(spr_scene *s, const spr_render_desc *rd0, const char *which, const spr_gl_desc *gl, int x, int y, spr__history_run *out,
                          spr_error *errp)
 {
     spr_error err = {0};
@@ -25,8 +25,8 @@ int spr__history_run_one(spr_scene *s, const spr_render_desc *rd0, const char *w
     out->name = which;
     if (!strcmp(which, "gl")) {
         spr_gl_desc gd;
-        spr_gl_defaults(&gd);
-        gd.device = gl_device;
+        if (gl) gd = *gl;
+        else spr_gl_defaults(&gd);
         gd.probe = 1;
         inner = spr_gl_create(&gd, &err);
         if (inner) snprintf(out->renderer, sizeof out->renderer, "gl [%s]", spr_gl_renderer(inner));

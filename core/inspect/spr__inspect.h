@@ -47,7 +47,7 @@ typedef struct spr__history_run {
 } spr__history_run;
 /* Render s on "cpu" or "gl" (the probe variant) recording pixel (x, y):
  * 0, 1 when GL has no device here (err says so), −1 with err set. */
-int spr__history_run_one(spr_scene *s, const spr_render_desc *rd, const char *which, int gl_device, int x, int y, spr__history_run *out,
+int spr__history_run_one(spr_scene *s, const spr_render_desc *rd, const char *which, const struct spr_gl_desc *gl, int x, int y, spr__history_run *out,
                          spr_error *err);
 /* The first difference between two histories: *ev the call, *frag the
  * fragment (−1: not a fragment), what a description; 0 when identical. */

@@ -142,15 +142,28 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
     return 0;
 }
 
-spr_backend *spr__backend(spr__args *a, const char *name, int threads, int gl_device)
+int spr__gl_opts(spr__args *a, spr_gl_desc *d)
+{
+    spr_gl_defaults(d);
+    if (spr__get_int(a, "gl-device", &d->device, 0, 64) < 0) return -1;
+    const char *v = spr__get(a, "gl-driver");
+    if (v && spr_gl_driver_parse(v, &d->driver)) {
+        spr__error(a, "--gl-driver: '%s' is not a GL driver here (%s)", v, spr_gl_driver_names());
+        return -1;
+    }
+    if (d->driver != SPR_GL_DRIVER_DEFAULT && d->device >= 0) {
+        spr__error(a, "--gl-driver and --gl-device go alone: a driver is chosen on the surfaceless platform, a device brings its own");
+        return -1;
+    }
+    return 0;
+}
+
+spr_backend *spr__backend(spr__args *a, const char *name, int threads, const spr_gl_desc *gl)
 {
     spr_error err = {0};
     spr_backend *b;
     if (!strcmp(name, "gl")) {
-        spr_gl_desc d;
-        spr_gl_defaults(&d);
-        d.device = gl_device;
-        b = spr_gl_create(&d, &err);
+        b = spr_gl_create(gl, &err);
     } else {
         b = spr_swrast_create(threads, &err);
     }

@@ -26,6 +26,7 @@ static const spr__opt camera_rows[] = {SPR__CAMERA_OPTS, {NULL, NULL, NULL}};
 static const spr__opt algo_rows[] = {SPR__ALGO_OPTS, {NULL, NULL, NULL}};
 static const spr__opt domain_rows[] = {SPR__DOMAIN_OPTS, {NULL, NULL, NULL}};
 static const spr__opt group_rows[] = {{"groups", "", ""}, SPR__GROUP_OPTS, {NULL, NULL, NULL}};
+static const spr__opt backend_rows[] = {SPR__BACKEND_OPTS, {NULL, NULL, NULL}};
 
 static int in_rows(const spr__opt *rows, const char *name)
 {
@@ -45,6 +46,7 @@ static const char *section_of(const char *name)
     if (in_rows(algo_rows, name)) return "render";
     if (in_rows(domain_rows, name)) return "domain";
     if (in_rows(group_rows, name)) return "grouping";
+    if (in_rows(backend_rows, name)) return "backend";
     return NULL;
 }
 
@@ -218,14 +220,14 @@ int spr__scene_read(spr__args *a, const char *file)
     char *slash = strrchr(dir, '/');
     if (slash) slash[1] = '\0';
     else dir[0] = '\0';
-    static const char *const sections[] = {"model", "camera", "render", "domain", "grouping", NULL};
+    static const char *const sections[] = {"model", "camera", "render", "domain", "grouping", "backend", NULL};
     const cJSON *sec;
     cJSON_ArrayForEach(sec, root)
     {
         if (!strcmp(sec->string, "splatref_scene") || !strcmp(sec->string, "generator")) continue;
         int si = 0;
         while (sections[si] && strcmp(sections[si], sec->string)) si++;
-        if (!sections[si]) { spr__error(a, "%s: unknown key '%s' (sections: model, camera, render, domain, grouping)", file, sec->string); goto done; }
+        if (!sections[si]) { spr__error(a, "%s: unknown key '%s' (sections: model, camera, render, domain, grouping, backend)", file, sec->string); goto done; }
         if (!cJSON_IsObject(sec)) { spr__error(a, "%s: '%s' must be an object", file, sec->string); goto done; }
         const cJSON *it;
         cJSON_ArrayForEach(it, sec)

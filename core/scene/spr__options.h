@@ -15,6 +15,8 @@
 #include <cjson/cJSON.h>
 #include "spr_scene.h"
 
+struct spr_gl_desc; /* spr_glbackend.h */
+
 typedef struct spr__opt {
     const char *name;   /* without the leading "--" */
     const char *arg;    /* NULL for a flag, else the metavariable shown in --help */
@@ -99,8 +101,11 @@ int spr__scene_opts(spr__args *a, spr_scene *s, spr_render_desc *rd, spr__scene_
  * the BSP tree, the groups and the domain primitives when the algorithm uses
  * them, --save-scene.  allow_all: accept --algo all.  0 or −1 after one line. */
 int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_all);
-/* "cpu" or "gl" backend, or NULL after printing the reason. */
-spr_backend *spr__backend(spr__args *a, const char *name, int threads, int gl_device);
+/* The GL backend's options into d (from spr_gl_defaults): --gl-driver, and
+ * --gl-device where the command has it.  0, or −1 after one line. */
+int spr__gl_opts(spr__args *a, struct spr_gl_desc *d);
+/* "cpu" or "gl" backend (gl: NULL for the defaults), or NULL after printing the reason. */
+spr_backend *spr__backend(spr__args *a, const char *name, int threads, const struct spr_gl_desc *gl);
 
 /* Scene files (cli_scenefile.c, docs/scene-format.md).  spr__parse reads
  * --scene F itself: its values fill the options the command line did not

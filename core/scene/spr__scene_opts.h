@@ -94,6 +94,11 @@
     {"stream", NULL, "read a binary PLY chunk by chunk for every pass instead of whole (clouds larger than memory; pbr2p1, deferred, zbuffer, depthpeel; groups none, hash or a file)"}, \
     {"chunk", "N", "--stream: splats per chunk (default 1048576)"}
 
+/* The GL backend's driver: a scene file's "backend" section (which GL the
+ * scene's parity was run on); read by the commands that make a GL backend. */
+#define SPR__BACKEND_OPTS \
+    {"gl-driver", "NAME", "GL backend: llvmpipe | zink (Mesa's GL over Vulkan, on lavapipe) | default (EGL's choice: LIBGL_ALWAYS_SOFTWARE, GALLIUM_DRIVER as set)"}
+
 /* Everything that determines a rendered scene (render, parity, reference). */
 #define SPR__SCENE_OPTS \
     {"scene", "F.json", "read the scene from F (docs/scene-format.md); options given here override it"}, \
@@ -101,6 +106,6 @@
     {"scene-camera", "FORM", "save-scene: the camera as lookat (eye/target/up/fov, default) | matrices"}, \
     SPR__MODEL_OPTS, SPR__CAMERA_OPTS, SPR__ALGO_OPTS, SPR__DOMAIN_OPTS, \
     {"groups", "METHOD", "grouping of the algorithms that use groups: none | mgc | wgc | hash (default mgc)"}, \
-    SPR__GROUP_OPTS
+    SPR__GROUP_OPTS, SPR__BACKEND_OPTS
 
 #endif
