@@ -600,7 +600,7 @@ static void gl_setup(void)
 {
     spr_error err = {0};
     spr_gl_desc gd;
-    spr_gl_defaults(&gd);
+    tu_gl_desc(&gd);
     gd.probe = 1; /* the programs' probe variant: pixel history below, parity too (the probe stays disarmed) */
     cpu = spr_swrast_create(2, &err);
     gl = spr_gl_create(&gd, &err);
@@ -754,7 +754,7 @@ START_TEST(history_names_the_stop)
         if (side == 0) own = spr_swrast_create(2, &err);
         else {
             spr_gl_desc gd;
-            spr_gl_defaults(&gd);
+            tu_gl_desc(&gd);
             gd.probe = 1;
             own = spr_gl_create(&gd, &err);
         }

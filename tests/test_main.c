@@ -3,6 +3,7 @@
  * this file to make one CTest test per suite. */
 #include <check.h>
 #include "spr_glbackend.h"
+#include "test_util.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,7 +57,9 @@ int main(int argc, char **argv)
              * backend that cannot be built on a context that exists (a shader
              * that does not compile) is a failure. */
             spr_error err = {0};
-            spr_backend *gl = spr_gl_create(NULL, &err);
+            spr_gl_desc gd;
+            tu_gl_desc(&gd);
+            spr_backend *gl = spr_gl_create(&gd, &err);
             if (!gl) {
                 const char *req = getenv("SPLATREF_REQUIRE_GL");
                 int skip = err.code == SPR_E_NO_DEVICE && !(req && *req && strcmp(req, "0"));

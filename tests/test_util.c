@@ -93,6 +93,16 @@ void tu_bunny_free(tu_bunny *s)
     spr_cloud_free(&s->cloud);
 }
 
+void tu_gl_desc(spr_gl_desc *d)
+{
+    spr_gl_defaults(d);
+    const char *name = getenv("SPLATREF_TEST_GL_DRIVER");
+    if (name && *name && spr_gl_driver_parse(name, &d->driver)) {
+        fprintf(stderr, "splatref_tests: SPLATREF_TEST_GL_DRIVER='%s' is not %s\n", name, spr_gl_driver_names());
+        exit(2);
+    }
+}
+
 spr_cloud tu_builtin(const char *name, size_t n)
 {
     spr_cloud c;

@@ -13,6 +13,7 @@
 #include "spr_algo.h"
 #include "spr_io.h"
 #include "spr_swrast.h"
+#include "spr_glbackend.h"
 
 void tu_hand_view(int W, int H, spr_view *v);
 /* A view from (0, 0, eye_z) at the origin: perspective with fov_deg > 0, else orthographic ortho_height high. */
@@ -24,6 +25,11 @@ double tu_uniform(uint64_t *s);
 void tu_set_color(spr_cloud *c, size_t i, float r, float g, float b);
 /* Render on a fresh CPU backend with `threads`; ck_assert on failure. */
 void tu_render(const spr_view *v, const spr_cloud *c, const spr_render_desc *d, int threads, spr_render_result *out);
+/* The GL suites' backend description: spr_gl_defaults with the driver that
+ * SPLATREF_TEST_GL_DRIVER names (llvmpipe | zink | default; unset: EGL's
+ * choice), so CTest gl_zink runs the gl suite on zink.  An unknown name ends
+ * the run (exit 2) with one line. */
+void tu_gl_desc(spr_gl_desc *d);
 /* A built-in model of about n points ("builtin:NAME"), or fail the test. */
 spr_cloud tu_builtin(const char *name, size_t n);
 /* SPLATREF_TEST_SIZE=small (the sanitizer build of .ci/run): the scenes of

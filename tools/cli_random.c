@@ -468,8 +468,9 @@ static int differs(spr_backend *cpu, spr_backend *gl, const rscene *s, const uin
 }
 
 /* Write the splats keep[0..m) of s as NAME.ply and NAME.groups and print
- * the command that replays the comparison. */
-static int save(FILE *out, const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, const char *name, spr_error *err)
+ * the command that replays the comparison (on the GL gd chose). */
+static int save(FILE *out, const rscene *s, const uint32_t *keep, size_t m, spr_algo algo, const char *name, const spr_gl_desc *gd,
+                spr_error *err)
 {
     spr_cloud c;
     int32_t *lab;
@@ -538,6 +539,8 @@ static int save(FILE *out, const rscene *s, const uint32_t *keep, size_t m, spr_
     if (s->gauss && s->g_sh_k > 1) fprintf(out, " --sh-degree 3");
     if ((ai->uses & SPR_USES_GAUSS) && s->gauss_aa) fprintf(out, " --gauss-aa");
     if ((ai->uses & SPR_USES_GAUSS) && s->flavor == SPR_FLAVOR_GSPLAT) fprintf(out, " --gauss-flavor gsplat");
+    if (gd->driver != SPR_GL_DRIVER_DEFAULT) fprintf(out, " --gl-driver %s", spr_gl_driver_name(gd->driver));
+    if (gd->device >= 0) fprintf(out, " --gl-device %d", gd->device);
     fprintf(out, "\n");
     return 0;
 }
@@ -639,14 +642,14 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
             char name[1100];
             snprintf(name, sizeof name, "%s/random_%llu_%d_%s", out_dir, (unsigned long long)seed, i, spr_algo_name((spr_algo)al));
             uint32_t *mk = NULL;
-            if (save(out, &s, keep, s.cloud.n, (spr_algo)al, name, &err)) fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg), failed = 1;
+            if (save(out, &s, keep, s.cloud.n, (spr_algo)al, name, gd, &err)) fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg), failed = 1;
             else if (!(mk = malloc(s.cloud.n * sizeof *mk))) failed = 1;
             if (mk) {
                 memcpy(mk, keep, s.cloud.n * sizeof *mk);
                 size_t m = minimise(cpu, gl, &s, (spr_algo)al, mk, s.cloud.n, &err);
                 fprintf(out, "  minimised to %zu of %zu splats:\n", m, s.cloud.n);
                 snprintf(name, sizeof name, "%s/random_%llu_%d_%s_min", out_dir, (unsigned long long)seed, i, spr_algo_name((spr_algo)al));
-                if (save(out, &s, mk, m, (spr_algo)al, name, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); failed = 1; }
+                if (save(out, &s, mk, m, (spr_algo)al, name, gd, &err)) { fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg); failed = 1; }
                 if (differs(cpu, gl, &s, mk, m, (spr_algo)al, &rep, &err) == 1) {
                     cli_parity_summary(out, spr_algo_name((spr_algo)al), &rep);
                     spr_parity_report_free(&rep);

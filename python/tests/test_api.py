@@ -216,3 +216,24 @@ def test_domain_primitives_of_the_octahedron():
         assert len(colours) == 1 and colours <= face_colours, colours
     with pytest.raises(sr.Error, match="draws no domain primitives"):
         sr.Scene(**SCENE).primitives()
+
+
+@pytest.mark.parametrize("driver", ["zink", "llvmpipe"])
+def test_a_scene_names_its_gl_driver(driver):
+    """gl_driver is a scene key: parity and render run on that driver, one after the other in one process."""
+    with sr.Scene(model="builtin:torus", points=2000, size=(48, 40), algo="depthpeel", gl_driver=driver) as s:
+        try:
+            p = s.parity()
+        except sr.NoDevice as e:
+            if os.environ.get("SPLATREF_REQUIRE_GL", "0") not in ("", "0"):
+                raise
+            pytest.skip(str(e))
+        assert p["gl_renderer"].startswith(driver + " ("), p["gl_renderer"]
+        a = p["algorithms"][0]
+        assert a["bit_exact"] and a["stats_mismatches"] == 0, a["first_stats_mismatch"]
+        assert s.render(backend="gl").renderer.startswith("gl [" + driver + " (")
+
+
+def test_an_unknown_gl_driver_is_one_line():
+    with pytest.raises(sr.Error, match=r"--gl-driver: 'swiftshader' is not a GL driver here \(default \| llvmpipe \| zink\)"):
+        sr.Scene(model="builtin:torus", points=500, gl_driver="swiftshader")
