@@ -168,6 +168,13 @@ START_TEST(scene_bad_files)
         ck_assert_msg(strchr(out, '\n') == out + strlen(out) - 1, "case %zu: not one line: %s", i, out);
         ck_assert_int_ne(access(in_dir("bad.png"), F_OK), 0);
     }
+    /* the backend section: a GL driver that is not one is refused by a command that makes a GL backend, naming the file */
+    write_file(in_dir("bad.json"), "{\"splatref_scene\": 1, \"backend\": {\"gl-driver\": \"swiftshader\"}}");
+    int rc = cli("parity", "--scene", in_dir("bad.json"), "--report", in_dir("rep"), "--quiet", NULL);
+    ck_assert_msg(rc == 2 && strstr(out, "--gl-driver: 'swiftshader' is not a GL driver here (default | llvmpipe | zink) (from ") &&
+                      strchr(out, '\n') == out + strlen(out) - 1,
+                  "backend.gl-driver: exit %d: %s", rc, out);
+    ck_assert_int_ne(access(in_dir("rep"), F_OK), 0);
 }
 END_TEST
 
