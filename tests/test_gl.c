@@ -692,7 +692,8 @@ START_TEST(domain_methods_match)
             snprintf(label, sizeof label, "cube %s %s", spr_algo_name((spr_algo)al), variant ? "strict nearest" : "thresholded linear");
             expect_exact(label, &v, &c, &d);
         }
-        }
+        spr_rects_free(&r);
+    }
     spr_decomp_free(&dc);
     spr_cloud_free(&c);
 }
