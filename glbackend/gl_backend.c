@@ -367,7 +367,7 @@ void gl__probe_begin(gl_context *c)
 {
     const spr_probe *p = c->base.probe;
     if (!p) return;
-    gl__buffer_reserve(&c->probe_buf, &c->probe_cap, 16 + (size_t)2 * SPR_PROBE_MAX * 64, GL_DYNAMIC_READ);
+    if (!c->probe_buf) gl__buffer_alloc(&c->probe_buf, 16 + (size_t)2 * SPR_PROBE_MAX * 64, GL_DYNAMIC_READ);
     gl__buffer_fill(c->probe_buf, 0, 16, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c->probe_buf);
     GLint prog = 0;
@@ -519,7 +519,7 @@ static void setup_vao(gl_context *c)
 {
     glCreateVertexArrays(1, &c->vao);
     glCreateBuffers(1, &c->instances);
-    gl__buffer_reserve(&c->counters, &c->counters_cap, sizeof(GLuint), GL_DYNAMIC_DRAW);
+    gl__buffer_alloc(&c->counters, sizeof(GLuint), GL_DYNAMIC_DRAW);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GL_SSBO_COUNTER, c->counters);
     glNamedBufferData(c->instances, 1024, NULL, GL_STREAM_DRAW);
     c->instances_cap = 1024;
@@ -567,7 +567,7 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     b->gauss_draw = gl__gauss_draw;
     b->read_plane = gl_read_plane;
     b->destroy = gl_destroy;
-    if (gl__egl_open(c, d->device, d->driver, err) || gl__build_programs(c, err)) {
+    if (gl__egl_open(c, d, err) || gl__build_programs(c, err)) {
         gl_destroy(b);
         return NULL;
     }

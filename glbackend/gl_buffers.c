@@ -7,7 +7,8 @@
  *     stores), never through atomic counter buffers (atomic_uint).
  *  2. They are reset by gl__buffer_fill (glClearNamedBufferSubData: a fill
  *     ordered with the draws, into the storage the shaders are bound to) and
- *     given new storage only to grow (gl__buffer_reserve); never re-specified
+ *     given new storage only to grow (gl__buffer_alloc once or on growth,
+ *     gl__buffer_reserve); never re-specified
  *     by glNamedBufferSubData of the whole buffer or glNamedBufferData of its
  *     own size.
  *  3. They are read by gl__buffer_read, after
@@ -33,13 +34,17 @@
  */
 #include "gl_internal.h"
 
-void gl__buffer_reserve(GLuint *buf, size_t *cap, size_t bytes, GLenum usage)
+void gl__buffer_alloc(GLuint *buf, size_t bytes, GLenum usage)
 {
     if (!*buf) glCreateBuffers(1, buf);
-    if (bytes == 0) bytes = 16;
-    if (*cap && bytes <= *cap) return;
-    glNamedBufferData(*buf, (GLsizeiptr)bytes, NULL, usage);
-    *cap = bytes;
+    glNamedBufferData(*buf, (GLsizeiptr)(bytes ? bytes : 16), NULL, usage);
+}
+
+void gl__buffer_reserve(GLuint *buf, size_t *cap, size_t bytes, GLenum usage)
+{
+    if (*buf && *cap && bytes <= *cap) return;
+    gl__buffer_alloc(buf, bytes, usage);
+    *cap = bytes ? bytes : 16;
 }
 
 void gl__buffer_fill(GLuint buf, size_t offset, size_t bytes, uint32_t word)

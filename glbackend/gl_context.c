@@ -82,6 +82,31 @@ int spr_gl_driver_parse(const char *name, spr_gl_driver *out)
     return -1;
 }
 
+spr_result spr_gl_desc_check(const spr_gl_desc *d, spr_error *err)
+{
+    if ((unsigned)d->driver >= SPR_GL_DRIVER__COUNT)
+        return spr__fail(err, SPR_E_ARG, "gl: driver %d is not one of %s", (int)d->driver, spr_gl_driver_names());
+    if (d->driver != SPR_GL_DRIVER_DEFAULT && d->device >= 0)
+        return spr__fail(err, SPR_E_ARG, "gl: --gl-driver %s runs on the surfaceless platform, not on --gl-device %d (an EGL device brings its own driver)",
+                         drivers[d->driver].name, d->device);
+    return SPR_OK;
+}
+
+/* 1 when a GL_RENDERER string is the driver's (NULL: the default, any). */
+static int renderer_is(const char *renderer, spr_gl_driver d)
+{
+    const char *want = drivers[d].renderer;
+    return !want || (renderer && !strncmp(renderer, want, strlen(want)));
+}
+
+/* "; is Debian's PACKAGE installed?" for a driver that needs one, else "". */
+static const char *package_hint(spr_gl_driver d, char *buf, size_t cap)
+{
+    if (!drivers[d].package) return "";
+    snprintf(buf, cap, "; is Debian's %s installed?", drivers[d].package);
+    return buf;
+}
+
 const char *spr_gl_driver_names(void)
 {
 #define GL__NAME(e, name, gallium, renderer, package) " | " name
@@ -130,19 +155,19 @@ static void env_restore(gl_env *e)
     e->n = 0;
 }
 
-spr_result gl__egl_open(gl_context *c, int device, spr_gl_driver driver, spr_error *err)
+spr_result gl__egl_open(gl_context *c, const spr_gl_desc *d, spr_error *err)
 {
-    if ((unsigned)driver >= SPR_GL_DRIVER__COUNT) return spr__fail(err, SPR_E_ARG, "gl: driver %d is not one of %s", (int)driver, spr_gl_driver_names());
-    const char *want = drivers[driver].renderer; /* NULL: the default, any driver */
-    if (want && device >= 0)
-        return spr__fail(err, SPR_E_ARG, "gl: --gl-driver %s runs on the surfaceless platform, not on --gl-device %d (an EGL device brings its own driver)",
-                         drivers[driver].name, device);
+    if (spr_gl_desc_check(d, err)) return err->code;
+    const int device = d->device;
+    const spr_gl_driver driver = d->driver;
+    const int named = driver != SPR_GL_DRIVER_DEFAULT; /* a driver asked for by name */
+    char hint[96];
     /* Mesa's loader warnings would add lines to our one-line errors. */
     setenv("EGL_LOG_LEVEL", "fatal", 0);
     PFNEGLGETPLATFORMDISPLAYEXTPROC gpd = get_platform_display();
     if (!gpd) return spr__fail(err, SPR_E_NO_DEVICE, "gl: EGL has no eglGetPlatformDisplayEXT (is libegl-mesa0 installed?)");
     const char *platform = getenv("EGL_PLATFORM");
-    if (device < 0 && !want && platform && *platform && strcmp(platform, "surfaceless") != 0) {
+    if (device < 0 && !named && platform && *platform && strcmp(platform, "surfaceless") != 0) {
         /* The user named another platform: let EGL's default display resolve it. */
         c->dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
     } else if (device < 0) {
@@ -160,7 +185,7 @@ spr_result gl__egl_open(gl_context *c, int device, spr_gl_driver driver, spr_err
         return spr__fail(err, SPR_E_NO_DEVICE, "gl: no EGL display for the %s platform (EGL error 0x%x; is libegl-mesa0 installed?)",
                          device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
     const int open = display_slot(c->dpy);
-    if (want && open >= 0 && strncmp(displays[open].renderer, want, strlen(want))) {
+    if (named && open >= 0 && !renderer_is(displays[open].renderer, driver)) {
         c->dpy = EGL_NO_DISPLAY;
         return spr__fail(err, SPR_E_ARG, "gl: --gl-driver %s: this process already has a GL backend open on %s; EGL runs one driver a display, so close that one first",
                          drivers[driver].name, displays[open].renderer);
@@ -172,10 +197,9 @@ spr_result gl__egl_open(gl_context *c, int device, spr_gl_driver driver, spr_err
     env_restore(&env);
     if (!inited) {
         c->dpy = EGL_NO_DISPLAY;
-        if (want)
-            return spr__fail(err, SPR_E_NO_DEVICE, "gl: --gl-driver %s: eglInitialize failed on the surfaceless platform (EGL error 0x%x)%s%s%s",
-                             drivers[driver].name, (unsigned)eglGetError(), drivers[driver].package ? "; is Debian's " : "",
-                             drivers[driver].package ? drivers[driver].package : "", drivers[driver].package ? " installed?" : "");
+        if (named)
+            return spr__fail(err, SPR_E_NO_DEVICE, "gl: --gl-driver %s: eglInitialize failed on the surfaceless platform (EGL error 0x%x)%s",
+                             drivers[driver].name, (unsigned)eglGetError(), package_hint(driver, hint, sizeof hint));
         return spr__fail(err, SPR_E_NO_DEVICE, "gl: eglInitialize failed on the %s platform (EGL error 0x%x): no usable GL driver there",
                          device >= 0 ? "device" : platform && *platform ? platform : "surfaceless", (unsigned)eglGetError());
     }
@@ -204,10 +228,9 @@ spr_result gl__egl_open(gl_context *c, int device, spr_gl_driver driver, spr_err
     snprintf(c->renderer, sizeof c->renderer, "%s | %s", renderer ? renderer : "?", (const char *)glGetString(GL_VERSION));
     const int slot = display_slot(c->dpy);
     if (slot >= 0 && !displays[slot].renderer[0]) snprintf(displays[slot].renderer, sizeof displays[slot].renderer, "%s", renderer ? renderer : "?");
-    if (want && (!renderer || strncmp(renderer, want, strlen(want))))
-        return spr__fail(err, SPR_E_NO_DEVICE, "gl: --gl-driver %s: EGL gave the driver '%s'%s%s%s", drivers[driver].name, renderer ? renderer : "?",
-                         drivers[driver].package ? " (is Debian's " : "", drivers[driver].package ? drivers[driver].package : "",
-                         drivers[driver].package ? " installed?)" : "");
+    if (!renderer_is(renderer, driver))
+        return spr__fail(err, SPR_E_NO_DEVICE, "gl: --gl-driver %s: EGL gave the driver '%s'%s", drivers[driver].name, renderer ? renderer : "?",
+                         package_hint(driver, hint, sizeof hint));
     return SPR_OK;
 }
 

@@ -75,10 +75,10 @@ typedef struct gl_context {
     GLuint list_meta, list_src, list_head; /* fragment lists of target list_target */
     GLuint list_tex[4];        /* buffer textures the prefix op reads them (and the neighbour bits) through */
     size_t list_cap;           /* nodes the lists hold */
-    size_t list_meta_cap, list_src_cap, list_head_cap; /* their buffers' bytes (gl__buffer_reserve) */
+    size_t list_head_cap;      /* list_head's bytes (gl__buffer_reserve: it follows the view) */
     int list_target;
     GLuint vao, instances, counters; /* counters: the draw's fragment counter, storage binding GL_SSBO_COUNTER */
-    size_t instances_cap, counters_cap;
+    size_t instances_cap;
     GLuint pool[SPR_PLANE__COUNT]; /* one 2D array texture per plane, a layer per target handle */
     int pool_layers, pool_w, pool_h;
     gl_target *targets;
@@ -91,19 +91,20 @@ typedef struct gl_context {
     GLuint gfbo;        /* the Gaussian programs' attachment-less framebuffer (its size set per draw) */
     int probe_programs; /* programs built with SPR_PROBE (spr_gl_desc.probe) */
     GLuint probe_buf;   /* their records (gl_prelude.glsl) */
-    size_t probe_cap;
 } gl_context;
 
 static inline gl_context *gl_ctx(spr_backend *b) { return (gl_context *)b; }
 
 /* gl_context.c */
-spr_result gl__egl_open(gl_context *c, int device, spr_gl_driver driver, spr_error *err);
+spr_result gl__egl_open(gl_context *c, const spr_gl_desc *d, spr_error *err);
 void gl__egl_close(gl_context *c);
 /* Make c's context current on this thread if it is not (several GL
  * backends may live in one process). */
 void gl__make_current(gl_context *c);
 /* gl_buffers.c: buffers that shaders write, made, reset and read by its rules. */
-/* *buf made if 0; new storage (contents undefined) only when bytes exceed *cap. */
+/* *buf made if 0, given new storage of `bytes` (contents undefined). */
+void gl__buffer_alloc(GLuint *buf, size_t bytes, GLenum usage);
+/* gl__buffer_alloc only when *buf is 0 or bytes exceed *cap (then *cap = bytes). */
 void gl__buffer_reserve(GLuint *buf, size_t *cap, size_t bytes, GLenum usage);
 /* Bytes [offset, offset + bytes) of buf set to the 32-bit word (offset and bytes multiples of 4). */
 void gl__buffer_fill(GLuint buf, size_t offset, size_t bytes, uint32_t word);

@@ -34,16 +34,16 @@ void gl__rects_free(gl_context *c)
     glDeleteTextures(4, c->list_tex);
     memset(c->list_tex, 0, sizeof c->list_tex);
     c->atlas = c->atlas_org = c->list_meta = c->list_src = c->list_head = 0;
-    c->list_meta_cap = c->list_src_cap = c->list_head_cap = 0;
+    c->list_head_cap = 0;
     c->rects_serial = 0;
     c->list_cap = 0;
     c->list_target = -1;
 }
 
+/* A new rectangle set's data: read-only to the shaders, given its own storage. */
 static void buffer_data(GLuint *buf, size_t bytes, const void *data)
 {
-    if (!*buf) glCreateBuffers(1, buf);
-    glNamedBufferData(*buf, (GLsizeiptr)(bytes ? bytes : 16), NULL, GL_STATIC_DRAW);
+    gl__buffer_alloc(buf, bytes, GL_STATIC_DRAW);
     if (bytes && data) glNamedBufferSubData(*buf, 0, (GLsizeiptr)bytes, data);
 }
 
@@ -97,8 +97,8 @@ static void reset_lists(gl_context *c, size_t cap)
 {
     const size_t np = (size_t)c->base.view.width * c->base.view.height;
     if (cap > c->list_cap || !c->list_meta) {
-        gl__buffer_reserve(&c->list_meta, &c->list_meta_cap, 16 + cap * 16, GL_DYNAMIC_DRAW);
-        gl__buffer_reserve(&c->list_src, &c->list_src_cap, cap * 16, GL_DYNAMIC_DRAW);
+        gl__buffer_alloc(&c->list_meta, 16 + cap * 16, GL_DYNAMIC_DRAW);
+        gl__buffer_alloc(&c->list_src, cap * 16, GL_DYNAMIC_DRAW);
         c->list_cap = cap;
     }
     gl__buffer_reserve(&c->list_head, &c->list_head_cap, np * sizeof(uint32_t), GL_DYNAMIC_DRAW);

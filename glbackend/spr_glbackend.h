@@ -43,6 +43,9 @@ typedef struct spr_gl_desc {
                      fragments and notes for pixel history (spr_history.h); slower */
 } spr_gl_desc;
 void spr_gl_defaults(spr_gl_desc *d);
+/* SPR_OK, or SPR_E_ARG with one line: a driver out of the list, or a driver
+ * named together with a device (spr_gl_create checks the same). */
+spr_result spr_gl_desc_check(const spr_gl_desc *d, spr_error *err);
 
 /* New GL backend, or NULL with a one-line reason in err: SPR_E_NO_DEVICE
  * when no EGL display or GL 4.5 core context can be had at all, or the

@@ -386,6 +386,8 @@ START_TEST(unused_options_are_refused)
         {{"bench", "--scene", "grouping", "--size", "64x64"}, "--size"},
         {{"render", "--backend", "cpu", "--gl-device", "0"}, "--gl-device"},
         {{"reference", "--update", "--only", "none", "--gl-device", "0"}, "--gl-device"},
+        {{"render", "--backend", "cpu", "--gl-driver", "zink"}, "--gl-driver"},
+        {{"parity", "--gl-driver", "zink", "--gl-device", "0"}, "--gl-driver zink runs on the surfaceless platform, not on --gl-device 0"},
         {{"render", "--algo", "zbuffer", "--shade", "phong"}, "--shade"},
         {{"render", "--algo", "deferred", "--env", "sky"}, "--env"},
         {{"render", "--algo", "pbr2p1", "--layers", "3"}, "--layers"},

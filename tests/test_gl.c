@@ -545,6 +545,9 @@ START_TEST(a_second_driver_while_one_is_open_is_refused)
     ck_assert_msg(other == NULL, "a backend on %s opened beside one on %s", spr_gl_driver_name(d.driver), open);
     ck_assert_int_eq(err.code, SPR_E_ARG);
     ck_assert_msg(strstr(err.msg, "this process already has a GL backend open on ") && strstr(err.msg, spr_gl_driver_name(d.driver)), "%s", err.msg);
+    d.device = 0; /* a driver by name is the surfaceless platform's: with a device, refused before EGL is asked */
+    ck_assert_msg(spr_gl_create(&d, &err) == NULL && err.code == SPR_E_ARG && strstr(err.msg, "not on --gl-device 0"), "%s", err.msg);
+    d.device = -1;
     if (on_zink || on_llvmpipe) {
         d.driver = on_zink ? SPR_GL_DRIVER_ZINK : SPR_GL_DRIVER_LLVMPIPE;
         spr_backend *same = spr_gl_create(&d, &err);

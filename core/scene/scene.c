@@ -151,8 +151,9 @@ int spr__gl_opts(spr__args *a, spr_gl_desc *d)
         spr__error(a, "--gl-driver: '%s' is not a GL driver here (%s)", v, spr_gl_driver_names());
         return -1;
     }
-    if (d->driver != SPR_GL_DRIVER_DEFAULT && d->device >= 0) {
-        spr__error(a, "--gl-driver and --gl-device go alone: a driver is chosen on the surfaceless platform, a device brings its own");
+    spr_error err = {0};
+    if (spr_gl_desc_check(d, &err)) { /* before any loading: the same rule spr_gl_create applies */
+        spr__error(a, "%s", err.msg);
         return -1;
     }
     return 0;
