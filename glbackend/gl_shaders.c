@@ -81,7 +81,9 @@ static void add_constants(strbuf *b)
     /* the Gaussian references' constants: cull reasons and modes (floats), offsets, the exponential's coefficients */
     static const struct { const char *name; float value; } kf[] = {
         {"SPR_GCULL_NONE", SPR_GCULL_NONE}, {"SPR_GCULL_NEAR", SPR_GCULL_NEAR}, {"SPR_GCULL_DET", SPR_GCULL_DET},
+        {"SPR_GCULL_CLIP", SPR_GCULL_CLIP}, {"SPR_GCULL_SMALL", SPR_GCULL_SMALL},
         {"SPR_GMODE_3D", SPR_GMODE_3D}, {"SPR_GMODE_2D", SPR_GMODE_2D},
+        {"SPR_GEXT_SQUARE_F", SPR_GEXT_SQUARE_F}, {"SPR_GEXT_AXES_F", SPR_GEXT_AXES_F}, {"SPR_GEXT_QUAD_F", SPR_GEXT_QUAD_F},
     };
     for (size_t i = 0; i < sizeof kf / sizeof kf[0]; i++) sb_add(b, "#define %s %d.0\n", kf[i].name, (int)kf[i].value);
 #define GL__GPRM(name, n) sb_add(b, "#define SPR_GPRM_%s %d\n", #name, SPR_GPRM_##name);

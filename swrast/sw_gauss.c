@@ -119,24 +119,24 @@ static void box_tiles(const void *user, size_t e, int r[4])
     else r[0] = i0 / 16, r[1] = j0 / 16, r[2] = i1 / 16 + 1, r[3] = j1 / 16 + 1;
 }
 
-/* Where in a row gauss-blend's cut (power < −4.5) can let a pixel through:
- * the ellipse A·dx² + 2B·dx·dy + C·dy² ≤ 9, d = m − (i, j), solved in double
- * for each row with its bound widened (9.09 and one pixel each side) beyond
+/* Where in a row gauss-blend's cut (power < −CUT) can let a pixel through:
+ * the ellipse A·dx² + 2B·dx·dy + C·dy² ≤ 2·CUT, d = m − (i, j), solved in double
+ * for each row with its bound widened (2.02·CUT and one pixel each side) beyond
  * what the float power's rounding can move.  Pixels outside the span have
  * power < −4.5 in float too, so skipping them changes no bit; the spans are
  * used only for well-conditioned conics (A, C > 0, |B| ≤ 0.999·sqrt(AC): the
  * float power's error then stays below 0.3% of its value) near the image
  * (centre within 10^6 pixels, where m's rounding is below 0.06 pixel). */
-typedef struct row_span { int ok; double A, B, C, mx, my; } row_span;
-static row_span span_of(const float *R)
+typedef struct row_span { int ok; double A, B, C, mx, my, Q; } row_span;
+static row_span span_of(const float *R, float cut)
 {
-    row_span rs = {0, R[BL_CONIC], R[BL_CONIC + 1], R[BL_CONIC + 2], R[BL_M], R[BL_M + 1]};
+    row_span rs = {0, R[BL_CONIC], R[BL_CONIC + 1], R[BL_CONIC + 2], R[BL_M], R[BL_M + 1], 2.02 * (double)cut};
     rs.ok = rs.A > 0.0 && rs.C > 0.0 && isfinite(rs.A * rs.C) && rs.B * rs.B <= 0.998 * rs.A * rs.C && fabs(rs.mx) < 1e6 && fabs(rs.my) < 1e6;
     return rs;
 }
 static int row_range(const row_span *rs, int j, int *lo, int *hi)
 {
-    const double dy = rs->my - j, Q = 9.09;
+    const double dy = rs->my - j, Q = rs->Q;
     const double disc = rs->B * rs->B * dy * dy - rs->A * (rs->C * dy * dy - Q);
     if (disc < 0.0) return 0;
     const double sq = sqrt(disc), dlo = (-rs->B * dy - sq) / rs->A, dhi = (-rs->B * dy + sq) / rs->A; /* dx = m.x − i */
@@ -185,7 +185,7 @@ spr_result sw__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc 
                 if (k + 4 < start[t + 1]) __builtin_prefetch(cg + (size_t)bin[k + 4] * BL_FLOATS); /* a tile's entries lie far apart in the order */
                 const int a0 = BOX(seq, 0) > i0 ? BOX(seq, 0) : i0, a1 = BOX(seq, 2) < i0 + 15 ? BOX(seq, 2) : i0 + 15;
                 const int b0 = BOX(seq, 1) > j0 ? BOX(seq, 1) : j0, b1 = BOX(seq, 3) < j0 + 15 ? BOX(seq, 3) : j0 + 15;
-                const row_span rs = span_of(R);
+                const row_span rs = span_of(R, d->prm[SPR_GPRM_CUT]);
                 for (int j = b0; j <= b1; j++) {
                     generated += (uint64_t)(a1 - a0 + 1); /* every pixel of the box is a fragment, as GL's quad gives it */
                     int lo = a0, hi = a1;

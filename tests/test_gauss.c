@@ -133,6 +133,8 @@ static void identity_params(float g[SPR_GPRM_COUNT], int W, int H, double f)
     g[SPR_GPRM_NEAR] = 0.2f, g[SPR_GPRM_EPS2D] = 0.3f, g[SPR_GPRM_AA_MIN] = 0.000025f, g[SPR_GPRM_EXT_MIN] = 0.1f;
     g[SPR_GPRM_CAP] = 0.99f, g[SPR_GPRM_ALPHA_MIN] = 1.0f / 255.0f, g[SPR_GPRM_T_MIN] = 0.0001f;
     g[SPR_GPRM_EXT2D_MIN] = 1e-4f, g[SPR_GPRM_R2D_MIN] = 3.0f * 0.707106f;
+    g[SPR_GPRM_TCLAMP] = 1.0f, g[SPR_GPRM_EXT_K] = 3.0f, g[SPR_GPRM_CUT] = 4.5f; /* inria's rules 2 and 4 (SPEC 10.3) */
+    g[SPR_GPRM_LXN] = g[SPR_GPRM_LX], g[SPR_GPRM_LYN] = g[SPR_GPRM_LY];
 }
 
 START_TEST(preprocess_by_hand)
@@ -697,12 +699,17 @@ START_TEST(gauss_parity_captures_and_generated)
         spr_view v;
         looking_at_origin(100, 75, 90.0, eye, up, &v);
         for (int a = 0; a < 3; a++)
-            for (int variant = 0; variant < 3; variant++) {
+            for (int variant = 0; variant < 2 + spr_gauss_profile_count(); variant++) {
+                /* the default, --gauss-aa, then every profile of the table that fits the algorithm (SPEC 10.9) */
                 spr_render_desc d = {.algo = algos[a], .background = {0.1f, 0.2f, 0.3f}};
                 d.gauss_aa = variant == 1;
-                d.gauss_flavor = variant == 2 ? SPR_FLAVOR_GSPLAT : SPR_FLAVOR_INRIA;
+                if (variant >= 2) {
+                    d.gauss_profile = variant - 1;
+                    if (!spr_gauss_profile_fits(spr_gauss_profile_at(variant - 2), algos[a])) continue;
+                }
                 char label[600];
-                snprintf(label, sizeof label, "%s %s variant %d", files[f], spr_algo_name(algos[a]), variant);
+                snprintf(label, sizeof label, "%s %s variant %d (%s)", files[f], spr_algo_name(algos[a]), variant,
+                         spr_gauss_profile_of(algos[a], d.gauss_profile)->name);
                 expect_exact(label, &v, &c, &d);
             }
         spr_cloud_free(&c);
@@ -731,7 +738,10 @@ START_TEST(gauss_parity_captures_and_generated)
     }
     spr_cloud_free(&t);
     printf("gauss: %d scenes bit-exact between cpu and gl\n", exact_cases);
-    ck_assert_int_eq(exact_cases, 4 * 9 + KIND__COUNT * 3 + 3);
+    int fits = 0; /* the profile variants run per capture: every row under each algorithm it fits */
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < spr_gauss_profile_count(); i++) fits += spr_gauss_profile_fits(spr_gauss_profile_at(i), algos[a]);
+    ck_assert_int_eq(exact_cases, 4 * (3 * 2 + fits) + KIND__COUNT * 3 + 3);
 }
 END_TEST
 

@@ -62,7 +62,7 @@ typedef struct rscene {
     float *g_logit, *g_logs, *g_rot, *g_sh;
     int g_sh_k;
     int gauss_aa;
-    spr_gauss_flavor flavor;
+    int profile_tile, profile_blend; /* spr_render_desc's gauss_profile for gauss3d/gauss2d and for gauss-blend (0: default) */
     char features[256];
 } rscene;
 
@@ -113,15 +113,27 @@ static int gauss_scene(rscene *s, uint64_t *st, spr_error *err)
     const int needles = chance(st, 0.25), huge = chance(st, 0.15), borders = chance(st, 0.3), near = chance(st, 0.25), deep = chance(st, 0.3),
               faint = chance(st, 0.3);
     s->gauss_aa = chance(st, 0.3);
-    s->flavor = chance(st, 0.3) ? SPR_FLAVOR_GSPLAT : SPR_FLAVOR_INRIA;
+    const int other_tile = chance(st, 0.3);
     /* the subnormal feature draws from a stream of its own (forked from the state, which it does not advance), so a
      * scene without it is the scene its seed and index gave before the feature existed */
     uint64_t sub_st = *st ^ 0x9e3779b97f4a7c15u;
     const int subnormal = chance(&sub_st, 0.2);
-    char f[176];
-    snprintf(f, sizeof f, "gaussians SH%d%s%s%s%s%s%s%s%s%s", deg, needles ? " needles" : "", huge ? " huge" : "", borders ? " tile-borders" : "",
+    /* the renderer profiles (SPEC 10.9), likewise from a stream of their own: a tile profile other than inria in 30%
+     * of the scenes (as gsplat's flavour was), a gauss-blend profile other than khr in 70% */
+    uint64_t prof_st = *st ^ 0x2545f4914f6cdd1du;
+    s->profile_tile = s->profile_blend = 0;
+    int tiles[16], blends[16], nt = 0, nb = 0;
+    for (int i = 0; i < spr_gauss_profile_count(); i++) {
+        const spr_gauss_profile *pf = spr_gauss_profile_at(i);
+        if (pf->skeleton == SPR_ALGO_GAUSS3D && strcmp(pf->name, "inria") && nt < 16) tiles[nt++] = i;
+        if (pf->skeleton == SPR_ALGO_GAUSS_BLEND && strcmp(pf->name, "khr") && nb < 16) blends[nb++] = i;
+    }
+    if (other_tile && nt) s->profile_tile = 1 + tiles[pick(&prof_st, nt)];
+    if (chance(&prof_st, 0.7) && nb) s->profile_blend = 1 + blends[pick(&prof_st, nb)];
+    char f[224];
+    snprintf(f, sizeof f, "gaussians SH%d%s%s%s%s%s%s%s%s %s/%s", deg, needles ? " needles" : "", huge ? " huge" : "", borders ? " tile-borders" : "",
              near ? " near" : "", deep ? " deep-stack" : "", faint ? " faint" : "", subnormal ? " subnormal" : "", s->gauss_aa ? " aa" : "",
-             s->flavor == SPR_FLAVOR_GSPLAT ? " gsplat" : "");
+             spr_gauss_profile_of(SPR_ALGO_GAUSS3D, s->profile_tile)->name, spr_gauss_profile_of(SPR_ALGO_GAUSS_BLEND, s->profile_blend)->name);
     feature(s, f);
     const spr_pinhole *p = &s->view.cv;
     double eye[3];
@@ -352,7 +364,8 @@ static void render_desc(const rscene *s, spr_algo algo, spr_groups *g, spr_rende
     rd->sampling = s->sampling;
     rd->alpha_ref = ai->uses & SPR_USES_ALPHAREF ? s->alpha_ref : 0.0f;
     rd->gauss_aa = (ai->uses & SPR_USES_GAUSS) && s->gauss_aa;
-    rd->gauss_flavor = ai->uses & SPR_USES_GAUSS ? s->flavor : SPR_FLAVOR_INRIA;
+    rd->gauss_profile = 0;
+    if (ai->uses & SPR_USES_GAUSS) rd->gauss_profile = algo == SPR_ALGO_GAUSS_BLEND ? s->profile_blend : s->profile_tile;
 }
 
 /* The domain primitives of cloud c with the scene's domain options, as
@@ -538,7 +551,8 @@ static int save(FILE *out, const rscene *s, const uint32_t *keep, size_t m, spr_
     if ((ai->uses & SPR_USES_ALPHAREF) && s->alpha_ref > 0.0f) fprintf(out, " --alpha-ref %.9g", s->alpha_ref);
     if (s->gauss && s->g_sh_k > 1) fprintf(out, " --sh-degree 3");
     if ((ai->uses & SPR_USES_GAUSS) && s->gauss_aa) fprintf(out, " --gauss-aa");
-    if ((ai->uses & SPR_USES_GAUSS) && s->flavor == SPR_FLAVOR_GSPLAT) fprintf(out, " --gauss-flavor gsplat");
+    const int prof = !(ai->uses & SPR_USES_GAUSS) ? 0 : algo == SPR_ALGO_GAUSS_BLEND ? s->profile_blend : s->profile_tile;
+    if (prof > 0) fprintf(out, " --gauss-profile %s", spr_gauss_profile_at(prof - 1)->name);
     if (gd->driver != SPR_GL_DRIVER_DEFAULT) fprintf(out, " --gl-driver %s", spr_gl_driver_name(gd->driver));
     if (gd->device >= 0) fprintf(out, " --gl-device %d", gd->device);
     fprintf(out, "\n");

@@ -25,8 +25,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* SPEC §10.2: the view's pinhole rounded to float once; the flavour's constants. */
-static void frame_params(const spr_view *v, int mode, const spr_render_desc *desc, float *g)
+/* SPEC §10.2: the view's pinhole rounded to float once; the profile's rules (§10.9) as parameters. */
+static void frame_params(const spr_view *v, int mode, const spr_render_desc *desc, const spr_gauss_profile *pf, float *g)
 {
     const spr_pinhole *p = &v->cv;
     memset(g, 0, SPR_GPRM_COUNT * sizeof *g);
@@ -38,29 +38,52 @@ static void frame_params(const spr_view *v, int mode, const spr_render_desc *des
     g[SPR_GPRM_CY] = (float)(p->cy - 0.5);
     /* the training code: tan(fov/2) in double, rounded to float, then 1.3f times it in float */
     const float tanx = (float)(0.5 * v->width / p->fx), tany = (float)(0.5 * v->height / p->fy);
-    g[SPR_GPRM_LX] = 1.3f * tanx;
-    g[SPR_GPRM_LY] = 1.3f * tany;
+    g[SPR_GPRM_LX] = g[SPR_GPRM_LXN] = 1.3f * tanx;
+    g[SPR_GPRM_LY] = g[SPR_GPRM_LYN] = 1.3f * tany;
+    if (pf->tan_clamp == 2) { /* gsplat: from the principal point (continuous), in float: (W − cx)/fx + 0.3·tan, cx/fx + 0.3·tan */
+        const float W = (float)v->width, H = (float)v->height, fx = (float)p->fx, fy = (float)p->fy, cx = (float)p->cx, cy = (float)p->cy;
+        const float ex = 0.3f * tanx, ey = 0.3f * tany;
+        g[SPR_GPRM_LX] = (W - cx) / fx + ex, g[SPR_GPRM_LXN] = cx / fx + ex;
+        g[SPR_GPRM_LY] = (H - cy) / fy + ey, g[SPR_GPRM_LYN] = cy / fy + ey;
+    }
     g[SPR_GPRM_W] = (float)v->width;
     g[SPR_GPRM_H] = (float)v->height;
     g[SPR_GPRM_GX] = (float)((v->width + 15) / 16);
     g[SPR_GPRM_GY] = (float)((v->height + 15) / 16);
-    const int gsplat = desc->gauss_flavor == SPR_FLAVOR_GSPLAT;
-    g[SPR_GPRM_NEAR] = gsplat ? 0.01f : 0.2f;
-    g[SPR_GPRM_NEAR_LT] = gsplat ? 1.0f : 0.0f;
-    g[SPR_GPRM_EPS2D] = 0.3f;
-    g[SPR_GPRM_DET_LE] = gsplat ? 1.0f : 0.0f;
-    g[SPR_GPRM_AA] = desc->gauss_aa ? 1.0f : 0.0f;
-    g[SPR_GPRM_AA_MIN] = gsplat ? 0.0f : 0.000025f;
-    g[SPR_GPRM_EXT_MIN] = 0.1f;
+    /* rule 1: a negative near is the camera's own near plane (the viewers clip there) */
+    g[SPR_GPRM_NEAR] = pf->cull.near < 0.0f ? (float)v->near_plane : pf->cull.near;
+    g[SPR_GPRM_NEAR_LT] = (float)pf->cull.near_lt;
+    g[SPR_GPRM_CLIP_K] = pf->cull.clip_k;
+    g[SPR_GPRM_NDC] = (float)(2.0 * p->fx / v->width); /* clip x/w = (2fx/W)·(t.x/t.z) + (2cx/W − 1), cx continuous */
+    g[SPR_GPRM_NDC + 1] = (float)(2.0 * p->cx / v->width - 1.0);
+    g[SPR_GPRM_NDC + 2] = (float)(2.0 * p->fy / v->height);
+    g[SPR_GPRM_NDC + 3] = (float)(2.0 * p->cy / v->height - 1.0);
+    g[SPR_GPRM_DET_LE] = (float)pf->cull.det_le;
+    g[SPR_GPRM_TCLAMP] = pf->tan_clamp ? 1.0f : 0.0f; /* rule 2 */
+    g[SPR_GPRM_EPS2D] = pf->dilation.eps2d;    /* rule 3 */
+    g[SPR_GPRM_AA] = desc->gauss_aa || pf->dilation.when == SPR_GCOMP_ALWAYS ? 1.0f : 0.0f;
+    g[SPR_GPRM_AA_MIN] = pf->dilation.floor;
+    g[SPR_GPRM_AA_FORM] = (float)pf->dilation.form;
+    g[SPR_GPRM_EXT] = (float)pf->extent.kind; /* rule 4 */
+    g[SPR_GPRM_EXT_K] = pf->extent.k;
+    g[SPR_GPRM_EXT_CAP] = pf->extent.cap_px;
+    g[SPR_GPRM_EXT_MIN] = pf->extent.lambda_min;
+    g[SPR_GPRM_MIN_PX] = pf->extent.min_px;
+    g[SPR_GPRM_CUT] = 0.5f * pf->extent.k * pf->extent.k; /* power < −k²/2: outside k standard deviations */
+    if (pf->extent.k == 3.0f) g[SPR_GPRM_CUT] = 4.5f;
+    if (pf->extent.k == 2.8284271f) g[SPR_GPRM_CUT] = 4.0f; /* sqrt(8)σ: power < −4 */
+    g[SPR_GPRM_FALLOFF] = (float)pf->extent.falloff;
+    g[SPR_GPRM_STRAIGHT] = pf->blend == SPR_GBLEND_STRAIGHT ? 1.0f : 0.0f; /* rule 8 */
     g[SPR_GPRM_EXT2D_MIN] = 1e-4f;
     g[SPR_GPRM_R2D_MIN] = 3.0f * 0.707106f; /* hbb1: cutoff · FilterSize, in float */
-    g[SPR_GPRM_CAP] = gsplat ? 0.999f : 0.99f;
-    g[SPR_GPRM_ALPHA_MIN] = 1.0f / 255.0f;
-    /* ln(1/255) − 0.01: e^power is then below 0.99/255, which spr_exp's 1 ulp cannot lift to 1/255, so the
-     * skip of SPEC 10.4 is decided without the exponential (an o ≤ 1 only; the note still gives α) */
-    g[SPR_GPRM_POWER_MIN] = (float)(log(1.0 / 255.0) - 0.01);
-    g[SPR_GPRM_T_MIN] = 0.0001f;
-    g[SPR_GPRM_STOP_LE] = gsplat ? 1.0f : 0.0f;
+    g[SPR_GPRM_CAP] = pf->alpha.cap; /* rule 5 */
+    g[SPR_GPRM_ALPHA_MIN] = pf->alpha.floor;
+    /* ln(floor) − 0.01: e^power is then below 0.99·floor, which spr_exp's 1 ulp cannot lift to the floor, so the
+     * skip of SPEC 10.4 is decided without the exponential (an o ≤ 1 only; the note still gives α); no floor:
+     * never (spr_exp is 0 below −87 anyway) */
+    g[SPR_GPRM_POWER_MIN] = pf->alpha.floor > 0.0f ? (float)(log((double)pf->alpha.floor) - 0.01) : -1e30f;
+    g[SPR_GPRM_T_MIN] = pf->stop.t_min; /* rule 6 */
+    g[SPR_GPRM_STOP_LE] = (float)pf->stop.le;
     g[SPR_GPRM_MODE] = mode == 1 ? SPR_GMODE_2D : SPR_GMODE_3D;
 }
 
@@ -154,27 +177,48 @@ spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int thre
     return SPR_OK;
 }
 
-spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], uint32_t **order_out, size_t *count, spr_error *err)
+/* gauss-blend's order (profile rule 7): every kept Gaussian (not culled, a non-empty box) farthest first under the
+ * profile's key, a stable sort (equal keys in file order):
+ *   distance  |μ − eye| in double;
+ *   view z    the record's float t.z;
+ *   bucket    t.z quantised to 2^bits buckets over the kept Gaussians' [min, max] t.z, in double:
+ *             floor((t.z − min)/(max − min)·(2^bits − 1)) (one bucket when max = min). */
+spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], spr_gauss_key key, int bits, uint32_t **order_out,
+                            size_t *count, spr_error *err)
 {
-    uint64_t *key = spr__big_alloc(c->n * sizeof *key);
+    uint64_t *k = spr__big_alloc(c->n * sizeof *k);
     uint32_t *order = spr__big_alloc(c->n * sizeof *order);
-    if (!key || !order) {
-        free(key), free(order);
+    if (!k || !order) {
+        free(k), free(order);
         return spr__fail(err, SPR_E_NOMEM, "gauss-blend: out of memory ordering %zu Gaussians", c->n);
     }
     size_t m = 0;
+    double zmin = INFINITY, zmax = -INFINITY;
     for (size_t G = 0; G < c->n; G++) {
         const float *R = rec + G * SPR_GREC_FLOATS;
         if (R[SPR_GREC_CULL] != SPR_GCULL_NONE || R[SPR_GREC_BOX + 2] < R[SPR_GREC_BOX] || R[SPR_GREC_BOX + 3] < R[SPR_GREC_BOX + 1]) continue;
-        double d2 = 0.0;
-        for (int a = 0; a < 3; a++) d2 += ((double)c->pos[3 * G + a] - eye[a]) * ((double)c->pos[3 * G + a] - eye[a]);
-        const double d = sqrt(d2);
-        uint64_t bits;
-        memcpy(&bits, &d, sizeof bits); /* d ≥ 0: the bits order as the values */
-        key[m] = ~bits, order[m] = (uint32_t)G, m++; /* farthest first; a stable sort keeps equal distances in file order */
+        const double z = R[SPR_GREC_DEPTH];
+        if (z < zmin) zmin = z;
+        if (z > zmax) zmax = z;
+        order[m++] = (uint32_t)G;
     }
-    const int bad = spr__radix_sort_u64(key, order, m);
-    free(key);
+    const double levels = ldexp(1.0, bits) - 1.0, span = zmax - zmin;
+    for (size_t e = 0; e < m; e++) {
+        const size_t G = order[e];
+        double d;
+        if (key == SPR_GKEY_VIEW_Z) d = rec[G * SPR_GREC_FLOATS + SPR_GREC_DEPTH];
+        else if (key == SPR_GKEY_BUCKET) d = span > 0.0 ? floor((rec[G * SPR_GREC_FLOATS + SPR_GREC_DEPTH] - zmin) / span * levels) : 0.0;
+        else {
+            double d2 = 0.0;
+            for (int a = 0; a < 3; a++) d2 += ((double)c->pos[3 * G + a] - eye[a]) * ((double)c->pos[3 * G + a] - eye[a]);
+            d = sqrt(d2);
+        }
+        uint64_t bits64;
+        memcpy(&bits64, &d, sizeof bits64); /* d ≥ 0 (t.z > 0 for kept Gaussians): the bits order as the values */
+        k[e] = ~bits64; /* farthest first; a stable sort keeps equal keys in file order */
+    }
+    const int bad = spr__radix_sort_u64(k, order, m);
+    free(k);
     if (bad) {
         free(order);
         return spr__fail(err, SPR_E_NOMEM, "gauss-blend: out of memory ordering %zu Gaussians", c->n);
@@ -194,19 +238,31 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     if (v->ortho)
         return spr__fail(run->err, SPR_E_ARG, "%s: orthographic cameras are refused (SPEC 10.2): the training code's camera is a pinhole", name);
     const size_t n = c->n;
+    const spr_gauss_profile *pf = spr_gauss_profile_of(run->desc->algo, run->desc->gauss_profile);
+    if (!spr_gauss_profile_fits(pf, run->desc->algo))
+        return spr__fail(run->err, SPR_E_ARG, "%s: profile %s belongs to %s (SPEC 10.9)", name, pf->name, spr_algo_name(pf->skeleton));
     spr_gauss_desc gd = {.n = n, .mu = c->pos, .opacity = c->alpha};
-    frame_params(v, mode, run->desc, gd.prm);
+    frame_params(v, mode, run->desc, pf, gd.prm);
     float *q = spr__big_alloc(n * 4 * sizeof *q), *s = spr__big_alloc(n * 3 * sizeof *s), *col = spr__big_alloc(n * 3 * sizeof *col);
+    float *op8 = pf->colour.op8 ? spr__big_alloc(n * sizeof *op8) : NULL;
     float *rec = spr__big_alloc(n * SPR_GREC_FLOATS * sizeof *rec);
     uint32_t *range = NULL, *list = NULL, *order = NULL;
     int target = -1;
-    spr_result r = q && s && col && rec ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
+    spr_result r = q && s && col && rec && (op8 || !pf->colour.op8) ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
     double eye[3];
     const spr_pinhole *p = &v->cv;
     for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
     if (!r) {
         spr__gauss_of_cloud(c, q, s);
-        spr_cloud_gauss_colors(c, eye, col); /* SPEC 10.3 step 9: on the host, in double, rounded once */
+        /* SPEC 10.3 step 9 under the profile's colour rule: on the host, in double, rounded once */
+        spr_cloud_gauss_colors_as(c, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.clamp_hi, col);
+        if (op8) { /* the opacity stored in 8 bits */
+            for (size_t i = 0; i < n; i++) {
+                const double o = c->alpha[i] < 0.0f ? 0.0 : c->alpha[i] > 1.0f ? 1.0 : c->alpha[i];
+                op8[i] = (float)(floor(o * 255.0 + 0.5) / 255.0);
+            }
+            gd.opacity = op8;
+        }
         gd.q = q, gd.s = s, gd.color = col;
         r = spr__run_gauss_preprocess(run, &gd, rec);
     }
@@ -214,7 +270,7 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     double t0 = spr_now_ms();
     if (!r && mode != 2) r = spr__gauss_tiles(rec, n, (int)gd.prm[SPR_GPRM_GX], (int)gd.prm[SPR_GPRM_GY], threads, &range, &list, run->err);
     size_t count = 0;
-    if (!r && mode == 2) r = spr__gauss_order(rec, c, eye, &order, &count, run->err);
+    if (!r && mode == 2) r = spr__gauss_order(rec, c, eye, pf->order.key, pf->order.bits, &order, &count, run->err);
     if (!r) {
         const size_t tiles = (size_t)gd.prm[SPR_GPRM_GX] * (size_t)gd.prm[SPR_GPRM_GY];
         spr_draw_stats st = {n, mode == 2 ? count : range[tiles], 0};
@@ -237,13 +293,14 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
             spr_gauss_draw_desc dd = {rec, n, order, count, {0}, {0}};
             spr_pass_state_defaults(&dd.state);
             dd.state.depth_func = SPR_FUNC_ALWAYS;
-            spr_pass_state_blend(&dd.state, SPR_BLEND_PREMUL);
+            spr_pass_state_blend(&dd.state, SPR_BLEND_PREMUL); /* rule 8: premultiplied over */
+            if (pf->blend == SPR_GBLEND_STRAIGHT) dd.state.blend = SPR_BLEND_OVER; /* straight: rgb (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) */
             dd.state.write_mask = SPR_WRITE_COLOR;
             memcpy(dd.prm, gd.prm, sizeof dd.prm);
             r = spr__run_gauss_draw(run, "blend", target, &dd);
         }
     }
-    free(q), free(s), free(col), free(rec), free(range), free(list), free(order);
+    free(q), free(s), free(col), free(op8), free(rec), free(range), free(list), free(order);
     if (!r) *final_target = target;
     return r;
 }

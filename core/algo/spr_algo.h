@@ -28,14 +28,8 @@ enum {
     SPR_USES_LAYERS  = 1u << 9,  /* layers: depth-peeling layers (SPEC 6.4) */
     SPR_USES_RECTS   = 1u << 10, /* rects, sampling: domain primitives (SPEC 7.7) */
     SPR_USES_ALPHAREF = 1u << 11, /* alpha_ref: the overlap method's lock threshold (SPEC 7.7) */
-    SPR_USES_GAUSS   = 1u << 12  /* gauss_aa, gauss_flavor: the Gaussian splatting references (SPEC 10) */
+    SPR_USES_GAUSS   = 1u << 12  /* gauss_aa, gauss_profile: the Gaussian splatting references (SPEC 10) */
 };
-
-/* Which training code's constants the Gaussian rasterizers take (SPEC §10.4, docs/gaussians.md). */
-typedef enum spr_gauss_flavor {
-    SPR_FLAVOR_INRIA = 0,  /* graphdeco-inria's diff-gaussian-rasterization (the default) */
-    SPR_FLAVOR_GSPLAT      /* nerfstudio's gsplat 1.x: α cap 0.999, near plane 0.01, stop at T ≤ 1e-4, det ≤ 0 culled */
-} spr_gauss_flavor;
 
 /* Back-to-front order of the transparent algorithms (SPEC §6.1). */
 typedef enum spr_order {
@@ -97,6 +91,73 @@ typedef struct spr_algo_info {
 } spr_algo_info;
 /* Row a of the registry (NULL when a is not an algorithm). */
 const spr_algo_info *spr_algo_info_of(spr_algo a);
+
+/* ---- Gaussian renderer profiles (SPEC §10.9; core/algo/gauss_profile.c) ----
+ * A profile is one row of named rules: the image one renderer means to draw,
+ * as parameters of the shared arithmetic (arith/gauss.h) and of the host's
+ * sort and colours.  gauss3d (tile lists, front to back, a stop) and
+ * gauss-blend (one global order, each Gaussian drawn once) are the two
+ * skeletons a profile fills in; gauss2d takes the rules of a gauss3d row that
+ * apply to it (cull, α, stop).  Adding a renderer is adding a row. */
+typedef enum spr_gauss_comp {
+    SPR_GCOMP_OPTION = 0,  /* compensation only with --gauss-aa (the renderer's option, off by default) */
+    SPR_GCOMP_ALWAYS       /* always on (--gauss-aa changes nothing) */
+} spr_gauss_comp;
+typedef enum spr_gauss_comp_form {
+    SPR_GCOMP_ROOT_OF_MAX = 0,  /* o·√(max(f, det₀/det)): the floor under the root */
+    SPR_GCOMP_MAX_OF_ROOT       /* o·max(f, √(det₀/det)): the floor on the factor */
+} spr_gauss_comp_form;
+typedef enum spr_gauss_extent {
+    SPR_GEXT_SQUARE = 0,   /* r = ceil(k·√λmax), λ from max(λfloor, mid² − det); tiles by trunc (inria) */
+    SPR_GEXT_AXES,         /* per axis r_a = ceil(k·√Σ'_aa); tiles floor((m − r)/16) … ceil((m + r)/16) (gsplat) */
+    SPR_GEXT_QUAD          /* a screen quad of k·√λ per eigen-axis, each at most cap pixels (the conic then follows
+                              the capped axes); cut inside where power < −k²/2 */
+} spr_gauss_extent;
+typedef enum spr_gauss_key {
+    SPR_GKEY_TILE_DEPTH = 0, /* per tile, by the float t.z (its bits), ties in file order (gauss3d) */
+    SPR_GKEY_DISTANCE,       /* global, |μ − eye| in double, farthest first */
+    SPR_GKEY_VIEW_Z,         /* global, the float t.z (the camera-forward depth), farthest first */
+    SPR_GKEY_BUCKET          /* global, t.z quantised to 2^bits buckets over the frame's kept [min, max], farthest first */
+} spr_gauss_key;
+typedef enum spr_gauss_blend {
+    SPR_GBLEND_UNDER = 0,  /* front to back: C += c·α·T (the tile loop of gauss3d) */
+    SPR_GBLEND_PREMUL,     /* back to front, premultiplied over: dst = c·α + (1 − α)·dst, alpha likewise */
+    SPR_GBLEND_STRAIGHT    /* back to front, straight alpha: rgb = c·α + (1 − α)·rgb (GL SRC_ALPHA, ONE_MINUS_SRC_ALPHA),
+                              alpha = α + (1 − α)·alpha (ONE, ONE_MINUS_SRC_ALPHA) */
+} spr_gauss_blend;
+
+typedef struct spr_gauss_profile {
+    const char *name;
+    spr_algo skeleton;                 /* SPR_ALGO_GAUSS3D or SPR_ALGO_GAUSS_BLEND */
+    const char *renderer, *version, *source; /* the row's citation: whose image, which release or commit, which files */
+    struct { float near; int near_lt; float clip_k; int det_le; } cull;
+    /* 1. near: culled at t.z ≤ near (near_lt: t.z < near); clip_k > 0: also culled when |x/w| or |y/w| > clip_k in
+     *    clip space; det_le: a dilated det ≤ 0 culled (else det == 0) */
+    int tan_clamp;                     /* 2. the Jacobian's tangents clamped: 0 no; 1 at ±1.3·tan(fov/2) (inria); 2 at
+                                          [−(cx/fx + 0.3·tan), (W − cx)/fx + 0.3·tan] (gsplat: the principal point) */
+    struct { float eps2d; spr_gauss_comp when; spr_gauss_comp_form form; float floor; } dilation; /* 3. */
+    struct { spr_gauss_extent kind; float k; float cap_px; float lambda_min; int falloff; float min_px; } extent;
+    /* 4. falloff: e^power renormalised to reach 0 at the cut, (e^power − e^−cut)/(1 − e^−cut); min_px > 0: dropped
+     *    when both quad axes are shorter than min_px pixels */
+    struct { float cap; float floor; } alpha;   /* 5. α = min(cap, o·e^power) (cap 1: none); skipped below floor (0: none) */
+    struct { float t_min; int le; } stop;       /* 6. stop when T·(1 − α) < t_min (le: ≤); t_min 0: no stop */
+    struct { spr_gauss_key key; int bits; } order; /* 7. */
+    spr_gauss_blend blend;                      /* 8. */
+    struct { int sh_max; int dc8; int op8; int clamp_hi; } colour;
+    /* 9. SH degree used at most; dc8: DC + 0.5 stored in 8 bits (clamped to [0, 1], rounded) before the SH sum;
+     *    op8: the opacity stored in 8 bits; clamp_hi: the colour clamped to [0, 1] after the sum (always ≥ 0) */
+} spr_gauss_profile;
+
+/* The table: count, row i, the row named name (NULL: none), the names joined by sep. */
+int spr_gauss_profile_count(void);
+const spr_gauss_profile *spr_gauss_profile_at(int i);
+int spr_gauss_profile_from_name(const char *name);
+const char *spr_gauss_profile_names(const char *sep);
+/* The profile an algorithm runs under: row profile − 1, else (0) the skeleton's default (inria; khr for gauss-blend). */
+const spr_gauss_profile *spr_gauss_profile_of(spr_algo algo, int profile);
+/* Whether an algorithm takes a profile: its skeleton, or gauss2d with a gauss3d row. */
+int spr_gauss_profile_fits(const spr_gauss_profile *p, spr_algo algo);
+
 int spr_algo_from_name(const char *name);  /* −1 if unknown */
 const char *spr_algo_name(spr_algo a);
 /* "deferred | pbr2p1" — the names joined by sep, for help and errors. */
@@ -176,7 +237,8 @@ typedef struct spr_render_desc {
     spr_sampling sampling;       /* domain-*: texture sampling (nearest, linear = explicit bilinear) */
     float alpha_ref;             /* domain-overlap: pixels locked where alpha >= alpha_ref (0 = 0.1) */
     int gauss_aa;                /* gauss*: the antialiased opacity of SPEC 10.3 step 5 (--gauss-aa) */
-    spr_gauss_flavor gauss_flavor; /* gauss*: whose constants (--gauss-flavor) */
+    int gauss_profile;           /* gauss*: the renderer profile (--gauss-profile), 1 + its row of the table; 0 (a zeroed
+                                    desc): the skeleton's default (inria for gauss3d and gauss2d, khr for gauss-blend) */
     spr_pass_hook hook;
     void *hook_user;
     spr_progress progress;       /* one report per finished pass ("frame: pass 3 geometry"), cleared at the end */
@@ -258,7 +320,8 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target);
  * its radii), n·4 quaternions and n·3 scales; the tiles' sorted lists (range GX·GY + 1, list); gauss-blend's order. */
 spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s);
 spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int threads, uint32_t **range, uint32_t **list, spr_error *err);
-spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], uint32_t **order, size_t *count, spr_error *err);
+spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], spr_gauss_key key, int bits, uint32_t **order,
+                            size_t *count, spr_error *err);
 /* The Gaussian passes, recorded: preprocessing (with its records), a host pass (no target), rasterization, a draw. */
 spr_result spr__run_gauss_preprocess(spr__run *run, const spr_gauss_desc *d, float *rec);
 spr_result spr__run_host_pass(spr__run *run, const char *name, const spr_draw_stats *st, double ms);

@@ -64,6 +64,10 @@ void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *
  * max(0, 0.5 + Σ_k Y_k(dir)·sh_k), not clamped above 1, dir always from the
  * eye; a cloud without sh gives its colours.  In double, rounded once. */
 void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *color);
+/* The same under a renderer profile's colour rule (SPEC §10.9 rule 9): at most SH degree sh_max; dc8: the DC part
+ * (0.5 + Y_0·sh_0) stored in 8 bits (clamped to [0, 1], the nearest k/255) before the rest is added; clamp_hi: the
+ * sum clamped to 1 as well as to 0. */
+void spr_cloud_gauss_colors_as(const spr_cloud *c, const double eye[3], int sh_max, int dc8, int clamp_hi, float *color);
 /* Splat i's frame as a rotation: the quaternion (w x y z, double) taking (x, y, z) to (u, v, n) — u its major
  * axis (an ellipse's), or for a circle n × the axis of n's smallest component — and its radii along u and v. */
 void spr__surfel_frame(const spr_cloud *c, size_t i, double q[4], double *ru, double *rv);

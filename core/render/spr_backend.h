@@ -407,21 +407,33 @@ int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int
     X(R, 9) X(T, 3)          /* world-to-camera, OpenCV axes (SPEC 10.2) */                                     \
     X(FX, 1) X(FY, 1)        /* focal lengths, pixels */                                                        \
     X(CX, 1) X(CY, 1)        /* principal point in pixel-index coordinates: cx − 0.5, cy − 0.5 */             \
-    X(LX, 1) X(LY, 1)        /* 1.3·tan(fov/2): the Jacobian's tangent clamp (SPEC 10.3 step 3) */              \
+    X(LX, 1) X(LY, 1)        /* the Jacobian's tangent clamp, positive side: 1.3·tan(fov/2) (SPEC 10.3 step 3) */  \
+    X(LXN, 1) X(LYN, 1)      /* its negative side's magnitude (inria: LX, LY; gsplat: from the principal point) */ \
     X(W, 1) X(H, 1)          /* image size */                                                                   \
     X(GX, 1) X(GY, 1)        /* 16×16 tiles across and down */                                                  \
-    X(NEAR, 1)               /* the near test (0.2; gsplat 0.01) */                                             \
+    X(NEAR, 1)               /* the near test (profile rule 1: 0.2; gsplat 0.01) */                              \
     X(NEAR_LT, 1)            /* 1: culled when t.z < NEAR (gsplat); 0: when t.z ≤ NEAR */                       \
-    X(EPS2D, 1)              /* the dilation, 0.3 */                                                            \
+    X(CLIP_K, 1)             /* > 0: culled when |x/w| or |y/w| > CLIP_K in clip space (the viewers' frustum) */  \
+    X(NDC, 4)                /* clip x/w = (t.x/t.z)·NDC0 + NDC1, y/w = (t.y/t.z)·NDC2 + NDC3 (host, double) */   \
+    X(TCLAMP, 1)             /* rule 2: 1 the Jacobian's tangents clamped at LX, LY; 0 not */                    \
+    X(EPS2D, 1)              /* rule 3: the dilation, 0.3 */                                                    \
     X(DET_LE, 1)             /* 1: culled when det ≤ 0 (gsplat); 0: when det == 0 */                            \
-    X(AA, 1) X(AA_MIN, 1)    /* --gauss-aa: o·sqrt(max(AA_MIN, det₀/det)) */                                    \
-    X(EXT_MIN, 1)            /* the extent's floor under the sqrt, 0.1 */                                       \
+    X(AA, 1) X(AA_MIN, 1)    /* compensation on (--gauss-aa, or the profile's always) with its floor f */         \
+    X(AA_FORM, 1)            /* 0: o·sqrt(max(f, det₀/det)); 1: o·max(f, sqrt(det₀/det)) */                     \
+    X(EXT, 1)                /* rule 4: SPR_GEXT_* (square, per axis, quad) */                                  \
+    X(EXT_K, 1)              /* the extent's k: r = k·sqrt(…) (3; gsplat 3.33; the viewers' quad sqrt(8)) */      \
+    X(EXT_CAP, 1)            /* quad: the longest half-axis in pixels (0: none) */                              \
+    X(EXT_MIN, 1)            /* the floor under the eigenvalues' sqrt, 0.1 */                                   \
+    X(MIN_PX, 1)             /* quad: dropped when both half-axes are shorter (0: never) */                     \
+    X(CUT, 1)                /* gauss-blend: cut where power < −CUT (k²/2: 4.5 for 3σ, 4 for sqrt(8)σ) */        \
+    X(FALLOFF, 1)            /* 1: α from (e^power − e^−CUT)/(1 − e^−CUT), 0 at the cut (PlayCanvas) */         \
+    X(STRAIGHT, 1)           /* gauss-blend: 1 the fragment is (c, α) for straight blending; 0 (c·α, α) */       \
     X(EXT2D_MIN, 1)          /* gauss2d: the box's floor under the sqrt, 1e-4 */                                \
     X(R2D_MIN, 1)            /* gauss2d: the radius's floor, 3·FilterSize */                                    \
-    X(CAP, 1)                /* α cap (0.99; gsplat 0.999) */                                                   \
-    X(ALPHA_MIN, 1)          /* skipped below, the float 1/255 */                                               \
+    X(CAP, 1)                /* rule 5: α cap (0.99; gsplat 1.5 0.999; 1: none) */                              \
+    X(ALPHA_MIN, 1)          /* skipped below (the float 1/255; 0: never) */                                    \
     X(POWER_MIN, 1)          /* power below which o·exp(power) < ALPHA_MIN for every o ≤ 1: skipped without exp */ \
-    X(T_MIN, 1)              /* stop when T·(1 − α) falls below, 1e-4 */                                        \
+    X(T_MIN, 1)              /* rule 6: stop when T·(1 − α) falls below, 1e-4 (0: no stop) */                   \
     X(STOP_LE, 1)            /* 1: stop at T·(1 − α) ≤ T_MIN too (gsplat) */                                    \
     X(MODE, 1)               /* SPR_GMODE_3D (gauss3d, gauss-blend) or SPR_GMODE_2D (gauss2d) */
 enum {
@@ -436,7 +448,7 @@ enum {
     X(OPACITY, 1)    /* o, after --gauss-aa */                                                                  \
     X(DEPTH, 1)      /* t.z: the sort key */                                                                    \
     X(INVZ, 1)       /* 1/t.z */                                                                                \
-    X(RADIUS, 1)     /* r (0: culled) */                                                                        \
+    X(RADIUS, 2)     /* r across and down (square extent: both r; 0: culled) */                                                                        \
     X(RECT, 4)       /* tiles x0, y0, x1, y1 (x1, y1 exclusive; empty: not in any tile) */                      \
     X(BOX, 4)        /* gauss-blend's pixels i0, j0, i1, j1 (inclusive; empty when i1 < i0 or j1 < j0) */        \
     X(COLOR, 3)      /* SPEC 10.3 step 9 (host) */                                                              \
@@ -453,8 +465,14 @@ enum {
 #define SPR_GCULL_NONE 0.0f
 #define SPR_GCULL_NEAR 1.0f   /* t.z at or before the near plane */
 #define SPR_GCULL_DET 2.0f    /* a degenerate footprint: det of the dilated covariance 0 (3D), or edge-on (2D) */
+#define SPR_GCULL_CLIP 3.0f   /* outside the profile's clip box (|x/w| or |y/w| > CLIP_K) */
+#define SPR_GCULL_SMALL 4.0f  /* a quad smaller than the profile's MIN_PX on both axes */
 #define SPR_GMODE_3D 0.0f
 #define SPR_GMODE_2D 1.0f
+/* The extent rule's kinds as parameter values (spr_gauss_extent of spr_algo.h, in the same order). */
+#define SPR_GEXT_SQUARE_F 0.0f
+#define SPR_GEXT_AXES_F 1.0f
+#define SPR_GEXT_QUAD_F 2.0f
 
 /* The Gaussians of a frame, per Gaussian: mean, unit quaternion (w x y z),
  * σ (linear; a 2D Gaussian's third 0), opacity, colour (SPEC §10.3 step 9:

@@ -258,10 +258,31 @@ int spr__scene_opts(spr__args *a, spr_scene *s, spr_render_desc *rd, spr__scene_
         rd->background[k] = (float)bg[k];
     }
     if (spr__get(a, "ortho")) s->cam.fov_deg = 0.0;
-    s->all_algos = allow_all && (!aname || !strcmp(aname, "all"));
-    if (aname && !s->all_algos && (int)(rd->algo = (spr_algo)spr_algo_from_name(aname)) < 0) {
+    /* --gauss-profile P (alias --gauss-flavor, its name before SPEC 10.9): one row of the profile table; alone it
+     * picks the row's skeleton, with another --algo it is refused */
+    const char *pname = spr__get(a, "gauss-profile"), *fname = spr__get(a, "gauss-flavor");
+    const char *popt = pname ? "--gauss-profile" : "--gauss-flavor";
+    if (pname && fname) { spr__error(a, "--gauss-flavor is the old name of --gauss-profile: give one"); return -1; }
+    if (!pname) pname = fname;
+    const int prow = pname ? spr_gauss_profile_from_name(pname) : -1;
+    rd->gauss_profile = prow + 1;
+    if (pname && prow < 0) {
+        spr__error(a, "%s: '%s' is not a profile (%s)", popt, pname, spr_gauss_profile_names(", "));
+        return -1;
+    }
+    s->all_algos = allow_all && (!aname || !strcmp(aname, "all")) && !pname;
+    if (aname && strcmp(aname, "all") && (int)(rd->algo = (spr_algo)spr_algo_from_name(aname)) < 0) {
         spr__error(a, "--algo: '%s' is not %s%s", aname, spr_algo_names(", "), allow_all ? " or all" : "");
         return -1;
+    }
+    if (pname) {
+        const spr_gauss_profile *pf = spr_gauss_profile_at(prow);
+        if (!aname || !strcmp(aname, "all")) rd->algo = pf->skeleton;
+        else if (!spr_gauss_profile_fits(pf, rd->algo)) {
+            spr__error(a, "%s %s belongs to --algo %s%s, not %s", popt, pname, spr_algo_name(pf->skeleton),
+                       pf->skeleton == SPR_ALGO_GAUSS3D ? " (or gauss2d)" : "", aname);
+            return -1;
+        }
     }
     /* The options the algorithm(s) read: the registry says which. */
     unsigned uses = 0;
@@ -297,9 +318,6 @@ int spr__scene_opts(spr__args *a, spr_scene *s, spr_render_desc *rd, spr__scene_
     rd->alpha_ref = (float)aref;
     if (uses & SPR_USES_GAUSS) {
         rd->gauss_aa = spr__flag(a, "gauss-aa");
-        const char *fl = spr__get(a, "gauss-flavor");
-        if (fl && strcmp(fl, "inria") && strcmp(fl, "gsplat")) { spr__error(a, "--gauss-flavor: '%s' is not inria or gsplat", fl); return -1; }
-        rd->gauss_flavor = fl && !strcmp(fl, "gsplat") ? SPR_FLAVOR_GSPLAT : SPR_FLAVOR_INRIA;
     }
     rd->progress = spr__progress(p->quiet);
     spr_grouping_desc *gd = &p->gd;

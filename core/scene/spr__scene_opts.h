@@ -57,7 +57,8 @@
     {"sampling", "HOW", "domain-*: texture sampling nearest | linear (explicit bilinear, default) | hardware (GL texture(), Tier B)"}, \
     {"alpha-ref", "A", "domain-overlap: lock pixels where alpha >= A (default 0.1)"}, \
     {"gauss-aa", NULL, "gauss*: the antialiased opacity o*sqrt(max(0.000025, det0/det)) of the training code's antialiased mode (SPEC 10.3)"}, \
-    {"gauss-flavor", "WHOSE", "gauss*: inria (graphdeco-inria's constants, default) | gsplat (gsplat 1.x: alpha cap 0.999, near 0.01, docs/gaussians.md)"}
+    {"gauss-profile", "NAME", "gauss*: the renderer whose image to draw, a row of `splatref profiles` (SPEC 10.9; defaults: inria for gauss3d and gauss2d, khr for gauss-blend); alone it picks the row's algorithm"}, \
+    {"gauss-flavor", "NAME", "the old name of --gauss-profile"}
 
 /* Grouping parameters; the method itself is render's --groups or group's --method. */
 #define SPR__GROUP_OPTS \

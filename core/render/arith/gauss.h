@@ -108,30 +108,54 @@ SPR_FN void spr_gauss_cull(float why, SPR_IOARR rec[SPR_GREC_FLOATS])
     rec[SPR_GREC_CULL] = why;
 }
 
-/* The tile rectangle of a centre m and radius r (SPEC §10.3 step 8), and the
- * pixel box of gauss-blend (§10.7: pixels (i, j) with |i − m.x| ≤ r and
- * |j − m.y| ≤ r, clamped to the image; empty when i1 < i0). */
-SPR_FN void spr_gauss_rects(SPR_CARR g[SPR_GPRM_COUNT], float mx, float my, float r, SPR_IOARR rec[SPR_GREC_FLOATS])
+/* The tile rectangle of a centre m and radii (rx, ry) (SPEC §10.3 step 8;
+ * the extent rule of §10.9) and the pixel box of gauss-blend (§10.7: pixels
+ * (i, j) with |i − m.x| ≤ rx and |j − m.y| ≤ ry, clamped to the image; empty
+ * when i1 < i0).  Square and quad extents: tiles [trunc((m − r)/16),
+ * trunc((m + r + 15)/16)); per-axis extents (gsplat): [floor((m' − r)/16),
+ * ceil((m' + r)/16)) with m' = m + 0.5 the continuous centre; both clamped to
+ * [0, tiles]. */
+SPR_FN void spr_gauss_rects(SPR_CARR g[SPR_GPRM_COUNT], float mx, float my, float rx, float ry, SPR_IOARR rec[SPR_GREC_FLOATS])
 {
     float m[2];
     m[0] = mx;
     m[1] = my;
+    float rr[2];
+    rr[0] = rx;
+    rr[1] = ry;
     for (int a = 0; a < 2; a++) {
         float gn = g[SPR_GPRM_GX + a];
+        float r = rr[a];
         SPR_PRECISE float lo = m[a] - r;
-        SPR_PRECISE float lo16 = lo / 16.0f;
         SPR_PRECISE float hr = m[a] + r;
-        SPR_PRECISE float hi = hr + 15.0f;
-        SPR_PRECISE float hi16 = hi / 16.0f;
-        /* min(n, max(0, trunc(v))): for v ≥ 0 trunc is floor, for v in (−1, 0) it is 0 */
-        if (!(lo16 >= 0.0f)) lo16 = 0.0f;
-        if (lo16 > gn) lo16 = gn;
-        if (!(hi16 >= 0.0f)) hi16 = 0.0f;
-        if (hi16 > gn) hi16 = gn;
-        SPR_PRECISE float t0 = spr_floor(lo16);
-        SPR_PRECISE float t1 = spr_floor(hi16);
-        rec[SPR_GREC_RECT + a] = t0;
-        rec[SPR_GREC_RECT + 2 + a] = t1;
+        if (g[SPR_GPRM_EXT] == SPR_GEXT_AXES_F) {
+            SPR_PRECISE float mc = m[a] + 0.5f;
+            SPR_PRECISE float clo = mc - r;
+            SPR_PRECISE float chi = mc + r;
+            SPR_PRECISE float q0 = clo / 16.0f;
+            SPR_PRECISE float q1 = chi / 16.0f;
+            SPR_PRECISE float f0 = spr_floor(q0);
+            SPR_PRECISE float f1 = spr_ceil(q1);
+            if (!(f0 >= 0.0f)) f0 = 0.0f;
+            if (f0 > gn) f0 = gn;
+            if (!(f1 >= 0.0f)) f1 = 0.0f;
+            if (f1 > gn) f1 = gn;
+            rec[SPR_GREC_RECT + a] = f0;
+            rec[SPR_GREC_RECT + 2 + a] = f1;
+        } else {
+            SPR_PRECISE float lo16 = lo / 16.0f;
+            SPR_PRECISE float hi = hr + 15.0f;
+            SPR_PRECISE float hi16 = hi / 16.0f;
+            /* min(n, max(0, trunc(v))): for v ≥ 0 trunc is floor, for v in (−1, 0) it is 0 */
+            if (!(lo16 >= 0.0f)) lo16 = 0.0f;
+            if (lo16 > gn) lo16 = gn;
+            if (!(hi16 >= 0.0f)) hi16 = 0.0f;
+            if (hi16 > gn) hi16 = gn;
+            SPR_PRECISE float t0 = spr_floor(lo16);
+            SPR_PRECISE float t1 = spr_floor(hi16);
+            rec[SPR_GREC_RECT + a] = t0;
+            rec[SPR_GREC_RECT + 2 + a] = t1;
+        }
         float wn = g[SPR_GPRM_W + a];
         SPR_PRECISE float last = wn - 1.0f;
         SPR_PRECISE float b0 = spr_ceil(lo);
@@ -143,6 +167,14 @@ SPR_FN void spr_gauss_rects(SPR_CARR g[SPR_GPRM_COUNT], float mx, float my, floa
         rec[SPR_GREC_BOX + a] = b0;
         rec[SPR_GREC_BOX + 2 + a] = b1;
     }
+}
+
+/* |x| without arithmetic that rounds. */
+SPR_FN float spr_absf(float x)
+{
+    SPR_PRECISE float n = -x;
+    if (x < 0.0f) return n;
+    return x;
 }
 
 /* SPEC §10.3 steps 1–8 for the 3D Gaussian (μ, q, s, o) of colour c (step 9,
@@ -177,19 +209,33 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
             float v = spr_sum3(L[3 * i], L[3 * j], L[3 * i + 1], L[3 * j + 1], L[3 * i + 2], L[3 * j + 2]);
             S[3 * i + j] = v;
         }
-    /* step 3: the Jacobian with clamped tangents */
+    /* step 3: the Jacobian with clamped tangents (profile rule 2: or not); rule 1's clip box */
     SPR_PRECISE float txz = t[0] / t[2];
     SPR_PRECISE float tyz = t[1] / t[2];
+    if (g[SPR_GPRM_CLIP_K] > 0.0f) {
+        SPR_PRECISE float nx0 = txz * g[SPR_GPRM_NDC];
+        SPR_PRECISE float nx = nx0 + g[SPR_GPRM_NDC + 1];
+        SPR_PRECISE float ny0 = tyz * g[SPR_GPRM_NDC + 2];
+        SPR_PRECISE float ny = ny0 + g[SPR_GPRM_NDC + 3];
+        float ax = spr_absf(nx);
+        float ay = spr_absf(ny);
+        if (ax > g[SPR_GPRM_CLIP_K] || ay > g[SPR_GPRM_CLIP_K]) {
+            spr_gauss_cull(SPR_GCULL_CLIP, rec);
+            return;
+        }
+    }
     SPR_PRECISE float cx = txz;
     SPR_PRECISE float cy = tyz;
     float lx = g[SPR_GPRM_LX];
     float ly = g[SPR_GPRM_LY];
-    SPR_PRECISE float nlx = -lx;
-    SPR_PRECISE float nly = -ly;
-    if (cx < nlx) cx = nlx;
-    if (cx > lx) cx = lx;
-    if (cy < nly) cy = nly;
-    if (cy > ly) cy = ly;
+    SPR_PRECISE float nlx = -g[SPR_GPRM_LXN];
+    SPR_PRECISE float nly = -g[SPR_GPRM_LYN];
+    if (g[SPR_GPRM_TCLAMP] != 0.0f) {
+        if (cx < nlx) cx = nlx;
+        if (cx > lx) cx = lx;
+        if (cy < nly) cy = nly;
+        if (cy > ly) cy = ly;
+    }
     SPR_PRECISE float u = cx * t[2];
     SPR_PRECISE float v = cy * t[2];
     SPR_PRECISE float zz = t[2] * t[2];
@@ -254,11 +300,17 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
         SPR_PRECISE float p11 = P[1] * P[1];
         SPR_PRECISE float det0 = p03 - p11;
         SPR_PRECISE float ratio = det0 / det;
-        if (!(ratio >= g[SPR_GPRM_AA_MIN])) ratio = g[SPR_GPRM_AA_MIN];
+        float f = g[SPR_GPRM_AA_MIN];
+        if (g[SPR_GPRM_AA_FORM] == 0.0f) {
+            if (!(ratio >= f)) ratio = f;
+        }
         SPR_PRECISE float sq = spr_sqrt(ratio);
+        if (g[SPR_GPRM_AA_FORM] != 0.0f) {
+            if (!(sq >= f)) sq = f;
+        }
         op = o * sq;
     }
-    /* step 6: the extent */
+    /* step 6: the extent (profile rule 4) */
     SPR_PRECISE float sum = a + cc;
     SPR_PRECISE float mid = 0.5f * sum;
     SPR_PRECISE float mm = mid * mid;
@@ -267,11 +319,99 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     SPR_PRECISE float e = spr_sqrt(disc);
     SPR_PRECISE float l1 = mid + e;
     SPR_PRECISE float l2 = mid - e;
-    SPR_PRECISE float lmax = l1;
-    if (l2 > lmax) lmax = l2;
-    SPR_PRECISE float sl = spr_sqrt(lmax);
-    SPR_PRECISE float r3 = 3.0f * sl;
-    SPR_PRECISE float r = spr_ceil(r3);
+    float k3 = g[SPR_GPRM_EXT_K];
+    float rx = 0.0f;
+    float ry = 0.0f;
+    if (g[SPR_GPRM_EXT] == SPR_GEXT_AXES_F) {
+        /* per axis: ceil(k·sqrt(Σ'_aa)) of the dilated covariance */
+        SPR_PRECISE float sa = spr_sqrt(a);
+        SPR_PRECISE float sc = spr_sqrt(cc);
+        SPR_PRECISE float ka = k3 * sa;
+        SPR_PRECISE float kc = k3 * sc;
+        SPR_PRECISE float ca = spr_ceil(ka);
+        SPR_PRECISE float cc3 = spr_ceil(kc);
+        rx = ca;
+        ry = cc3;
+    } else if (g[SPR_GPRM_EXT] == SPR_GEXT_QUAD_F) {
+        /* the viewers' quad: half-axes L = k·sqrt(λ) along the eigenvectors, each at most EXT_CAP pixels */
+        if (!(l2 > 0.0f)) {
+            spr_gauss_cull(SPR_GCULL_DET, rec);
+            return;
+        }
+        SPR_PRECISE float ev = l1 - a;
+        SPR_PRECISE float b2 = b * b;
+        SPR_PRECISE float ev2 = ev * ev;
+        SPR_PRECISE float n2 = b2 + ev2;
+        float ux = 1.0f;
+        float uy = 0.0f;
+        if (n2 > 0.0f) {
+            SPR_PRECISE float nl = spr_sqrt(n2);
+            SPR_PRECISE float vx = b / nl;
+            SPR_PRECISE float vy = ev / nl;
+            ux = vx;
+            uy = vy;
+        }
+        SPR_PRECISE float s1 = spr_sqrt(l1);
+        SPR_PRECISE float s2 = spr_sqrt(l2);
+        SPR_PRECISE float L1 = k3 * s1;
+        SPR_PRECISE float L2 = k3 * s2;
+        float cap = g[SPR_GPRM_EXT_CAP];
+        int capped = 0;
+        if (cap > 0.0f && L1 > cap) {
+            L1 = cap;
+            capped = 1;
+        }
+        if (cap > 0.0f && L2 > cap) {
+            L2 = cap;
+            capped = 1;
+        }
+        if (L1 < g[SPR_GPRM_MIN_PX] && L2 < g[SPR_GPRM_MIN_PX]) {
+            spr_gauss_cull(SPR_GCULL_SMALL, rec);
+            return;
+        }
+        if (capped != 0) {
+            /* the falloff follows the capped quad: σ_i = L_i/k, conic = u·uᵀ/σ₁² + v·vᵀ/σ₂² with v = (u.y, −u.x) */
+            SPR_PRECISE float q1 = L1 / k3;
+            SPR_PRECISE float q2 = L2 / k3;
+            SPR_PRECISE float w1a = q1 * q1;
+            SPR_PRECISE float w2a = q2 * q2;
+            SPR_PRECISE float w1 = 1.0f / w1a;
+            SPR_PRECISE float w2 = 1.0f / w2a;
+            SPR_PRECISE float xx = ux * ux;
+            SPR_PRECISE float yy = uy * uy;
+            SPR_PRECISE float xy = ux * uy;
+            SPR_PRECISE float A1 = xx * w1;
+            SPR_PRECISE float A2 = yy * w2;
+            SPR_PRECISE float C1 = yy * w1;
+            SPR_PRECISE float C2 = xx * w2;
+            SPR_PRECISE float dw = w1 - w2;
+            SPR_PRECISE float nA = A1 + A2;
+            SPR_PRECISE float nB = xy * dw;
+            SPR_PRECISE float nC = C1 + C2;
+            cA = nA;
+            cB = nB;
+            cC = nC;
+        }
+        /* the quad's bounding box */
+        float aux = spr_absf(ux);
+        float auy = spr_absf(uy);
+        SPR_PRECISE float x1 = L1 * aux;
+        SPR_PRECISE float x2 = L2 * auy;
+        SPR_PRECISE float y1 = L1 * auy;
+        SPR_PRECISE float y2 = L2 * aux;
+        SPR_PRECISE float bx = x1 + x2;
+        SPR_PRECISE float by = y1 + y2;
+        rx = bx;
+        ry = by;
+    } else {
+        SPR_PRECISE float lmax = l1;
+        if (l2 > lmax) lmax = l2;
+        SPR_PRECISE float sl = spr_sqrt(lmax);
+        SPR_PRECISE float r3 = k3 * sl;
+        SPR_PRECISE float r = spr_ceil(r3);
+        rx = r;
+        ry = r;
+    }
     /* step 7: the centre in pixel-index coordinates */
     SPR_PRECISE float fx = g[SPR_GPRM_FX] * txz;
     SPR_PRECISE float fy = g[SPR_GPRM_FY] * tyz;
@@ -286,11 +426,12 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     rec[SPR_GREC_OPACITY] = op;
     rec[SPR_GREC_DEPTH] = t[2];
     rec[SPR_GREC_INVZ] = iz;
-    rec[SPR_GREC_RADIUS] = r;
+    rec[SPR_GREC_RADIUS] = rx;
+    rec[SPR_GREC_RADIUS + 1] = ry;
     for (int ch = 0; ch < 3; ch++) rec[SPR_GREC_COLOR + ch] = c[ch];
     rec[SPR_GREC_CULL] = SPR_GCULL_NONE;
     /* step 8 */
-    spr_gauss_rects(g, mx, my, r, rec);
+    spr_gauss_rects(g, mx, my, rx, ry, rec);
 }
 
 /* SPEC §10.5 for a planar Gaussian (docs/gaussians.md, "gauss2d, operation
@@ -428,8 +569,9 @@ SPR_FN void spr_gauss_preprocess2d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     SPR_PRECISE float iz = 1.0f / t[2];
     rec[SPR_GREC_INVZ] = iz;
     rec[SPR_GREC_RADIUS] = r;
+    rec[SPR_GREC_RADIUS + 1] = r;
     rec[SPR_GREC_CULL] = SPR_GCULL_NONE;
-    spr_gauss_rects(g, mid[0], mid[1], r, rec);
+    spr_gauss_rects(g, mid[0], mid[1], r, r, rec);
 }
 
 /* The record of one Gaussian under the frame's mode (SPR_GMODE_*). */
@@ -643,23 +785,40 @@ SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg
     return k;
 }
 
-/* gauss-blend (SPEC §10.7): what the Gaussian with centre (mx, my), conic
- * (A, B, C), opacity o and colour c offers pixel (fi, fj) — 1 and
- * src = (c·α, α) (premultiplied), or 0 where the ellipse is cut
- * (power < −4.5: 3σ), power > 0, or α < 1/255; power and α given either way. */
+/* gauss-blend (SPEC §10.7, the profile's rules 4, 5, 8): what the Gaussian
+ * with centre (mx, my), conic (A, B, C), opacity o and colour c offers pixel
+ * (fi, fj) — 1 and src = (c·α, α) (premultiplied; STRAIGHT: (c, α)), or 0
+ * where the ellipse is cut (power < −CUT: 4.5 for 3σ), power > 0, or
+ * α < ALPHA_MIN; α = min(CAP, o·f), f = e^power, or with FALLOFF
+ * f = (e^power − e^−CUT)/(1 − e^−CUT); power and α given either way. */
 SPR_FN int spr_gauss_blend_frag(SPR_CARR g[SPR_GPRM_COUNT], float mx, float my, float A, float B, float C, float o, SPR_CARR c[3],
                                 float fi, float fj, SPR_OARR src[4], SPR_OUT power_out, SPR_OUT alpha_out)
 {
     float power = spr_gauss_power(mx, my, A, B, C, fi, fj);
     SPR_SET(power_out) = power;
     SPR_SET(alpha_out) = 0.0f;
-    if (power < -4.5f || power > 0.0f) return 0;
-    float alpha = spr_gauss_alpha(g, o, power);
+    SPR_PRECISE float ncut = -g[SPR_GPRM_CUT];
+    if (power < ncut || power > 0.0f) return 0;
+    float alpha = 0.0f;
+    if (g[SPR_GPRM_FALLOFF] != 0.0f) {
+        float ex = spr_exp(power);
+        float ec = spr_exp(ncut);
+        SPR_PRECISE float num = ex - ec;
+        SPR_PRECISE float den = 1.0f - ec;
+        SPR_PRECISE float f = num / den;
+        SPR_PRECISE float a = o * f;
+        if (a > g[SPR_GPRM_CAP]) a = g[SPR_GPRM_CAP];
+        alpha = a;
+    } else {
+        alpha = spr_gauss_alpha(g, o, power);
+    }
     SPR_SET(alpha_out) = alpha;
     if (alpha < g[SPR_GPRM_ALPHA_MIN]) return 0;
+    if (alpha == 0.0f) return 0;
     for (int ch = 0; ch < 3; ch++) {
         SPR_PRECISE float v = c[ch] * alpha;
         src[ch] = v;
+        if (g[SPR_GPRM_STRAIGHT] != 0.0f) src[ch] = c[ch];
     }
     src[3] = alpha;
     return 1;

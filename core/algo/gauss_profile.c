@@ -1,0 +1,193 @@
+/* gauss_profile.c — the renderer profiles (SPEC §10.9): one row per
+ * renderer version, each rule a value of spr_gauss_profile (spr_algo.h),
+ * every value read at the source the row cites.  The CLI's --gauss-profile,
+ * scene files' "gauss-profile", Python's Scene(gauss_profile=…), parity
+ * --random and `splatref profiles` (the table in docs/gaussians.md) all read
+ * this table; adding a renderer is adding a row here
+ * (docs/architecture.md, "add a renderer profile").
+ */
+#include "spr_algo.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#define A255 (1.0f / 255.0f)
+
+static const spr_gauss_profile rows[] = {
+    {
+        .name = "inria",
+        .skeleton = SPR_ALGO_GAUSS3D,
+        .renderer = "graphdeco-inria/diff-gaussian-rasterization",
+        .version = "59f5f77 (antialiased: 077706fe)",
+        .source = "cuda_rasterizer/forward.cu, auxiliary.h, rasterizer_impl.cu",
+        .cull = {.near = 0.2f, .near_lt = 0, .clip_k = 0.0f, .det_le = 0},
+        .tan_clamp = 1,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.000025f},
+        .extent = {SPR_GEXT_SQUARE, 3.0f, 0.0f, 0.1f, 0, 0.0f},
+        .alpha = {0.99f, A255},
+        .stop = {0.0001f, 0},
+        .order = {SPR_GKEY_TILE_DEPTH, 32},
+        .blend = SPR_GBLEND_UNDER,
+        .colour = {3, 0, 0, 0},
+    },
+    {
+        .name = "gsplat",
+        .skeleton = SPR_ALGO_GAUSS3D,
+        .renderer = "nerfstudio-project/gsplat",
+        .version = "main 90d7b4b (1.6.0 dev; alpha cap 0.99 since c5ff586b)",
+        .source = "gsplat/cuda/_torch_impl.py, csrc/ProjectionEWA3DGSFused.cu, csrc/RasterizeToPixels3DGSFwd.cu",
+        .cull = {.near = 0.01f, .near_lt = 1, .clip_k = 0.0f, .det_le = 1},
+        .tan_clamp = 2,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.000025f},
+        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0.0f, 0, 0.0f},
+        .alpha = {0.99f, A255},
+        .stop = {0.0001f, 1},
+        .order = {SPR_GKEY_TILE_DEPTH, 32},
+        .blend = SPR_GBLEND_UNDER,
+        .colour = {3, 0, 0, 0},
+    },
+    {
+        .name = "gsplat-1.5",
+        .skeleton = SPR_ALGO_GAUSS3D,
+        .renderer = "nerfstudio-project/gsplat",
+        .version = "v1.5.3 (937e299)",
+        .source = "gsplat/cuda/_torch_impl.py, csrc/ProjectionEWA3DGSFused.cu, csrc/RasterizeToPixels3DGSFwd.cu",
+        .cull = {.near = 0.01f, .near_lt = 1, .clip_k = 0.0f, .det_le = 1},
+        .tan_clamp = 2,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0.0f, 0, 0.0f},
+        .alpha = {0.999f, A255},
+        .stop = {0.0001f, 1},
+        .order = {SPR_GKEY_TILE_DEPTH, 32},
+        .blend = SPR_GBLEND_UNDER,
+        .colour = {3, 0, 0, 0},
+    },
+    {
+        .name = "brush",
+        .skeleton = SPR_ALGO_GAUSS3D,
+        .renderer = "ArthurBrussee/brush (its extent, the ellipse where alpha = 1/255, holds every pixel the alpha floor keeps: "
+                    "drawn here by gsplat's per-axis 3.33 sigma box, which holds that ellipse too)",
+        .version = "8b7f5c6",
+        .source = "crates/brush-render/src/kernels/*.rs, camera.rs, render.rs",
+        .cull = {.near = 0.01f, .near_lt = 1, .clip_k = 0.0f, .det_le = 1},
+        .tan_clamp = 2,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0.0f, 0, 0.0f},
+        .alpha = {0.999f, A255},
+        .stop = {0.0001f, 1},
+        .order = {SPR_GKEY_TILE_DEPTH, 32},
+        .blend = SPR_GBLEND_UNDER,
+        .colour = {3, 0, 0, 0},
+    },
+    {
+        .name = "khr",
+        .skeleton = SPR_ALGO_GAUSS_BLEND,
+        .renderer = "KhronosGroup/glTF KHR_gaussian_splatting (release candidate; SPEC 10.7 fills in what it leaves open)",
+        .version = "77b44be",
+        .source = "extensions/2.0/Khronos/KHR_gaussian_splatting/README.md",
+        .cull = {.near = 0.2f, .near_lt = 0, .clip_k = 0.0f, .det_le = 0},
+        .tan_clamp = 1,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.000025f},
+        .extent = {SPR_GEXT_SQUARE, 3.0f, 0.0f, 0.1f, 0, 0.0f},
+        .alpha = {0.99f, A255},
+        .stop = {0.0f, 0},
+        .order = {SPR_GKEY_DISTANCE, 64},
+        .blend = SPR_GBLEND_PREMUL,
+        .colour = {3, 0, 0, 0},
+    },
+    {
+        .name = "gaussiansplats3d",
+        .skeleton = SPR_ALGO_GAUSS_BLEND,
+        .renderer = "mkkellogg/GaussianSplats3D (npm @mkkellogg/gaussian-splats-3d)",
+        .version = "0.4.7 (eb2fc45)",
+        .source = "src/splatmesh/SplatMaterial3D.js, SplatMaterial.js, src/worker/sorter.cpp, src/Viewer.js",
+        .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 1.2f, .det_le = 0},
+        .tan_clamp = 0,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        .extent = {SPR_GEXT_QUAD, 2.8284271f, 1024.0f, 0.1f, 0, 0.0f},
+        .alpha = {1.0f, 0.0f},
+        .stop = {0.0f, 0},
+        .order = {SPR_GKEY_BUCKET, 16},
+        .blend = SPR_GBLEND_STRAIGHT,
+        .colour = {2, 1, 1, 1},
+    },
+    {
+        .name = "spark",
+        .skeleton = SPR_ALGO_GAUSS_BLEND,
+        .renderer = "sparkjsdev/spark (npm @sparkjsdev/spark)",
+        .version = "2.2.0 (78bc65e)",
+        .source = "src/shaders/splatVertex.glsl, splatFragment.glsl, src/SparkRenderer.ts, rust/spark-rs/src/sort.rs",
+        .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 1.4f, .det_le = 0},
+        .tan_clamp = 0,
+        .dilation = {0.3f, SPR_GCOMP_ALWAYS, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        .extent = {SPR_GEXT_QUAD, 2.8284271f, 512.0f, 0.1f, 0, 0.0f},
+        .alpha = {1.0f, 0.5f / 255.0f},
+        .stop = {0.0f, 0},
+        .order = {SPR_GKEY_DISTANCE, 32},
+        .blend = SPR_GBLEND_PREMUL,
+        .colour = {3, 1, 1, 0},
+    },
+    {
+        .name = "playcanvas",
+        .skeleton = SPR_ALGO_GAUSS_BLEND,
+        .renderer = "playcanvas/engine (npm playcanvas)",
+        .version = "2.23.3 (0aaef5e)",
+        .source = "src/scene/shader-lib/glsl/chunks/gsplat/vert/gsplatCorner.js, frag/gsplat.js, gsplat-unified-sort-worker.js",
+        .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 0.0f, .det_le = 0},
+        .tan_clamp = 0,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        .extent = {SPR_GEXT_QUAD, 2.8284271f, 2048.0f, 0.1f, 1, 2.0f},
+        .alpha = {1.0f, A255},
+        .stop = {0.0f, 0},
+        .order = {SPR_GKEY_BUCKET, 20},
+        .blend = SPR_GBLEND_PREMUL,
+        .colour = {3, 0, 0, 0},
+    },
+    {
+        .name = "babylon",
+        .skeleton = SPR_ALGO_GAUSS_BLEND,
+        .renderer = "BabylonJS/Babylon.js (npm @babylonjs/core)",
+        .version = "8.x",
+        .source = "Shaders/ShadersInclude/gaussianSplatting.fx, Shaders/gaussianSplatting.fragment.fx, Meshes/GaussianSplatting/*",
+        .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 1.2f, .det_le = 0},
+        .tan_clamp = 0,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        .extent = {SPR_GEXT_QUAD, 2.8284271f, 1024.0f, 0.1f, 0, 0.0f},
+        .alpha = {1.0f, 0.0f},
+        .stop = {0.0f, 0},
+        .order = {SPR_GKEY_VIEW_Z, 32},
+        .blend = SPR_GBLEND_STRAIGHT,
+        .colour = {3, 1, 1, 0},
+    },
+};
+enum { NROWS = (int)(sizeof rows / sizeof rows[0]) };
+
+int spr_gauss_profile_count(void) { return NROWS; }
+const spr_gauss_profile *spr_gauss_profile_at(int i) { return i >= 0 && i < NROWS ? &rows[i] : NULL; }
+
+int spr_gauss_profile_from_name(const char *name)
+{
+    for (int i = 0; i < NROWS; i++)
+        if (!strcmp(name, rows[i].name)) return i;
+    return -1;
+}
+
+const char *spr_gauss_profile_names(const char *sep)
+{
+    static char buf[512];
+    size_t o = 0;
+    buf[0] = 0;
+    for (int i = 0; i < NROWS && o < sizeof buf; i++) o += (size_t)snprintf(buf + o, sizeof buf - o, "%s%s", i ? sep : "", rows[i].name);
+    return buf;
+}
+
+const spr_gauss_profile *spr_gauss_profile_of(spr_algo algo, int profile)
+{
+    if (profile > 0 && profile <= NROWS) return &rows[profile - 1];
+    return &rows[spr_gauss_profile_from_name(algo == SPR_ALGO_GAUSS_BLEND ? "khr" : "inria")];
+}
+
+int spr_gauss_profile_fits(const spr_gauss_profile *p, spr_algo algo)
+{
+    return p->skeleton == algo || (algo == SPR_ALGO_GAUSS2D && p->skeleton == SPR_ALGO_GAUSS3D);
+}
