@@ -6,6 +6,7 @@
 #include "spr__scene_opts.h"
 #include "spr__inspect.h"
 #include "spr_history.h"
+#include "spr_profile_diff.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -17,6 +18,7 @@ static const spr__opt explain_opts[] = {
     {"backend", "WHICH", "both (default: the CPU reference and GL side by side) | cpu | gl"},
     {"gl-device", "N", "GL backend: the N-th EGL device instead of the surfaceless platform"},
     {"json", NULL, "print the history as JSON (for tools)"},
+    {"vs", "PROFILE", "Gaussian algorithms: compare the scene's --gauss-profile (or the default) with PROFILE at the pixel, Gaussian by Gaussian, naming the rule of SPEC 10.9 behind each difference (CPU reference)"},
     SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
@@ -180,6 +182,42 @@ void cli_explain_event(FILE *f, const spr_hist_event *e, int idx, const spr_hist
     }
 }
 
+static void print_bits4(const uint32_t v[4])
+{
+    float f[4];
+    memcpy(f, v, sizeof f);
+    printf("(%.6g, %.6g, %.6g, %.6g)", f[0], f[1], f[2], f[3]);
+}
+
+/* explain --vs: the two profiles' pixel and every Gaussian they treat differently, with its rule. */
+static int explain_vs(spr__args *a, spr_scene *s, const spr_render_desc *rd, const char *vs, int x, int y)
+{
+    const int pb = spr_gauss_profile_from_name(vs);
+    if (pb < 0) { spr__error(a, "--vs: '%s' is not a profile (%s)", vs, spr_gauss_profile_names(", ")); return 2; }
+    if (!(spr_algo_info_of(rd->algo)->uses & SPR_USES_GAUSS)) { spr__error(a, "--vs compares Gaussian profiles: give --gauss-profile or a gauss* --algo"); return 2; }
+    const int pa = (int)(spr_gauss_profile_of(rd->algo, rd->gauss_profile) - spr_gauss_profile_at(0));
+    spr__pdiff d;
+    spr_error err = {0};
+    if (spr__profile_diff(s, rd, pa, pb, x, y, &d, &err)) { fprintf(stderr, "splatref explain: %s\n", err.msg); return 2; }
+    printf("explain --vs: pixel x %d, y %d (row %d from the top) of %s, %zu Gaussians, %dx%d: profile %s (%s) vs %s (%s)\n", x, y,
+           s->view.height - 1 - y, s->model, s->cloud.n, s->view.width, s->view.height, d.a->name, spr_algo_name(d.a->skeleton), d.b->name,
+           spr_algo_name(d.b->skeleton));
+    printf("  %-18s colour ", d.a->name);
+    print_bits4(d.color_a);
+    printf("\n  %-18s colour ", d.b->name);
+    print_bits4(d.color_b);
+    printf("\n");
+    if (!d.n) printf("explain --vs: every Gaussian at this pixel is treated alike by both profiles\n");
+    else printf("explain --vs: %d Gaussians treated differently (outcome under %s | under %s | the rule, SPEC 10.9):\n", d.n, d.a->name, d.b->name);
+    for (int k = 0; k < d.n; k++) {
+        const spr__pdiff_row *r = &d.rows[k];
+        printf("  Gaussian %u\n    %-10s %s\n    %-10s %s\n    rule       %s\n", r->id, d.a->name, r->a, d.b->name, r->b, r->rule);
+    }
+    if (d.quiet) printf("explain --vs: %d more Gaussians are dropped by both, for different reasons (cut, outside their tiles, below the floor)\n", d.quiet);
+    spr__pdiff_free(&d);
+    return 0;
+}
+
 int cmd_explain(int argc, char **argv)
 {
     spr__args a;
@@ -200,9 +238,14 @@ int cmd_explain(int argc, char **argv)
     cli_history_run runs[2];
     int nr = 0, rc = 2;
     memset(runs, 0, sizeof runs);
+    const char *vs = spr__get(&a, "vs");
     if (spr__scene_setup(&a, &s, &rd, 0)) goto done;
     if (x < 0 || y < 0 || x >= s.view.width || y >= s.view.height) {
         spr__error(&a, "--pixel %d,%d lies outside the %dx%d image", x, y, s.view.width, s.view.height);
+        goto done;
+    }
+    if (vs) {
+        rc = explain_vs(&a, &s, &rd, vs, x, y);
         goto done;
     }
     if (strcmp(which, "gl")) {

@@ -26,7 +26,7 @@
 #include <string.h>
 
 /* SPEC §10.2: the view's pinhole rounded to float once; the profile's rules (§10.9) as parameters. */
-static void frame_params(const spr_view *v, int mode, const spr_render_desc *desc, const spr_gauss_profile *pf, float *g)
+void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, const spr_gauss_profile *pf, float *g)
 {
     const spr_pinhole *p = &v->cv;
     memset(g, 0, SPR_GPRM_COUNT * sizeof *g);
@@ -242,7 +242,7 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     if (!spr_gauss_profile_fits(pf, run->desc->algo))
         return spr__fail(run->err, SPR_E_ARG, "%s: profile %s belongs to %s (SPEC 10.9)", name, pf->name, spr_algo_name(pf->skeleton));
     spr_gauss_desc gd = {.n = n, .mu = c->pos, .opacity = c->alpha};
-    frame_params(v, mode, run->desc, pf, gd.prm);
+    spr__gauss_frame(v, mode, run->desc, pf, gd.prm);
     float *q = spr__big_alloc(n * 4 * sizeof *q), *s = spr__big_alloc(n * 3 * sizeof *s), *col = spr__big_alloc(n * 3 * sizeof *col);
     float *op8 = pf->colour.op8 ? spr__big_alloc(n * sizeof *op8) : NULL;
     float *rec = spr__big_alloc(n * SPR_GREC_FLOATS * sizeof *rec);

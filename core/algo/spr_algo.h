@@ -319,6 +319,8 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target);
 /* mode: 0 gauss3d, 1 gauss2d, 2 gauss-blend.  The cloud's Gaussians (its own, or each surfel flat with σ a third of
  * its radii), n·4 quaternions and n·3 scales; the tiles' sorted lists (range GX·GY + 1, list); gauss-blend's order. */
 spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s);
+/* A frame's parameters (SPR_GPRM_COUNT floats) for view v, mode 0 (3D) or 1 (2D), desc's --gauss-aa and profile pf. */
+void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, const spr_gauss_profile *pf, float *g);
 spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int threads, uint32_t **range, uint32_t **list, spr_error *err);
 spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], spr_gauss_key key, int bits, uint32_t **order,
                             size_t *count, spr_error *err);
