@@ -10,6 +10,8 @@
 #include "spr_glbackend.h"
 #include "spr_history.h"
 #include "spr_parity.h"
+#include "spr_profile_diff.h"
+#include "spr_scene.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -577,6 +579,66 @@ START_TEST(cameras_json_is_the_lookat_camera)
 }
 END_TEST
 
+static void camera_z4(int W, int H, double f, spr_view *v);
+
+/* The row of Gaussian id in d, NULL when it is not listed. */
+static const spr__pdiff_row *pdiff_row(const spr__pdiff *d, uint32_t id)
+{
+    for (int k = 0; k < d->n; k++)
+        if (d->rows[k].id == id) return &d->rows[k];
+    return NULL;
+}
+
+/* explain --vs names the rule (SPEC 10.9), on a scene built so that each difference has one cause known by hand:
+ * from z = 4 towards the origin, Gaussian 0 at t.z = 0.1 (kept by gsplat's near 0.01, culled by inria's 0.2),
+ * Gaussian 1 at t.z = 4, σ 1, opacity 1 on the axis: by hand, σ on screen is f·σ/t.z = 40/4 = 10 pixels, Σ' = 100 + 0.3,
+ * and pixel (16, 16) lies d = (0.5, 0.5) from the centre (15.5, 15.5): power = −0.5·(0.25 + 0.25)/100.3 = −0.0024925,
+ * e^power = 0.99751; alpha is inria's cap 0.99 and gsplat-1.5's own 0.9975 (below its cap 0.999). */
+START_TEST(explain_vs_names_the_rule)
+{
+    spr_scene s;
+    memset(&s, 0, sizeof s);
+    ck_assert_int_eq(spr_cloud_alloc(&s.cloud, 2), SPR_OK);
+    spr_cloud *c = &s.cloud;
+    c->gauss = calloc(2 * SPR_GAUSS_FLOATS, sizeof(float));
+    for (int i = 0; i < 2; i++) {
+        float *G = c->gauss + SPR_GAUSS_FLOATS * i;
+        G[0] = 1.0f, G[4] = G[5] = G[6] = i ? 1.0f : 0.01f; /* identity rotation; σ (Gaussian 1: about 11 pixels) */
+        c->pos[3 * i] = c->pos[3 * i + 1] = 0.0f;
+        c->pos[3 * i + 2] = i ? 0.0f : 3.9f;
+        c->alpha[i] = i ? 1.0f : 0.5f;
+        for (int k = 0; k < 3; k++) c->color[3 * i + k] = 0.5f;
+        c->radius[i] = G[4];
+    }
+    camera_z4(32, 32, 40.0, &s.view);
+    snprintf(s.model, sizeof s.model, "two Gaussians");
+    s.threads = 1;
+    spr_render_desc rd = {.algo = SPR_ALGO_GAUSS3D};
+    spr__pdiff d;
+    spr_error err = {0};
+    const int inria = spr_gauss_profile_from_name("inria"), gsplat = spr_gauss_profile_from_name("gsplat"),
+              g15 = spr_gauss_profile_from_name("gsplat-1.5");
+    ck_assert_int_eq(spr__profile_diff(&s, &rd, inria, gsplat, 16, 16, &d, &err), 0);
+    const spr__pdiff_row *r0 = pdiff_row(&d, 0);
+    ck_assert_msg(r0 && !strncmp(r0->rule, "1 cull", 6), "Gaussian 0: %s", r0 ? r0->rule : "not listed");
+    ck_assert_msg(strstr(r0->a, "culled: near plane"), "%s", r0->a);
+    spr__pdiff_free(&d);
+    /* moved behind the camera's near planes of both, Gaussian 0 leaves only the cap: inria 0.99 vs gsplat-1.5 0.999 */
+    c->pos[2] = 4.5f;
+    ck_assert_int_eq(spr__profile_diff(&s, &rd, inria, g15, 16, 16, &d, &err), 0);
+    const spr__pdiff_row *r1 = pdiff_row(&d, 1);
+    ck_assert_msg(r1 && !strncmp(r1->rule, "5 alpha", 7), "Gaussian 1: %s", r1 ? r1->rule : "not listed");
+    ck_assert_msg(strstr(r1->a, "alpha 0.99,") && strstr(r1->b, "alpha 0.997"), "%s | %s", r1->a, r1->b);
+    ck_assert_int_eq(d.n, 1);
+    spr__pdiff_free(&d);
+    /* a profile and itself: nothing listed */
+    ck_assert_int_eq(spr__profile_diff(&s, &rd, g15, g15, 16, 16, &d, &err), 0);
+    ck_assert_int_eq(d.n, 0);
+    spr__pdiff_free(&d);
+    spr_cloud_free(c);
+}
+END_TEST
+
 Suite *make_gauss_suite(void)
 {
     Suite *s = suite_create("gauss");
@@ -590,6 +652,7 @@ Suite *make_gauss_suite(void)
     tcase_add_test(tc, sphere_covers_its_disk);
     tcase_add_test(tc, same_capture_same_image);
     tcase_add_test(tc, cameras_json_is_the_lookat_camera);
+    tcase_add_test(tc, explain_vs_names_the_rule);
     suite_add_tcase(s, tc);
     return s;
 }
