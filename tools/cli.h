@@ -77,6 +77,7 @@ int cmd_parity(int argc, char **argv);
 int cmd_group(int argc, char **argv);
 int cmd_reference(int argc, char **argv);
 int cmd_domains(int argc, char **argv);
+int cmd_profiles(int argc, char **argv);
 
 /* Where the CGAL demo data lives: $SPLATREF_DATA, else ./data/cgal/data. */
 const char *cli_data_dir(void);

@@ -1,5 +1,7 @@
 /* cli_misc.c — `splatref info`, `splatref sample`, `splatref show`. */
 #include "cli.h"
+#include "spr__inspect.h"
+#include "spr_profile_diff.h"
 #include "spr__scene_opts.h"
 #include "spr_image.h"
 
@@ -152,4 +154,43 @@ const char *cli_data_dir(void)
     if (d && *d) return d;
     if (access("data/cgal/data/meshes", F_OK) == 0) return "data/cgal/data";
     return SPR_DEFAULT_DATA; /* the source tree this binary was built from */
+}
+
+/* splatref profiles: the renderer profile table (SPEC 10.9), the one the options, scene files and Python read. */
+static const spr__opt profiles_opts[] = {
+    {"markdown", NULL, "the Markdown table that docs/gaussians.md embeds"},
+    {"json", NULL, "the table as JSON (what Python's splatref.profiles() returns)"},
+    {NULL, NULL, NULL}};
+
+int cmd_profiles(int argc, char **argv)
+{
+    spr__args a;
+    int pr = spr__parse(&a, "profiles", profiles_opts, "[--markdown | --json]", 0, argc, argv);
+    if (pr) return pr == 1 ? 0 : 2;
+    const int md = spr__flag(&a, "markdown"), js = spr__flag(&a, "json");
+    if (md && js) { spr__error(&a, "--markdown and --json: give one"); return 2; }
+    if (spr__reject_unused(&a)) return 2;
+    if (md) {
+        spr__profiles_markdown(stdout);
+        return 0;
+    }
+    if (js) {
+        cJSON *o = spr__profiles_json();
+        char *t = o ? cJSON_Print(o) : NULL;
+        cJSON_Delete(o);
+        if (!t) { spr__error(&a, "out of memory"); return 2; }
+        printf("%s\n", t);
+        free(t);
+        return 0;
+    }
+    for (int i = 0; i < spr_gauss_profile_count(); i++) {
+        const spr_gauss_profile *p = spr_gauss_profile_at(i);
+        printf("%s (%s): %s, %s\n  source: %s\n", p->name, spr_algo_name(p->skeleton), p->renderer, p->version, p->source);
+        for (int r = 1; r <= 9; r++) {
+            char t[256];
+            spr__profile_rule_text(p, r, t, sizeof t);
+            printf("  %-28s %s\n", spr__gauss_rule_names[r], t);
+        }
+    }
+    return 0;
 }

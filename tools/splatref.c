@@ -17,6 +17,7 @@ static const struct { const char *name; int (*fn)(int, char **); const char *hel
     {"parity", cmd_parity, "compare the CPU reference and the GL backend, every plane of every pass"},
     {"reference", cmd_reference, "check (or --update) the reference images of reference_images/"},
     {"domains", cmd_domains, "multi-scale soft decomposition, domains and support rectangles of a model ([R], SPEC 7)"},
+    {"profiles", cmd_profiles, "the Gaussian renderer profiles (SPEC 10.9): each renderer's rules, as a table, Markdown or JSON"},
     {"bench", cmd_bench, "benchmark the CPU reference on fixed scenes, 1 vs 2 threads"},
 };
 

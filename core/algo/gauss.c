@@ -67,6 +67,10 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
     g[SPR_GPRM_EXT] = (float)pf->extent.kind; /* rule 4 */
     g[SPR_GPRM_EXT_K] = pf->extent.k;
     g[SPR_GPRM_EXT_CAP] = pf->extent.cap_px;
+    if (pf->extent.cap_view) { /* PlayCanvas: a half-axis at most min(1024, W, H) */
+        if (g[SPR_GPRM_EXT_CAP] > (float)v->width) g[SPR_GPRM_EXT_CAP] = (float)v->width;
+        if (g[SPR_GPRM_EXT_CAP] > (float)v->height) g[SPR_GPRM_EXT_CAP] = (float)v->height;
+    }
     g[SPR_GPRM_EXT_MIN] = pf->extent.lambda_min;
     g[SPR_GPRM_MIN_PX] = pf->extent.min_px;
     g[SPR_GPRM_CUT] = 0.5f * pf->extent.k * pf->extent.k; /* power < −k²/2: outside k standard deviations */
@@ -255,12 +259,9 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     if (!r) {
         spr__gauss_of_cloud(c, q, s);
         /* SPEC 10.3 step 9 under the profile's colour rule: on the host, in double, rounded once */
-        spr_cloud_gauss_colors_as(c, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.clamp_hi, col);
+        spr_cloud_gauss_colors_as(c, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, col);
         if (op8) { /* the opacity stored in 8 bits */
-            for (size_t i = 0; i < n; i++) {
-                const double o = c->alpha[i] < 0.0f ? 0.0 : c->alpha[i] > 1.0f ? 1.0 : c->alpha[i];
-                op8[i] = (float)(floor(o * 255.0 + 0.5) / 255.0);
-            }
+            for (size_t i = 0; i < n; i++) op8[i] = spr_gauss_profile_opacity(pf, c->alpha[i]);
             gd.opacity = op8;
         }
         gd.q = q, gd.s = s, gd.color = col;

@@ -7,6 +7,7 @@
  * (docs/architecture.md, "add a renderer profile").
  */
 #include "spr_algo.h"
+#include "spr_cloud.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -23,12 +24,12 @@ static const spr_gauss_profile rows[] = {
         .cull = {.near = 0.2f, .near_lt = 0, .clip_k = 0.0f, .det_le = 0},
         .tan_clamp = 1,
         .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.000025f},
-        .extent = {SPR_GEXT_SQUARE, 3.0f, 0.0f, 0.1f, 0, 0.0f},
+        .extent = {SPR_GEXT_SQUARE, 3.0f, 0.0f, 0, 0.1f, 0, 0.0f},
         .alpha = {0.99f, A255},
         .stop = {0.0001f, 0},
         .order = {SPR_GKEY_TILE_DEPTH, 32},
         .blend = SPR_GBLEND_UNDER,
-        .colour = {3, 0, 0, 0},
+        .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
     },
     {
         .name = "gsplat",
@@ -39,12 +40,12 @@ static const spr_gauss_profile rows[] = {
         .cull = {.near = 0.01f, .near_lt = 1, .clip_k = 0.0f, .det_le = 1},
         .tan_clamp = 2,
         .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.000025f},
-        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0.0f, 0, 0.0f},
+        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0, 0.0f, 0, 0.0f},
         .alpha = {0.99f, A255},
         .stop = {0.0001f, 1},
         .order = {SPR_GKEY_TILE_DEPTH, 32},
         .blend = SPR_GBLEND_UNDER,
-        .colour = {3, 0, 0, 0},
+        .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
     },
     {
         .name = "gsplat-1.5",
@@ -55,12 +56,12 @@ static const spr_gauss_profile rows[] = {
         .cull = {.near = 0.01f, .near_lt = 1, .clip_k = 0.0f, .det_le = 1},
         .tan_clamp = 2,
         .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
-        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0.0f, 0, 0.0f},
+        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0, 0.0f, 0, 0.0f},
         .alpha = {0.999f, A255},
         .stop = {0.0001f, 1},
         .order = {SPR_GKEY_TILE_DEPTH, 32},
         .blend = SPR_GBLEND_UNDER,
-        .colour = {3, 0, 0, 0},
+        .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
     },
     {
         .name = "brush",
@@ -72,12 +73,12 @@ static const spr_gauss_profile rows[] = {
         .cull = {.near = 0.01f, .near_lt = 1, .clip_k = 0.0f, .det_le = 1},
         .tan_clamp = 2,
         .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
-        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0.0f, 0, 0.0f},
+        .extent = {SPR_GEXT_AXES, 3.33f, 0.0f, 0, 0.0f, 0, 0.0f},
         .alpha = {0.999f, A255},
         .stop = {0.0001f, 1},
         .order = {SPR_GKEY_TILE_DEPTH, 32},
         .blend = SPR_GBLEND_UNDER,
-        .colour = {3, 0, 0, 0},
+        .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
     },
     {
         .name = "khr",
@@ -88,76 +89,83 @@ static const spr_gauss_profile rows[] = {
         .cull = {.near = 0.2f, .near_lt = 0, .clip_k = 0.0f, .det_le = 0},
         .tan_clamp = 1,
         .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.000025f},
-        .extent = {SPR_GEXT_SQUARE, 3.0f, 0.0f, 0.1f, 0, 0.0f},
+        .extent = {SPR_GEXT_SQUARE, 3.0f, 0.0f, 0, 0.1f, 0, 0.0f},
         .alpha = {0.99f, A255},
         .stop = {0.0f, 0},
         .order = {SPR_GKEY_DISTANCE, 64},
         .blend = SPR_GBLEND_PREMUL,
-        .colour = {3, 0, 0, 0},
+        .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
     },
     {
         .name = "gaussiansplats3d",
         .skeleton = SPR_ALGO_GAUSS_BLEND,
         .renderer = "mkkellogg/GaussianSplats3D (npm @mkkellogg/gaussian-splats-3d)",
-        .version = "0.4.7 (eb2fc45)",
-        .source = "src/splatmesh/SplatMaterial3D.js, SplatMaterial.js, src/worker/sorter.cpp, src/Viewer.js",
-        .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 1.2f, .det_le = 0},
+        .version = "0.4.7",
+        .source = "src/splatmesh/SplatMaterial.js:156-164, SplatMaterial3D.js:111-250, src/loaders/ply/INRIAV1PlyParser.js:157-179, "
+                  "src/worker/sorter.cpp:64-167",
+        /* GL clips the quad at the camera's near plane (ndc.z < −1); the shader culls outside 1.2·w */
+        .cull = {.near = -1.0f, .near_lt = 1, .clip_k = 1.2f, .det_le = 0},
         .tan_clamp = 0,
         .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
-        .extent = {SPR_GEXT_QUAD, 2.8284271f, 1024.0f, 0.1f, 0, 0.0f},
+        .extent = {SPR_GEXT_QUAD, 2.8284271f, 1024.0f, 0, 0.1f, 0, 0.0f},
         .alpha = {1.0f, 0.0f},
         .stop = {0.0f, 0},
         .order = {SPR_GKEY_BUCKET, 16},
         .blend = SPR_GBLEND_STRAIGHT,
-        .colour = {2, 1, 1, 1},
+        .colour = {2, SPR_Q8_FLOOR, SPR_Q8_FLOOR, SPR_Q8_NONE, 1},
     },
     {
         .name = "spark",
         .skeleton = SPR_ALGO_GAUSS_BLEND,
         .renderer = "sparkjsdev/spark (npm @sparkjsdev/spark)",
-        .version = "2.2.0 (78bc65e)",
-        .source = "src/shaders/splatVertex.glsl, splatFragment.glsl, src/SparkRenderer.ts, rust/spark-rs/src/sort.rs",
-        .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 1.4f, .det_le = 0},
+        .version = "2.2.0",
+        .source = "src/shaders/splatVertex.glsl:86-272, splatFragment.glsl:30-61, src/SparkRenderer.ts:474-522, rust/spark-lib/src/splat_encode.rs",
+        /* culled at |clip z| ≥ w (the camera's near plane) and outside 1.4·w */
+        .cull = {.near = -1.0f, .near_lt = 0, .clip_k = 1.4f, .det_le = 0},
         .tan_clamp = 0,
         .dilation = {0.3f, SPR_GCOMP_ALWAYS, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
-        .extent = {SPR_GEXT_QUAD, 2.8284271f, 512.0f, 0.1f, 0, 0.0f},
+        .extent = {SPR_GEXT_QUAD, 2.8284271f, 512.0f, 0, 0.0f, 0, 0.0f},
         .alpha = {1.0f, 0.5f / 255.0f},
         .stop = {0.0f, 0},
         .order = {SPR_GKEY_DISTANCE, 32},
         .blend = SPR_GBLEND_PREMUL,
-        .colour = {3, 1, 1, 0},
+        .colour = {3, SPR_Q8_ROUND, SPR_Q8_ROUND, SPR_Q8_ROUND, 1},
     },
     {
         .name = "playcanvas",
         .skeleton = SPR_ALGO_GAUSS_BLEND,
-        .renderer = "playcanvas/engine (npm playcanvas)",
-        .version = "2.23.3 (0aaef5e)",
-        .source = "src/scene/shader-lib/glsl/chunks/gsplat/vert/gsplatCorner.js, frag/gsplat.js, gsplat-unified-sort-worker.js",
+        .renderer = "playcanvas/engine (npm playcanvas; the unified gsplat path, its default)",
+        .version = "2.23.3",
+        .source = "src/scene/shader-lib/glsl/chunks/gsplat/vert/gsplatCorner.js:37-76, vert/gsplatCenter.js:50-57, frag/gsplat.js:35-73, "
+                  "gsplat-unified/gsplat-params.js:48-82",
+        /* only behind the camera; its constants are in half-pixel units: +0.3 is 0.075 px², the 2 px size a diameter */
         .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 0.0f, .det_le = 0},
         .tan_clamp = 0,
-        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
-        .extent = {SPR_GEXT_QUAD, 2.8284271f, 2048.0f, 0.1f, 1, 2.0f},
+        .dilation = {0.075f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        .extent = {SPR_GEXT_QUAD, 2.8284271f, 1024.0f, 1, 0.0f, 1, 1.0f},
         .alpha = {1.0f, A255},
         .stop = {0.0f, 0},
-        .order = {SPR_GKEY_BUCKET, 20},
+        .order = {SPR_GKEY_VIEW_Z, 32},
         .blend = SPR_GBLEND_PREMUL,
-        .colour = {3, 0, 0, 0},
+        .colour = {3, SPR_Q8_NONE, SPR_Q8_ROUND, SPR_Q8_NONE, 0},
     },
     {
         .name = "babylon",
         .skeleton = SPR_ALGO_GAUSS_BLEND,
-        .renderer = "BabylonJS/Babylon.js (npm @babylonjs/core)",
-        .version = "8.x",
-        .source = "Shaders/ShadersInclude/gaussianSplatting.fx, Shaders/gaussianSplatting.fragment.fx, Meshes/GaussianSplatting/*",
-        .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 1.2f, .det_le = 0},
+        .renderer = "BabylonJS/Babylon.js (npm @babylonjs/core; read at its source, not run here)",
+        .version = "8.56.2",
+        .source = "Shaders/ShadersInclude/gaussianSplatting.js:96-124, gaussianSplattingFragmentDeclaration.js:6-7, "
+                  "Meshes/GaussianSplatting/gaussianSplattingMesh.js:980-1145",
+        /* clip z < −w (the camera's near plane) and outside 1.2·w; half-pixel units: +0.3 is 0.075 px² */
+        .cull = {.near = -1.0f, .near_lt = 1, .clip_k = 1.2f, .det_le = 0},
         .tan_clamp = 0,
-        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
-        .extent = {SPR_GEXT_QUAD, 2.8284271f, 1024.0f, 0.1f, 0, 0.0f},
+        .dilation = {0.075f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        .extent = {SPR_GEXT_QUAD, 2.8284271f, 1024.0f, 0, 0.0f, 0, 0.0f},
         .alpha = {1.0f, 0.0f},
         .stop = {0.0f, 0},
         .order = {SPR_GKEY_VIEW_Z, 32},
         .blend = SPR_GBLEND_STRAIGHT,
-        .colour = {3, 1, 1, 0},
+        .colour = {3, SPR_Q8_ROUND, SPR_Q8_ROUND, SPR_Q8_NONE, 0},
     },
 };
 enum { NROWS = (int)(sizeof rows / sizeof rows[0]) };
@@ -186,6 +194,8 @@ const spr_gauss_profile *spr_gauss_profile_of(spr_algo algo, int profile)
     if (profile > 0 && profile <= NROWS) return &rows[profile - 1];
     return &rows[spr_gauss_profile_from_name(algo == SPR_ALGO_GAUSS_BLEND ? "khr" : "inria")];
 }
+
+float spr_gauss_profile_opacity(const spr_gauss_profile *p, float o) { return p->colour.op8 ? (float)spr_unorm8(o, p->colour.op8) : o; }
 
 int spr_gauss_profile_fits(const spr_gauss_profile *p, spr_algo algo)
 {

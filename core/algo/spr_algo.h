@@ -135,17 +135,20 @@ typedef struct spr_gauss_profile {
      *    clip space; det_le: a dilated det ≤ 0 culled (else det == 0) */
     int tan_clamp;                     /* 2. the Jacobian's tangents clamped: 0 no; 1 at ±1.3·tan(fov/2) (inria); 2 at
                                           [−(cx/fx + 0.3·tan), (W − cx)/fx + 0.3·tan] (gsplat: the principal point) */
-    struct { float eps2d; spr_gauss_comp when; spr_gauss_comp_form form; float floor; } dilation; /* 3. */
-    struct { spr_gauss_extent kind; float k; float cap_px; float lambda_min; int falloff; float min_px; } extent;
-    /* 4. falloff: e^power renormalised to reach 0 at the cut, (e^power − e^−cut)/(1 − e^−cut); min_px > 0: dropped
-     *    when both quad axes are shorter than min_px pixels */
+    struct { float eps2d; spr_gauss_comp when; spr_gauss_comp_form form; float floor; } dilation; /* 3. (eps2d in px²) */
+    struct { spr_gauss_extent kind; float k; float cap_px; int cap_view; float lambda_min; int falloff; float min_px; } extent;
+    /* 4. lambda_min: the floor under sqrt(mid² − det) of the eigenvalues; quad: half-axes k·√λ at most cap_px pixels
+     *    (cap_view: and at most min(W, H)), the falloff following the quad (the conic from its axes); falloff:
+     *    e^power renormalised to reach 0 at the cut, (e^power − e^−cut)/(1 − e^−cut); min_px > 0: dropped when both
+     *    half-axes are shorter than min_px pixels */
     struct { float cap; float floor; } alpha;   /* 5. α = min(cap, o·e^power) (cap 1: none); skipped below floor (0: none) */
     struct { float t_min; int le; } stop;       /* 6. stop when T·(1 − α) < t_min (le: ≤); t_min 0: no stop */
     struct { spr_gauss_key key; int bits; } order; /* 7. */
     spr_gauss_blend blend;                      /* 8. */
-    struct { int sh_max; int dc8; int op8; int clamp_hi; } colour;
-    /* 9. SH degree used at most; dc8: DC + 0.5 stored in 8 bits (clamped to [0, 1], rounded) before the SH sum;
-     *    op8: the opacity stored in 8 bits; clamp_hi: the colour clamped to [0, 1] after the sum (always ≥ 0) */
+    struct { int sh_max; int dc8; int op8; int post8; int clamp_hi; } colour;
+    /* 9. SH degree used at most; dc8: DC + 0.5 stored in 8 bits before the SH sum, op8: the opacity, post8: the
+     *    colour after the sum (SPR_Q8_* of spr_cloud.h: none, round, floor); clamp_hi: the colour clamped to [0, 1]
+     *    after the sum (always ≥ 0) */
 } spr_gauss_profile;
 
 /* The table: count, row i, the row named name (NULL: none), the names joined by sep. */
@@ -157,6 +160,8 @@ const char *spr_gauss_profile_names(const char *sep);
 const spr_gauss_profile *spr_gauss_profile_of(spr_algo algo, int profile);
 /* Whether an algorithm takes a profile: its skeleton, or gauss2d with a gauss3d row. */
 int spr_gauss_profile_fits(const spr_gauss_profile *p, spr_algo algo);
+/* Opacity o as the profile stores it (rule 9's op8). */
+float spr_gauss_profile_opacity(const spr_gauss_profile *p, float o);
 
 int spr_algo_from_name(const char *name);  /* −1 if unknown */
 const char *spr_algo_name(spr_algo a);

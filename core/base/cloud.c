@@ -302,18 +302,18 @@ static void sh_basis(double x, double y, double z, double Y[16])
     Y[15] = -0.5900435899266435 * x * (xx - 3.0 * yy);
 }
 
-/* The value of x stored in 8 bits over [0, 1]: clamped, then the nearest of k/255 (a viewer's RGBA8 storage). */
-static double unorm8(double x)
+double spr_unorm8(double x, int mode)
 {
+    if (!mode) return x;
     x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
-    return floor(x * 255.0 + 0.5) / 255.0;
+    return (mode == SPR_Q8_FLOOR ? floor(x * 255.0) : floor(x * 255.0 + 0.5)) / 255.0;
 }
 
 /* Colour of every splat from its coefficients, seen from eye (or along
  * view_dir), clamped to [0, hi] (hi < 0: below only); at most the first
  * kmax coefficients; dc8: the DC part (0.5 + Y_0·sh_0) stored in 8 bits
  * before the rest is added. */
-static void sh_eval(const spr_cloud *c, const double eye[3], const double *view_dir, double hi, int kmax, int dc8, float *color)
+static void sh_eval(const spr_cloud *c, const double eye[3], const double *view_dir, double hi, int kmax, int dc8, int post8, float *color)
 {
     const int K = c->sh_k > kmax ? kmax : c->sh_k;
 #pragma omp parallel for schedule(static)
@@ -331,9 +331,9 @@ static void sh_eval(const spr_cloud *c, const double eye[3], const double *view_
             double v = 0.5;
             for (int k = 0; k < K; k++) {
                 v += Y[k] * s[3 * k + ch];
-                if (k == 0 && dc8) v = unorm8(v);
+                if (k == 0) v = spr_unorm8(v, dc8);
             }
-            color[3 * i + ch] = (float)(v < 0.0 ? 0.0 : hi >= 0.0 && v > hi ? hi : v);
+            color[3 * i + ch] = (float)spr_unorm8(v < 0.0 ? 0.0 : hi >= 0.0 && v > hi ? hi : v, post8);
         }
     }
 }
@@ -341,21 +341,21 @@ static void sh_eval(const spr_cloud *c, const double eye[3], const double *view_
 void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *view_dir, float *color)
 {
     if (!c->sh || c->sh_k < 1) return;
-    sh_eval(c, eye, view_dir, 1.0, 16, 0, color);
+    sh_eval(c, eye, view_dir, 1.0, 16, 0, 0, color);
 }
 
-void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *color) { spr_cloud_gauss_colors_as(c, eye, 3, 0, 0, color); }
+void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *color) { spr_cloud_gauss_colors_as(c, eye, 3, 0, 0, 0, color); }
 
-void spr_cloud_gauss_colors_as(const spr_cloud *c, const double eye[3], int sh_max, int dc8, int clamp_hi, float *color)
+void spr_cloud_gauss_colors_as(const spr_cloud *c, const double eye[3], int sh_max, int dc8, int post8, int clamp_hi, float *color)
 {
     if (!c->sh || c->sh_k < 1) {
         for (size_t i = 0; i < 3 * c->n; i++) {
-            const double v = dc8 ? unorm8(c->color[i]) : c->color[i];
-            color[i] = (float)(clamp_hi && v > 1.0 ? 1.0 : v);
+            const double v = spr_unorm8(c->color[i], dc8);
+            color[i] = (float)spr_unorm8(clamp_hi && v > 1.0 ? 1.0 : v, post8);
         }
         return;
     }
-    sh_eval(c, eye, NULL, clamp_hi ? 1.0 : -1.0, (sh_max + 1) * (sh_max + 1), dc8, color);
+    sh_eval(c, eye, NULL, clamp_hi ? 1.0 : -1.0, (sh_max + 1) * (sh_max + 1), dc8, post8, color);
 }
 
 void spr__surfel_frame(const spr_cloud *c, size_t i, double q[4], double *ru, double *rv)

@@ -65,9 +65,13 @@ void spr_cloud_sh_colors(const spr_cloud *c, const double eye[3], const double *
  * eye; a cloud without sh gives its colours.  In double, rounded once. */
 void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *color);
 /* The same under a renderer profile's colour rule (SPEC §10.9 rule 9): at most SH degree sh_max; dc8: the DC part
- * (0.5 + Y_0·sh_0) stored in 8 bits (clamped to [0, 1], the nearest k/255) before the rest is added; clamp_hi: the
- * sum clamped to 1 as well as to 0. */
-void spr_cloud_gauss_colors_as(const spr_cloud *c, const double eye[3], int sh_max, int dc8, int clamp_hi, float *color);
+ * (0.5 + Y_0·sh_0) stored in 8 bits before the rest is added; post8: the final colour stored in 8 bits; clamp_hi:
+ * the sum clamped to 1 as well as to 0.  dc8 and post8 are SPR_Q8_* modes. */
+void spr_cloud_gauss_colors_as(const spr_cloud *c, const double eye[3], int sh_max, int dc8, int post8, int clamp_hi, float *color);
+/* A viewer's 8-bit storage of x in [0, 1] (clamped): SPR_Q8_NONE x itself, SPR_Q8_ROUND the nearest k/255,
+ * SPR_Q8_FLOOR floor(x·255)/255 (in double). */
+enum { SPR_Q8_NONE = 0, SPR_Q8_ROUND, SPR_Q8_FLOOR };
+double spr_unorm8(double x, int mode);
 /* Splat i's frame as a rotation: the quaternion (w x y z, double) taking (x, y, z) to (u, v, n) — u its major
  * axis (an ellipse's), or for a circle n × the axis of n's smallest component — and its radii along u and v. */
 void spr__surfel_frame(const spr_cloud *c, size_t i, double q[4], double *ru, double *rv);

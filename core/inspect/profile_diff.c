@@ -74,9 +74,8 @@ static local outcome(const ctx *c, const spr_gauss_profile *pf, uint32_t G)
     const spr_pinhole *p = &v->cv;
     for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
     float col[3];
-    spr_cloud_gauss_colors_as(&one, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.clamp_hi, col);
-    float o = cl->alpha[G];
-    if (pf->colour.op8) o = (float)(floor((o < 0.0f ? 0.0 : o > 1.0f ? 1.0 : o) * 255.0 + 0.5) / 255.0);
+    spr_cloud_gauss_colors_as(&one, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, col);
+    const float o = spr_gauss_profile_opacity(pf, cl->alpha[G]);
     spr_gauss_preprocess3d(g, cl->pos + 3 * (size_t)G, c->q + 4 * (size_t)G, c->sc + 3 * (size_t)G, o, col, rec);
     L.opacity = rec[SPR_GREC_OPACITY];
     memcpy(L.color, col, sizeof col);

@@ -7,6 +7,8 @@
 #include "spr_algo.h"
 #include "spr_scene.h"
 
+#include <stdio.h>
+
 /* "1 cull" … "9 colour": the rules of SPEC 10.9 by number (0: the skeleton). */
 extern const char *const spr__gauss_rule_names[10];
 
@@ -28,5 +30,11 @@ typedef struct spr__pdiff {
  * Gaussian treated differently, and why.  0, or −1 with err set. */
 int spr__profile_diff(spr_scene *s, const spr_render_desc *rd, int pa, int pb, int x, int y, spr__pdiff *out, spr_error *err);
 void spr__pdiff_free(spr__pdiff *d);
+
+/* The table as text (core/inspect/profiles.c): rule r's value in words (0: the algorithm), the Markdown table of
+ * docs/gaussians.md, and JSON (`profiles --json`, Python's splatref.profiles()). */
+void spr__profile_rule_text(const spr_gauss_profile *p, int rule, char *out, size_t cap);
+void spr__profiles_markdown(FILE *f);
+struct cJSON *spr__profiles_json(void);
 
 #endif

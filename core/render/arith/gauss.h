@@ -356,21 +356,15 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
         SPR_PRECISE float L1 = k3 * s1;
         SPR_PRECISE float L2 = k3 * s2;
         float cap = g[SPR_GPRM_EXT_CAP];
-        int capped = 0;
-        if (cap > 0.0f && L1 > cap) {
-            L1 = cap;
-            capped = 1;
-        }
-        if (cap > 0.0f && L2 > cap) {
-            L2 = cap;
-            capped = 1;
-        }
+        if (cap > 0.0f && L1 > cap) L1 = cap;
+        if (cap > 0.0f && L2 > cap) L2 = cap;
         if (L1 < g[SPR_GPRM_MIN_PX] && L2 < g[SPR_GPRM_MIN_PX]) {
             spr_gauss_cull(SPR_GCULL_SMALL, rec);
             return;
         }
-        if (capped != 0) {
-            /* the falloff follows the capped quad: σ_i = L_i/k, conic = u·uᵀ/σ₁² + v·vᵀ/σ₂² with v = (u.y, −u.x) */
+        {
+            /* the falloff follows the quad, as the viewers evaluate it in the quad's own coordinates: σ_i = L_i/k
+             * (the eigenvalues with their floor, the cap), conic = u·uᵀ/σ₁² + v·vᵀ/σ₂² with v = (u.y, −u.x) */
             SPR_PRECISE float q1 = L1 / k3;
             SPR_PRECISE float q2 = L2 / k3;
             SPR_PRECISE float w1a = q1 * q1;
