@@ -13,7 +13,9 @@ pkgs="build-essential cmake pkg-config ca-certificates \
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-vulkan-drivers \
   libqhull-dev libcjson-dev libxml2-dev libcgal-demo \
   clang libclang-rt-14-dev libomp-14-dev \
-  chromium"
+  chromium nodejs"
+# npm: Debian's package on a fresh machine; a nodejs that ships its own npm (NodeSource's) needs none
+command -v npm >/dev/null 2>&1 || pkgs="$pkgs npm"
 
 missing=""
 for p in $pkgs; do
@@ -37,4 +39,11 @@ if [ ! -f "$data/.extracted" ]; then
     --wildcards '*meshes/bunny00.off' '*meshes/armadillo.off' \
     '*meshes/ChineseDragon-10kv.off' '*meshes/refined_elephant.off' '*points_3/*'
   touch "$data/.extracted"
+fi
+
+# The web viewers the CTest `viewers` runs (tests/viewers): their npm packages at the versions
+# package-lock.json pins, installed again only when the lock file changed.
+viewers="$here/tests/viewers"
+if ! cmp -s "$viewers/package-lock.json" "$viewers/node_modules/.splatref-lock" 2>/dev/null; then
+  (cd "$viewers" && npm ci --no-audit --no-fund) && cp "$viewers/package-lock.json" "$viewers/node_modules/.splatref-lock"
 fi
