@@ -1,7 +1,7 @@
 #!/bin/sh
 # Regenerates the pictures of README.md and docs/ with the CPU reference
-# (`domains` or `gaussians` as the argument: only those of docs/domains.md or
-# docs/gaussians.md).
+# (`domains`, `gaussians` or `profiles` as the argument: only those of
+# docs/domains.md, docs/gaussians.md or its profile gallery).
 # Run deliberately, look at every picture before committing them.
 set -eu
 cd "$(dirname "$0")/.."
@@ -50,8 +50,22 @@ gauss_images() { # docs/gaussians.md: the three algorithms of SPEC 10 on capture
   for a in gauss3d gauss2d gauss-blend; do $S render --model "$tmp/bunny-3dgs.ply" --algo $a --size 384x384 --quiet --out "$G/bunny_capture_$a.png" > /dev/null; done
   rm -rf "$tmp"
 }
+profile_images() { # docs/gaussians.md: the real donut capture under every profile (SPEC 10.9), and each against inria
+  P=$O/gaussians/profiles
+  mkdir -p "$P"
+  tmp=$(mktemp -d)
+  cam="--model tests/data/captures/real/donut-mipsplat.ply --eye 0.02,-0.16,0.28 --target 0,0,0.03 --fov 50 --size 200x160 --quiet"
+  for p in $($S profiles --json | sed -n 's/^.*"name":[^"]*"\([^"]*\)".*$/\1/p'); do
+    $S render $cam --gauss-profile "$p" --out "$P/donut_$p.png" --float "$tmp/$p.pfm" > /dev/null
+    # the heat map of profile p against inria: check renders inria as the reference, p's image is the one checked
+    $S check $cam --gauss-profile inria --image "$tmp/$p.pfm" --tier B --lsb 2 --out "$tmp/check-$p" > /dev/null || true
+    cp "$tmp/check-$p/heatmap.png" "$P/donut_${p}_vs_inria_heatmap.png"
+  done
+  rm -rf "$tmp"
+}
 if [ "${1:-}" = domains ]; then domain_images; exit 0; fi
-if [ "${1:-}" = gaussians ]; then gauss_images; exit 0; fi
+if [ "${1:-}" = gaussians ]; then gauss_images; profile_images; exit 0; fi
+if [ "${1:-}" = profiles ]; then profile_images; exit 0; fi
 
 common="--model $B --size 384x384 --quiet"
 $S render $common --algo pbr2p1 --out $O/bunny_pbr2p1.png
@@ -62,3 +76,4 @@ $S render $common --algo deferred --groups none --out $O/bunny_deferred_k1.png
 $S render --size 384x384 --quiet --out $O/default_torus.png
 domain_images
 gauss_images
+profile_images
