@@ -3,6 +3,7 @@
 #include "spr_ffi.h"
 #include "spr__inspect.h"
 #include "spr__scene_opts.h"
+#include "spr_profile_diff.h"
 #include "spr_glbackend.h"
 #include "spr_image.h"
 #include "spr_swrast.h"
@@ -31,6 +32,15 @@ const char *spr_ffi_error(void) { return last.msg; }
 int spr_ffi_error_code(void) { return last.code; }
 void spr_ffi_free(char *s) { free(s); }
 uint8_t spr_ffi_to_u8(float v) { return spr_to_u8(v); }
+
+char *spr_ffi_profiles(void)
+{
+    cJSON *o = spr__profiles_json();
+    char *t = o ? cJSON_PrintUnformatted(o) : NULL;
+    cJSON_Delete(o);
+    if (!t) fail(SPR_E_NOMEM, "out of memory");
+    return t;
+}
 
 static const spr__opt scene_opts[] = {SPR__SCENE_OPTS, {NULL, NULL, NULL}};
 

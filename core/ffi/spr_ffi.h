@@ -42,6 +42,8 @@ typedef struct spr_ffi_arrays {
 } spr_ffi_arrays;
 
 const char *spr_ffi_version(void);
+/* The renderer profile table (SPEC 10.9) as JSON, as `splatref profiles --json` prints it (free with spr_ffi_free). */
+char *spr_ffi_profiles(void);
 /* The last failure of this thread: one line, and its spr_result code. */
 const char *spr_ffi_error(void);
 int spr_ffi_error_code(void);

@@ -62,6 +62,13 @@ def _take_json(ptr):
         _lib.free(ptr)
 
 
+def profiles():
+    """The Gaussian renderer profiles (SPEC 10.9), the table the CLI's --gauss-profile and scene files read: a list
+    of dicts (name, algo, renderer, version, source, rules), in the table's order.  Scene(gauss_profile=NAME)
+    takes a name."""
+    return _take_json(_lib.profiles())
+
+
 def _fmt(key, v):
     if isinstance(v, bool):
         return "1" if v else None

@@ -66,6 +66,7 @@ free = _fn("spr_ffi_free", None, _vp)
 scene_new = _fn("spr_ffi_scene_new", _vp, _int, c_char_pp, c_char_pp, ctypes.POINTER(Arrays))
 scene_free = _fn("spr_ffi_scene_free", None, _vp)
 scene_json = _fn("spr_ffi_scene_json", _vp, _vp)
+profiles = _fn("spr_ffi_profiles", _vp)
 scene_cloud = _fn("spr_ffi_scene_cloud", c_float_p, _vp, _str, _szp, _ip)
 scene_rects = _fn("spr_ffi_scene_rects", c_float_p, _vp, _szp, ctypes.POINTER(ctypes.POINTER(ctypes.c_uint32)),
                   ctypes.POINTER(c_float_p), _szp)

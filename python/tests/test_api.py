@@ -237,3 +237,22 @@ def test_a_scene_names_its_gl_driver(driver):
 def test_an_unknown_gl_driver_is_one_line():
     with pytest.raises(sr.Error, match=r"--gl-driver: 'swiftshader' is not a GL driver here \(default \| llvmpipe \| zink\)"):
         sr.Scene(model="builtin:torus", points=500, gl_driver="swiftshader")
+
+
+def test_profiles_are_the_clis_table():
+    """splatref.profiles() is the table `splatref profiles --json` prints; a scene takes any of its names."""
+    names = [p["name"] for p in sr.profiles()]
+    assert "inria" in names and "spark" in names and len(names) == len(set(names))
+    r = cli("profiles", "--json")
+    assert r.returncode == 0, r.stderr
+    assert [p["name"] for p in json.loads(r.stdout)] == names
+    cap = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "data", "captures", "splat-transform", "2.7.1", "sheet.ply")
+    for p in sr.profiles():
+        with sr.Scene(model=cap, size=(40, 32), eye=(0.9, 0.7, 2.4), target=(0, 0, 0), gauss_profile=p["name"]) as s:
+            assert s.info["algo"] == p["algo"], (p["name"], s.info)
+            img = s.render().image
+            assert img.shape[:2] == (32, 40) and float(img[..., :3].max()) > 0.0
+    with pytest.raises(sr.Error, match="not a profile .*inria, gsplat"):
+        sr.Scene(model=cap, gauss_profile="unity")
+    with pytest.raises(sr.Error, match="belongs to --algo gauss-blend"):
+        sr.Scene(model=cap, gauss_profile="spark", algo="gauss3d")
