@@ -249,20 +249,27 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     spr__gauss_frame(v, mode, run->desc, pf, gd.prm);
     float *q = spr__big_alloc(n * 4 * sizeof *q), *s = spr__big_alloc(n * 3 * sizeof *s), *col = spr__big_alloc(n * 3 * sizeof *col);
     float *op8 = pf->colour.op8 ? spr__big_alloc(n * sizeof *op8) : NULL;
+    float *mu16 = pf->colour.pos16 ? spr__big_alloc(n * 3 * sizeof *mu16) : NULL;
     float *rec = spr__big_alloc(n * SPR_GREC_FLOATS * sizeof *rec);
     uint32_t *range = NULL, *list = NULL, *order = NULL;
     int target = -1;
-    spr_result r = q && s && col && rec && (op8 || !pf->colour.op8) ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
+    spr_result r = q && s && col && rec && (op8 || !pf->colour.op8) && (mu16 || !pf->colour.pos16) ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
     double eye[3];
     const spr_pinhole *p = &v->cv;
     for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
     if (!r) {
         spr__gauss_of_cloud(c, q, s);
+        if (pf->colour.scale8)
+            for (size_t i = 0; i < 3 * n; i++) s[i] = spr_gauss_profile_scale(pf, s[i]); /* rule 9: σ as the renderer stores it */
         /* SPEC 10.3 step 9 under the profile's colour rule: on the host, in double, rounded once */
         spr_cloud_gauss_colors_as(c, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, col);
         if (op8) { /* the opacity stored in 8 bits */
             for (size_t i = 0; i < n; i++) op8[i] = spr_gauss_profile_opacity(pf, c->alpha[i]);
             gd.opacity = op8;
+        }
+        if (mu16) { /* the centres as the renderer stores them */
+            for (size_t i = 0; i < n; i++) spr_gauss_profile_centre(pf, c->pos + 3 * i, eye, mu16 + 3 * i);
+            gd.mu = mu16;
         }
         gd.q = q, gd.s = s, gd.color = col;
         r = spr__run_gauss_preprocess(run, &gd, rec);
@@ -301,7 +308,7 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
             r = spr__run_gauss_draw(run, "blend", target, &dd);
         }
     }
-    free(q), free(s), free(col), free(op8), free(rec), free(range), free(list), free(order);
+    free(q), free(s), free(col), free(op8), free(mu16), free(rec), free(range), free(list), free(order);
     if (!r) *final_target = target;
     return r;
 }

@@ -9,6 +9,7 @@
 #include "spr_algo.h"
 #include "spr_cloud.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -129,7 +130,7 @@ static const spr_gauss_profile rows[] = {
         .stop = {0.0f, 0},
         .order = {SPR_GKEY_DISTANCE, 32},
         .blend = SPR_GBLEND_PREMUL,
-        .colour = {3, SPR_Q8_ROUND, SPR_Q8_ROUND, SPR_Q8_ROUND, 1},
+        .colour = {3, SPR_Q8_ROUND, SPR_Q8_ROUND, SPR_Q8_ROUND, 1, SPR_GSCALE8_SPARK, 1},
     },
     {
         .name = "playcanvas",
@@ -147,7 +148,7 @@ static const spr_gauss_profile rows[] = {
         .stop = {0.0f, 0},
         .order = {SPR_GKEY_VIEW_Z, 32},
         .blend = SPR_GBLEND_PREMUL,
-        .colour = {3, SPR_Q8_NONE, SPR_Q8_ROUND, SPR_Q8_NONE, 0},
+        .colour = {3, SPR_Q8_NONE, SPR_Q8_ROUND, SPR_Q8_NONE, 0, SPR_GSCALE8_PLAYCANVAS},
     },
     {
         .name = "babylon",
@@ -193,6 +194,36 @@ const spr_gauss_profile *spr_gauss_profile_of(spr_algo algo, int profile)
 {
     if (profile > 0 && profile <= NROWS) return &rows[profile - 1];
     return &rows[spr_gauss_profile_from_name(algo == SPR_ALGO_GAUSS_BLEND ? "khr" : "inria")];
+}
+
+float spr_gauss_profile_scale(const spr_gauss_profile *p, float s)
+{
+    if (p->colour.scale8 == SPR_GSCALE8_SPARK) {
+        const double t = (log((double)s) + 12.0) / 21.0, c = 1.0 + floor((t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t) * 254.0 + 0.5);
+        return (float)exp(-12.0 + (c - 1.0) * 21.0 / 254.0);
+    }
+    if (p->colour.scale8 == SPR_GSCALE8_PLAYCANVAS) {
+        if (!(s >= 1e-10f)) return 0.0f;
+        double t = (log((double)s) + 12.0) * 255.0 / 21.0 + 0.5;
+        t = t < 1.0 ? 1.0 : t > 255.0 ? 255.0 : t;
+        return (float)exp(floor(t) * 21.0 / 255.0 - 12.0);
+    }
+    return s;
+}
+
+/* x rounded to the nearest IEEE half (ties to even; beyond 65504 infinite), in double: exact. */
+static double to_half(double x)
+{
+    if (!(fabs(x) < 65520.0)) return x > 0.0 ? INFINITY : x < 0.0 ? -INFINITY : x;
+    int e;
+    frexp(x, &e); /* |x| in [2^(e−1), 2^e) */
+    const double step = ldexp(1.0, (e - 1 < -14 ? -14 : e - 1) - 10); /* below 2^-14: the subnormals' step 2^-24 */
+    return nearbyint(x / step) * step;
+}
+
+void spr_gauss_profile_centre(const spr_gauss_profile *p, const float mu[3], const double eye[3], float out[3])
+{
+    for (int k = 0; k < 3; k++) out[k] = p->colour.pos16 ? (float)(eye[k] + to_half(to_half(mu[k]) - eye[k])) : mu[k];
 }
 
 float spr_gauss_profile_opacity(const spr_gauss_profile *p, float o) { return p->colour.op8 ? (float)spr_unorm8(o, p->colour.op8) : o; }

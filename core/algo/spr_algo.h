@@ -145,10 +145,11 @@ typedef struct spr_gauss_profile {
     struct { float t_min; int le; } stop;       /* 6. stop when T·(1 − α) < t_min (le: ≤); t_min 0: no stop */
     struct { spr_gauss_key key; int bits; } order; /* 7. */
     spr_gauss_blend blend;                      /* 8. */
-    struct { int sh_max; int dc8; int op8; int post8; int clamp_hi; } colour;
+    struct { int sh_max; int dc8; int op8; int post8; int clamp_hi; int scale8; int pos16; } colour;
     /* 9. SH degree used at most; dc8: DC + 0.5 stored in 8 bits before the SH sum, op8: the opacity, post8: the
      *    colour after the sum (SPR_Q8_* of spr_cloud.h: none, round, floor); clamp_hi: the colour clamped to [0, 1]
-     *    after the sum (always ≥ 0) */
+     *    after the sum (always ≥ 0); scale8: σ stored in a log 8-bit code (SPR_GSCALE8_*); pos16: the centre stored
+     *    as half floats, absolute then relative to the eye (Spark: μ' = eye + h(h(μ) − eye), h the nearest half) */
 } spr_gauss_profile;
 
 /* The table: count, row i, the row named name (NULL: none), the names joined by sep. */
@@ -162,6 +163,13 @@ const spr_gauss_profile *spr_gauss_profile_of(spr_algo algo, int profile);
 int spr_gauss_profile_fits(const spr_gauss_profile *p, spr_algo algo);
 /* Opacity o as the profile stores it (rule 9's op8). */
 float spr_gauss_profile_opacity(const spr_gauss_profile *p, float o);
+/* σ as the profile stores it (rule 9's scale8): SPR_GSCALE8_SPARK code = 1 + round(clamp((ln σ + 12)/21, 0, 1)·254),
+ * σ = e^(−12 + (code − 1)·21/254); SPR_GSCALE8_PLAYCANVAS code = trunc(clamp((ln σ + 12)·255/21 + 0.5, 1, 255)) (0 below
+ * 1e-10), σ = e^(code·21/255 − 12) (0 for code 0); in double, rounded once. */
+enum { SPR_GSCALE8_NONE = 0, SPR_GSCALE8_SPARK, SPR_GSCALE8_PLAYCANVAS };
+float spr_gauss_profile_scale(const spr_gauss_profile *p, float s);
+/* The centre mu as the profile stores it (rule 9's pos16), for a camera at eye: out = mu, or eye + h(h(mu) − eye). */
+void spr_gauss_profile_centre(const spr_gauss_profile *p, const float mu[3], const double eye[3], float out[3]);
 
 int spr_algo_from_name(const char *name);  /* −1 if unknown */
 const char *spr_algo_name(spr_algo a);

@@ -76,7 +76,11 @@ static local outcome(const ctx *c, const spr_gauss_profile *pf, uint32_t G)
     float col[3];
     spr_cloud_gauss_colors_as(&one, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, col);
     const float o = spr_gauss_profile_opacity(pf, cl->alpha[G]);
-    spr_gauss_preprocess3d(g, cl->pos + 3 * (size_t)G, c->q + 4 * (size_t)G, c->sc + 3 * (size_t)G, o, col, rec);
+    float sg[3];
+    for (int k = 0; k < 3; k++) sg[k] = spr_gauss_profile_scale(pf, c->sc[3 * (size_t)G + k]);
+    float mu[3];
+    spr_gauss_profile_centre(pf, cl->pos + 3 * (size_t)G, eye, mu);
+    spr_gauss_preprocess3d(g, mu, c->q + 4 * (size_t)G, sg, o, col, rec);
     L.opacity = rec[SPR_GREC_OPACITY];
     memcpy(L.color, col, sizeof col);
     if (rec[SPR_GREC_CULL] != SPR_GCULL_NONE) {

@@ -79,7 +79,10 @@ void spr__profile_rule_text(const spr_gauss_profile *p, int rule, char *out, siz
         if (p->colour.dc8 && o < cap) o += (size_t)snprintf(out + o, cap - o, "; DC + 0.5 in 8 bits (%s)", q8[p->colour.dc8]);
         if (p->colour.op8 && o < cap) o += (size_t)snprintf(out + o, cap - o, "; opacity in 8 bits (%s)", q8[p->colour.op8]);
         if (p->colour.post8 && o < cap) o += (size_t)snprintf(out + o, cap - o, "; the colour after SH in 8 bits (%s)", q8[p->colour.post8]);
-        if (o < cap) snprintf(out + o, cap - o, "; %s", p->colour.clamp_hi ? "[0, 1]" : "≥ 0");
+        if (o < cap) o += (size_t)snprintf(out + o, cap - o, "; %s", p->colour.clamp_hi ? "[0, 1]" : "≥ 0");
+        if (p->colour.scale8 && o < cap)
+            o += (size_t)snprintf(out + o, cap - o, "; σ in a log 8-bit code (%s)", p->colour.scale8 == SPR_GSCALE8_SPARK ? "Spark's" : "PlayCanvas's");
+        if (p->colour.pos16 && o < cap) snprintf(out + o, cap - o, "; centres as half floats, then relative to the eye");
         break;
     }
     default: break;
