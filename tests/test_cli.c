@@ -627,6 +627,41 @@ START_TEST(stream_equals_whole_cloud)
 }
 END_TEST
 
+/* --gauss-profile (SPEC 10.9): unknown names, another skeleton's --algo, both names at once, explain --vs's bad
+ * names are one line with no output; the old name is saved under the new one and gives the same image. */
+START_TEST(gauss_profile_options)
+{
+    char model[600];
+    snprintf(model, sizeof model, "%s/tests/data/captures/splat-transform/2.7.1/sheet.ply", SPR_SOURCE_DIR);
+    char err[4096];
+    char *unknown[] = {"splatref", "render", "--model", model, "--gauss-profile", "unity", "--out", (char *)path_in("o.png"), NULL};
+    ck_assert_int_eq(run(unknown, err, sizeof err), 2);
+    ck_assert_msg(strstr(err, "--gauss-profile: 'unity' is not a profile (inria, gsplat") && strchr(err, '\n') == err + strlen(err) - 1, "%s", err);
+    char *two[] = {"splatref", "render", "--model", model, "--gauss-profile", "spark", "--algo", "gauss3d", "--out", (char *)path_in("o.png"), NULL};
+    ck_assert_int_eq(run(two, err, sizeof err), 2);
+    ck_assert_msg(strstr(err, "--gauss-profile spark belongs to --algo gauss-blend, not gauss3d"), "%s", err);
+    ck_assert_int_ne(access(path_in("o.png"), F_OK), 0);
+    char *both[] = {"splatref", "render", "--model", model, "--gauss-profile", "gsplat", "--gauss-flavor", "gsplat", NULL};
+    ck_assert_int_eq(run(both, err, sizeof err), 2);
+    ck_assert_msg(strstr(err, "old name of --gauss-profile"), "%s", err);
+    char *vs[] = {"splatref", "explain", "--model", model, "--gauss-profile", "inria", "--vs", "nope", "--pixel", "1,1", NULL};
+    ck_assert_int_eq(run(vs, err, sizeof err), 2);
+    ck_assert_msg(strstr(err, "--vs: 'nope' is not a profile"), "%s", err);
+    /* the alias: saved as gauss-profile, and the scene file gives the same image */
+    const char *old[] = {"render", "--model", model, "--gauss-flavor", "gsplat-1.5", "--size", "48x40", "--save-scene", path_in("s.json"), NULL};
+    ck_assert_int_eq(run_args(old, path_in("a.png"), err, sizeof err), 0);
+    char text[8192] = "";
+    FILE *f = fopen(path_in("s.json"), "rb");
+    ck_assert_ptr_nonnull(f);
+    text[fread(text, 1, sizeof text - 1, f)] = 0;
+    fclose(f);
+    ck_assert_msg(strstr(text, "\"gauss-profile\":\t\"gsplat-1.5\"") && !strstr(text, "flavor"), "%s", text);
+    const char *again[] = {"render", "--scene", path_in("s.json"), NULL};
+    ck_assert_int_eq(run_args(again, path_in("b.png"), err, sizeof err), 0);
+    ck_assert_msg(tu_same_file(path_in("a.png"), path_in("b.png")), "the saved scene draws another image");
+}
+END_TEST
+
 Suite *make_cli_suite(void)
 {
     Suite *s = suite_create("cli");
@@ -644,6 +679,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, trace_lists_the_passes_in_order);
     tcase_add_test(tc, no_partial_dump_directory);
     tcase_add_test(tc, stream_equals_whole_cloud);
+    tcase_add_test(tc, gauss_profile_options);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -377,7 +377,8 @@ int spr__scene_save(spr__args *a, const spr_scene *s, const spr_render_desc *rd,
     for (int k = 0; a->opts[k].name; k++) {
         const char *name = a->opts[k].name, *sec = section_of(name);
         if (!a->value[k] || !sec || !strcmp(sec, "camera") || !strcmp(name, "model") || !strcmp(name, "algo")) continue;
-        cJSON_AddItemToObject(add_section(root, sec), name, json_of(&a->opts[k], a->value[k]));
+        /* the old name of an option is saved under its name of now */
+        cJSON_AddItemToObject(add_section(root, sec), strcmp(name, "gauss-flavor") ? name : "gauss-profile", json_of(&a->opts[k], a->value[k]));
     }
     return spr__write_json(a, path, root);
 }
