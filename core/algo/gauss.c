@@ -185,10 +185,12 @@ spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int thre
  * profile's key, a stable sort (equal keys in file order):
  *   distance  |μ − eye| in double;
  *   view z    the record's float t.z;
- *   bucket    t.z quantised to 2^bits buckets over the kept Gaussians' [min, max] t.z, in double:
- *             floor((t.z − min)/(max − min)·(2^bits − 1)) (one bucket when max = min). */
-spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], spr_gauss_key key, int bits, uint32_t **order_out,
-                            size_t *count, spr_error *err)
+ *   clip int  GaussianSplats3D's integer depth: K = Σ_a round(1000·μ_a)·trunc(1000·Z_a), Z the clip-z row of the
+ *             camera's projection times its view (zrow, double; no translation), K in 64-bit integers; then
+ *             2^bits − 1 buckets over the kept Gaussians' [Kmin, Kmax] in float: (int)(((float)(K − Kmin)·
+ *             (float)(2^bits − 1))/(float)(Kmax − Kmin)) (one bucket when Kmax = Kmin). */
+spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], const double zrow[3], spr_gauss_key key, int bits,
+                            uint32_t **order_out, size_t *count, spr_error *err)
 {
     uint64_t *k = spr__big_alloc(c->n * sizeof *k);
     uint32_t *order = spr__big_alloc(c->n * sizeof *order);
@@ -197,22 +199,31 @@ spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double e
         return spr__fail(err, SPR_E_NOMEM, "gauss-blend: out of memory ordering %zu Gaussians", c->n);
     }
     size_t m = 0;
-    double zmin = INFINITY, zmax = -INFINITY;
+    int64_t kmin = INT64_MAX, kmax = INT64_MIN;
+    long long zi[3];
+    for (int a = 0; a < 3; a++) zi[a] = (long long)trunc(1000.0 * zrow[a]);
     for (size_t G = 0; G < c->n; G++) {
         const float *R = rec + G * SPR_GREC_FLOATS;
         if (R[SPR_GREC_CULL] != SPR_GCULL_NONE || R[SPR_GREC_BOX + 2] < R[SPR_GREC_BOX] || R[SPR_GREC_BOX + 3] < R[SPR_GREC_BOX + 1]) continue;
-        const double z = R[SPR_GREC_DEPTH];
-        if (z < zmin) zmin = z;
-        if (z > zmax) zmax = z;
-        order[m++] = (uint32_t)G;
+        order[m] = (uint32_t)G;
+        if (key == SPR_GKEY_CLIP_INT) {
+            int64_t K = 0;
+            for (int a = 0; a < 3; a++) K += (int64_t)llround(1000.0 * (double)c->pos[3 * G + a]) * zi[a];
+            k[m] = (uint64_t)K;
+            if (K < kmin) kmin = K;
+            if (K > kmax) kmax = K;
+        }
+        m++;
     }
-    const double levels = ldexp(1.0, bits) - 1.0, span = zmax - zmin;
+    const float levels = (float)(ldexp(1.0, bits) - 1.0), span = (float)(kmax - kmin);
     for (size_t e = 0; e < m; e++) {
         const size_t G = order[e];
         double d;
         if (key == SPR_GKEY_VIEW_Z) d = rec[G * SPR_GREC_FLOATS + SPR_GREC_DEPTH];
-        else if (key == SPR_GKEY_BUCKET) d = span > 0.0 ? floor((rec[G * SPR_GREC_FLOATS + SPR_GREC_DEPTH] - zmin) / span * levels) : 0.0;
-        else {
+        else if (key == SPR_GKEY_CLIP_INT) {
+            const float dk = (float)((int64_t)k[e] - kmin), scaled = dk * levels;
+            d = kmax > kmin ? (double)(int)(scaled / span) : 0.0;
+        } else {
             double d2 = 0.0;
             for (int a = 0; a < 3; a++) d2 += ((double)c->pos[3 * G + a] - eye[a]) * ((double)c->pos[3 * G + a] - eye[a]);
             d = sqrt(d2);
@@ -278,7 +289,10 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     double t0 = spr_now_ms();
     if (!r && mode != 2) r = spr__gauss_tiles(rec, n, (int)gd.prm[SPR_GPRM_GX], (int)gd.prm[SPR_GPRM_GY], threads, &range, &list, run->err);
     size_t count = 0;
-    if (!r && mode == 2) r = spr__gauss_order(rec, c, eye, pf->order.key, pf->order.bits, &order, &count, run->err);
+    if (!r && mode == 2) {
+        const double zrow[3] = {v->PV[8], v->PV[9], v->PV[10]}; /* clip z = row 2 of P·V (GL's convention) */
+        r = spr__gauss_order(rec, c, eye, zrow, pf->order.key, pf->order.bits, &order, &count, run->err);
+    }
     if (!r) {
         const size_t tiles = (size_t)gd.prm[SPR_GPRM_GX] * (size_t)gd.prm[SPR_GPRM_GY];
         spr_draw_stats st = {n, mode == 2 ? count : range[tiles], 0};

@@ -111,7 +111,7 @@ static const spr_gauss_profile rows[] = {
         .extent = {SPR_GEXT_QUAD, 2.8284271f, 1024.0f, 0, 0.1f, 0, 0.0f},
         .alpha = {1.0f, 0.0f},
         .stop = {0.0f, 0},
-        .order = {SPR_GKEY_BUCKET, 16},
+        .order = {SPR_GKEY_CLIP_INT, 16},
         .blend = SPR_GBLEND_STRAIGHT,
         .colour = {2, SPR_Q8_FLOOR, SPR_Q8_FLOOR, SPR_Q8_NONE, 1},
     },

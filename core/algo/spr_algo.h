@@ -117,7 +117,8 @@ typedef enum spr_gauss_key {
     SPR_GKEY_TILE_DEPTH = 0, /* per tile, by the float t.z (its bits), ties in file order (gauss3d) */
     SPR_GKEY_DISTANCE,       /* global, |μ − eye| in double, farthest first */
     SPR_GKEY_VIEW_Z,         /* global, the float t.z (the camera-forward depth), farthest first */
-    SPR_GKEY_BUCKET          /* global, t.z quantised to 2^bits buckets over the frame's kept [min, max], farthest first */
+    SPR_GKEY_CLIP_INT        /* global, GaussianSplats3D's integer clip depth (centres to 1/1000) in 2^bits − 1 buckets over the
+                                frame's kept [min, max], farthest first (core/algo/gauss.c, spr__gauss_order) */
 } spr_gauss_key;
 typedef enum spr_gauss_blend {
     SPR_GBLEND_UNDER = 0,  /* front to back: C += c·α·T (the tile loop of gauss3d) */
@@ -335,8 +336,8 @@ spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s);
 /* A frame's parameters (SPR_GPRM_COUNT floats) for view v, mode 0 (3D) or 1 (2D), desc's --gauss-aa and profile pf. */
 void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, const spr_gauss_profile *pf, float *g);
 spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int threads, uint32_t **range, uint32_t **list, spr_error *err);
-spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], spr_gauss_key key, int bits, uint32_t **order,
-                            size_t *count, spr_error *err);
+spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], const double zrow[3], spr_gauss_key key, int bits,
+                            uint32_t **order, size_t *count, spr_error *err);
 /* The Gaussian passes, recorded: preprocessing (with its records), a host pass (no target), rasterization, a draw. */
 spr_result spr__run_gauss_preprocess(spr__run *run, const spr_gauss_desc *d, float *rec);
 spr_result spr__run_host_pass(spr__run *run, const char *name, const spr_draw_stats *st, double ms);

@@ -67,7 +67,7 @@ void spr__profile_rule_text(const spr_gauss_profile *p, int rule, char *out, siz
         case SPR_GKEY_TILE_DEPTH: snprintf(out, cap, "per tile, float t.z"); break;
         case SPR_GKEY_DISTANCE: snprintf(out, cap, "global, \\|μ − eye\\| (double)"); break;
         case SPR_GKEY_VIEW_Z: snprintf(out, cap, "global, float t.z"); break;
-        default: snprintf(out, cap, "global, t.z in %d-bit buckets of the frame's range", p->order.bits);
+        default: snprintf(out, cap, "global, Σ round(1000·μ)·trunc(1000·clip-z row) in %d-bit buckets of the frame's range", p->order.bits);
         }
         break;
     case 8:
