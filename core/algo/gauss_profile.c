@@ -130,7 +130,7 @@ static const spr_gauss_profile rows[] = {
         .stop = {0.0f, 0},
         .order = {SPR_GKEY_DISTANCE, 32},
         .blend = SPR_GBLEND_PREMUL,
-        .colour = {3, SPR_Q8_ROUND, SPR_Q8_ROUND, SPR_Q8_ROUND, 1, SPR_GSCALE8_SPARK, 1},
+        .colour = {3, SPR_Q8_ROUND, SPR_Q8_HALVED, SPR_Q8_ROUND, 1, SPR_GSCALE8_SPARK, 1},
     },
     {
         .name = "playcanvas",

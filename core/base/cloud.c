@@ -306,6 +306,10 @@ double spr_unorm8(double x, int mode)
 {
     if (!mode) return x;
     x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
+    if (mode == SPR_Q8_HALVED) {
+        const double k = floor(x * 255.0 + 0.5), h = 2.0 * nearbyint(0.5 * k) / 255.0;
+        return h > 1.0 ? 1.0 : h;
+    }
     return (mode == SPR_Q8_FLOOR ? floor(x * 255.0) : floor(x * 255.0 + 0.5)) / 255.0;
 }
 

@@ -69,8 +69,9 @@ void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *colo
  * the sum clamped to 1 as well as to 0.  dc8 and post8 are SPR_Q8_* modes. */
 void spr_cloud_gauss_colors_as(const spr_cloud *c, const double eye[3], int sh_max, int dc8, int post8, int clamp_hi, float *color);
 /* A viewer's 8-bit storage of x in [0, 1] (clamped): SPR_Q8_NONE x itself, SPR_Q8_ROUND the nearest k/255,
- * SPR_Q8_FLOOR floor(x·255)/255 (in double). */
-enum { SPR_Q8_NONE = 0, SPR_Q8_ROUND, SPR_Q8_FLOOR };
+ * SPR_Q8_FLOOR floor(x·255)/255, SPR_Q8_HALVED Spark's opacity: k = round(255x), then stored as round(k/2) (halves to
+ * even) and read back doubled, 2·round(k/2)/255, at most 1 (in double). */
+enum { SPR_Q8_NONE = 0, SPR_Q8_ROUND, SPR_Q8_FLOOR, SPR_Q8_HALVED };
 double spr_unorm8(double x, int mode);
 /* Splat i's frame as a rotation: the quaternion (w x y z, double) taking (x, y, z) to (u, v, n) — u its major
  * axis (an ellipse's), or for a circle n × the axis of n's smallest component — and its radii along u and v. */

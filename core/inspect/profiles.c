@@ -75,7 +75,7 @@ void spr__profile_rule_text(const spr_gauss_profile *p, int rule, char *out, siz
         break;
     case 9: {
         size_t o = (size_t)snprintf(out, cap, "SH ≤ %d", p->colour.sh_max);
-        static const char *const q8[] = {"", "rounded", "floored"};
+        static const char *const q8[] = {"", "rounded", "floored", "rounded, then halved: steps of 2/255"};
         if (p->colour.dc8 && o < cap) o += (size_t)snprintf(out + o, cap - o, "; DC + 0.5 in 8 bits (%s)", q8[p->colour.dc8]);
         if (p->colour.op8 && o < cap) o += (size_t)snprintf(out + o, cap - o, "; opacity in 8 bits (%s)", q8[p->colour.op8]);
         if (p->colour.post8 && o < cap) o += (size_t)snprintf(out + o, cap - o, "; the colour after SH in 8 bits (%s)", q8[p->colour.post8]);
