@@ -186,7 +186,7 @@ spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int thre
  *   distance  |μ − eye| in double;
  *   view z    the record's float t.z;
  *   clip int  GaussianSplats3D's integer depth: K = Σ_a round(1000·μ_a)·trunc(1000·Z_a), Z the clip-z row of the
- *             camera's projection times its view (zrow, double; no translation), K in 64-bit integers; then
+ *             camera's projection times its view (zrow, double; no translation), K whole numbers in double; then
  *             2^bits − 1 buckets over the kept Gaussians' [Kmin, Kmax] in float: (int)(((float)(K − Kmin)·
  *             (float)(2^bits − 1))/(float)(Kmax − Kmin)) (one bucket when Kmax = Kmin). */
 spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], const double zrow[3], spr_gauss_key key, int bits,
@@ -199,29 +199,38 @@ spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double e
         return spr__fail(err, SPR_E_NOMEM, "gauss-blend: out of memory ordering %zu Gaussians", c->n);
     }
     size_t m = 0;
-    int64_t kmin = INT64_MAX, kmax = INT64_MIN;
-    long long zi[3];
-    for (int a = 0; a < 3; a++) zi[a] = (long long)trunc(1000.0 * zrow[a]);
+    /* the integer depth in double: whole numbers, exact below 2^53 (each centre rounded and clamped to ±10^12
+     * thousandths, each row entry a few thousand) */
+    double kmin = INFINITY, kmax = -INFINITY, *kd = key == SPR_GKEY_CLIP_INT ? spr__big_alloc(c->n * sizeof *kd) : NULL, zi[3];
+    if (key == SPR_GKEY_CLIP_INT && !kd) {
+        free(k), free(order);
+        return spr__fail(err, SPR_E_NOMEM, "gauss-blend: out of memory ordering %zu Gaussians", c->n);
+    }
+    for (int a = 0; a < 3; a++) zi[a] = trunc(1000.0 * zrow[a]);
     for (size_t G = 0; G < c->n; G++) {
         const float *R = rec + G * SPR_GREC_FLOATS;
         if (R[SPR_GREC_CULL] != SPR_GCULL_NONE || R[SPR_GREC_BOX + 2] < R[SPR_GREC_BOX] || R[SPR_GREC_BOX + 3] < R[SPR_GREC_BOX + 1]) continue;
         order[m] = (uint32_t)G;
-        if (key == SPR_GKEY_CLIP_INT) {
-            int64_t K = 0;
-            for (int a = 0; a < 3; a++) K += (int64_t)llround(1000.0 * (double)c->pos[3 * G + a]) * zi[a];
-            k[m] = (uint64_t)K;
+        if (kd) {
+            double K = 0.0;
+            for (int a = 0; a < 3; a++) {
+                double r = round(1000.0 * (double)c->pos[3 * G + a]);
+                r = r < -1e12 ? -1e12 : r > 1e12 ? 1e12 : r;
+                K += r * zi[a];
+            }
+            kd[m] = K;
             if (K < kmin) kmin = K;
             if (K > kmax) kmax = K;
         }
         m++;
     }
-    const float levels = (float)(ldexp(1.0, bits) - 1.0), span = (float)(kmax - kmin);
+    const float levels = (float)(ldexp(1.0, bits) - 1.0), span = kd && m ? (float)(kmax - kmin) : 0.0f;
     for (size_t e = 0; e < m; e++) {
         const size_t G = order[e];
         double d;
         if (key == SPR_GKEY_VIEW_Z) d = rec[G * SPR_GREC_FLOATS + SPR_GREC_DEPTH];
-        else if (key == SPR_GKEY_CLIP_INT) {
-            const float dk = (float)((int64_t)k[e] - kmin), scaled = dk * levels;
+        else if (kd) {
+            const float dk = (float)(kd[e] - kmin), scaled = dk * levels;
             d = kmax > kmin ? (double)(int)(scaled / span) : 0.0;
         } else {
             double d2 = 0.0;
@@ -232,6 +241,7 @@ spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double e
         memcpy(&bits64, &d, sizeof bits64); /* d ≥ 0 (t.z > 0 for kept Gaussians): the bits order as the values */
         k[e] = ~bits64; /* farthest first; a stable sort keeps equal keys in file order */
     }
+    free(kd);
     const int bad = spr__radix_sort_u64(k, order, m);
     free(k);
     if (bad) {
