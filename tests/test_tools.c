@@ -8,6 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 #include <dirent.h>
+#include <sys/resource.h>
 #include <cjson/cJSON.h>
 #include "spr_image.h"
 #include "spr_io.h"
@@ -425,6 +426,49 @@ START_TEST(tools_bad_inputs)
 }
 END_TEST
 
+/* A fuzzer input without its first byte (the harness's format selector) written to path. */
+static void corpus_file(const char *name, const char *path)
+{
+    char src[600];
+    snprintf(src, sizeof src, "%s/tests/fuzz/corpus/image/%s", SPR_SOURCE_DIR, name);
+    FILE *f = fopen(src, "rb"), *g = fopen(path, "wb");
+    ck_assert_msg(f && g, "%s", src);
+    unsigned char b[4096];
+    size_t n = fread(b, 1, sizeof b, f);
+    ck_assert(n > 1 && fwrite(b + 1, 1, n - 1, g) == n - 1);
+    fclose(f), fclose(g);
+}
+
+/* What an image handed to check may cost (issue 36): the fuzzer's 95-byte PNG whose last chunk header claims 2 GB
+ * and a 65536x65536 IHDR with 14 bytes of image data are one line each, and a header of another size than the scene's
+ * is refused before anything is decoded; the children's peak memory stays far below 200 MB (it was 2.1 GB). */
+START_TEST(check_bounds_what_an_image_costs)
+{
+    setup_dir();
+    ck_assert_int_eq(cli("render", "--model", "builtin:torus", "--points", "500", "--size", "5x5", "--out", in_dir("t.png"), "--save-scene",
+                         in_dir("s5.json"), "--quiet", NULL), 0);
+    corpus_file("finding_short_tail_2gb", in_dir("tail.png"));
+    int rc = cli("check", "--scene", in_dir("s5.json"), "--image", in_dir("tail.png"), "--out", in_dir("r1"), "--quiet", NULL);
+    ck_assert_msg(rc == 2 && strstr(out, "tail.png: byte 83: 11 bytes that are not a chunk") && strchr(out, '\n') == out + strlen(out) - 1, "%s", out);
+    corpus_file("finding_huge_ihdr_tiny_idat", in_dir("huge.png"));
+    float *im = NULL;
+    int w, h, ch;
+    spr_error err = {0};
+    ck_assert_int_ne(spr_read_image(in_dir("huge.png"), &im, &w, &h, &ch, &err), SPR_OK);
+    ck_assert_msg(strstr(err.msg, "65536x65536 pixels need") && strstr(err.msg, "more than its"), "%s", err.msg);
+    ck_assert_ptr_null(im);
+    /* check: its header's size against the scene's, before the image data is read */
+    rc = cli("check", "--scene", in_dir("s5.json"), "--image", in_dir("huge.png"), "--out", in_dir("r2"), "--quiet", NULL);
+    ck_assert_msg(rc == 2 && strstr(out, "huge.png is 65536x65536, the scene renders 5x5"), "%s", out);
+    ck_assert_int_ne(access(in_dir("r1"), F_OK), 0);
+    ck_assert_int_ne(access(in_dir("r2"), F_OK), 0);
+    struct rusage ru;
+    ck_assert_int_eq(getrusage(RUSAGE_CHILDREN, &ru), 0);
+    printf("tools: check of the fuzzer's PNG inputs: children's peak memory %ld KB\n", ru.ru_maxrss);
+    ck_assert_msg(ru.ru_maxrss < 200 * 1024, "peak %ld KB", ru.ru_maxrss);
+}
+END_TEST
+
 Suite *make_tools_suite(void)
 {
     Suite *s = suite_create("tools");
@@ -435,6 +479,7 @@ Suite *make_tools_suite(void)
     tcase_add_test(tc, scene_bad_files);
     tcase_add_test(tc, explain_two_groups_within_eps);
     tcase_add_test(tc, tools_bad_inputs);
+    tcase_add_test(tc, check_bounds_what_an_image_costs);
     suite_add_tcase(s, tc);
     return s;
 }

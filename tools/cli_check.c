@@ -186,7 +186,13 @@ int cmd_check(int argc, char **argv)
     float *theirs = NULL, *ref = NULL;
     int tw, th, tch, bits, rch;
     spr_error err = {0};
-    if (spr_read_image_bits(image, &theirs, &tw, &th, &tch, &bits, &err)) { fprintf(stderr, "splatref check: %s\n", err.msg); return 2; }
+    /* the size its header states first: another size than the scene's is refused before the image is decoded (a
+     * small file cannot make check allocate a large image); a header that cannot be read: the full read says why */
+    const int header = !spr_image_size(image, &tw, &th, &bits, &err);
+    if (!header && spr_read_image_bits(image, &theirs, &tw, &th, &tch, &bits, &err)) {
+        fprintf(stderr, "splatref check: %s\n", err.msg);
+        return 2;
+    }
     spr_check_desc d;
     spr_scene s;
     spr_render_desc rd;
@@ -197,6 +203,17 @@ int cmd_check(int argc, char **argv)
     if (tw != s.view.width || th != s.view.height) {
         spr__error(&a, "%s is %dx%d, the scene renders %dx%d", image, tw, th, s.view.width, s.view.height);
         goto done;
+    }
+    if (header) {
+        const int hw = tw, hh = th, hb = bits;
+        if (spr_read_image_bits(image, &theirs, &tw, &th, &tch, &bits, &err)) {
+            fprintf(stderr, "splatref check: %s\n", err.msg);
+            goto done;
+        }
+        if (tw != hw || th != hh || bits != hb) { /* cannot happen for a file that is not changing under us */
+            spr__error(&a, "%s: its header says %dx%d, %d bits; its data %dx%d, %d bits", image, hw, hh, hb, tw, th, bits);
+            goto done;
+        }
     }
     if (spr__check_reference(&a, &s, &rd, pname, pass, &ref, &rch, what, sizeof what) ||
         spr__check_channels(&a, image, &theirs, &tch, rch, tw, th))

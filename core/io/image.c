@@ -161,13 +161,23 @@ static spr_result read_png(const char *path, float **img, int *w, int *h, int *c
         return spr__fail(err, SPR_E_FORMAT, "%s: byte 0: not a PNG signature", path);
     }
     /* libpng allocates a chunk's stated length before reading it: walk the chunks
-     * first, so a damaged length is a line naming its byte, not gigabytes allocated */
+     * first, so a damaged length is a line naming its byte, not gigabytes allocated.
+     * Every chunk up to IEND must lie whole in the file: a header of 8 bytes, its data,
+     * a CRC of 4 (a header at the end with fewer than its data and CRC after it was let
+     * through before, and libpng then allocated the 2 GB it claimed); the image data's
+     * compressed bytes are summed for the bound below. */
+    unsigned long long idat = 0;
     if (fseek(s.f, 0, SEEK_END) == 0) {
         const long size = ftell(s.f);
         long at = 8;
-        while (at + 12 <= size) {
+        int iend = 0;
+        while (!iend && at < size) {
             unsigned char hd[8];
-            if (fseek(s.f, at, SEEK_SET) || fread(hd, 1, 8, s.f) != 8) break;
+            if (size - at < 12 || fseek(s.f, at, SEEK_SET) || fread(hd, 1, 8, s.f) != 8) {
+                fclose(s.f);
+                return spr__fail(err, SPR_E_TRUNCATED, "%s: byte %ld: %ld bytes that are not a chunk (a chunk takes at least 12) before the end of the file",
+                                 path, at, size - at);
+            }
             const unsigned long len = (unsigned long)hd[0] << 24 | (unsigned long)hd[1] << 16 | (unsigned long)hd[2] << 8 | hd[3];
             if (len > 0x7fffffffUL || (long)len > size - at - 12) {
                 fclose(s.f);
@@ -175,7 +185,8 @@ static spr_result read_png(const char *path, float **img, int *w, int *h, int *c
                                  hd[4] >= 32 && hd[4] < 127 ? hd[4] : '?', hd[5] >= 32 && hd[5] < 127 ? hd[5] : '?',
                                  hd[6] >= 32 && hd[6] < 127 ? hd[6] : '?', hd[7] >= 32 && hd[7] < 127 ? hd[7] : '?', len, size);
             }
-            if (!memcmp(hd + 4, "IEND", 4)) break;
+            if (!memcmp(hd + 4, "IDAT", 4)) idat += len;
+            iend = !memcmp(hd + 4, "IEND", 4);
             at += 12 + (long)len;
         }
     }
@@ -191,6 +202,8 @@ static spr_result read_png(const char *path, float **img, int *w, int *h, int *c
         return spr__fail(err, SPR_E_FORMAT, "%s: malformed or truncated PNG data%s%s%s", path, why[0] ? " (libpng: " : "", why, why[0] ? ")" : "");
     }
     png_set_user_limits(s.png, 65536, 65536);
+    /* what libpng may allocate for one ancillary chunk (text, ICC profile, their decompression): 8 MiB */
+    png_set_chunk_malloc_max(s.png, 8u << 20);
     png_init_io(s.png, s.f);
     png_set_sig_bytes(s.png, 8);
     png_read_info(s.png, s.info);
@@ -204,6 +217,16 @@ static spr_result read_png(const char *path, float **img, int *w, int *h, int *c
     if (type == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(s.png);
     if (png_get_valid(s.png, s.info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(s.png);
     if (type == PNG_COLOR_TYPE_GRAY || type == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(s.png);
+    /* deflate gives at most 1032 bytes for one (zlib's bound): image data that cannot hold W×H is refused before any
+     * row is allocated, so a small file cannot claim a large image */
+    {
+        const unsigned long long raw = (unsigned long long)H * (1ull + ((unsigned long long)W * png_get_channels(s.png, s.info) * (unsigned)depth + 7ull) / 8ull);
+        if (raw > 1032ull * idat + 1032ull) {
+            png_in_free(&s);
+            return spr__fail(err, SPR_E_TRUNCATED, "%s: byte 16: %ux%u pixels need %llu bytes of image data, more than its %llu compressed bytes can hold", path,
+                             (unsigned)W, (unsigned)H, raw, idat);
+        }
+    }
     png_read_update_info(s.png, s.info);
     const int ch = png_get_channels(s.png, s.info), bits = png_get_bit_depth(s.png, s.info);
     const size_t rowbytes = png_get_rowbytes(s.png, s.info);
@@ -255,6 +278,29 @@ spr_result spr_read_image_bits(const char *path, float **img, int *w, int *h, in
     }
     if (bits) *bits = b;
     return r;
+}
+
+spr_result spr_image_size(const char *path, int *w, int *h, int *bits, spr_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return spr__fail(err, SPR_E_IO, "%s: cannot open", path);
+    unsigned char b[25];
+    int ok = 0, nb = 32;
+    long W = 0, H = 0;
+    const size_t n = fread(b, 1, sizeof b, f);
+    if (n == 25 && !png_sig_cmp(b, 0, 8) && !memcmp(b + 12, "IHDR", 4)) {
+        nb = b[24] == 16 ? 16 : 8; /* what read_png gives: 16-bit stays, every other depth becomes 8 */
+        W = (long)((unsigned long)b[16] << 24 | (unsigned long)b[17] << 16 | (unsigned long)b[18] << 8 | b[19]);
+        H = (long)((unsigned long)b[20] << 24 | (unsigned long)b[21] << 16 | (unsigned long)b[22] << 8 | b[23]);
+        ok = 1;
+    } else if (n >= 3 && b[0] == 'P' && (b[1] == 'F' || b[1] == 'f') && !fseek(f, 2, SEEK_SET)) {
+        ok = fscanf(f, "%ld %ld", &W, &H) == 2;
+    }
+    fclose(f);
+    if (!ok || W < 1 || H < 1 || W > 1 << 20 || H > 1 << 20) return spr__fail(err, SPR_E_FORMAT, "%s: no image header", path);
+    *w = (int)W, *h = (int)H;
+    if (bits) *bits = nb;
+    return SPR_OK;
 }
 
 spr_result spr_read_image(const char *path, float **img, int *w, int *h, int *channels, spr_error *err)

@@ -30,6 +30,11 @@ spr_result spr_read_png(const char *path, float **img, int *w, int *h, int *chan
 spr_result spr_read_image(const char *path, float **img, int *w, int *h, int *channels, spr_error *err);
 /* The same, with the bits per value of the file: 8 or 16 (PNG), 32 (PFM). */
 spr_result spr_read_image_bits(const char *path, float **img, int *w, int *h, int *channels, int *bits, spr_error *err);
+/* The size (and the bits per channel a read gives: 8 or 16 for PNG, 32 for PFM) a PNG's IHDR or a PFM's header
+ * states, without decoding anything (so a caller that knows the size it
+ * wants can refuse another before the image is allocated): 0, or an error when the header cannot be read (the full
+ * read then says what is wrong). */
+spr_result spr_image_size(const char *path, int *w, int *h, int *bits, spr_error *err);
 
 /* Differences of two images of one size on their 8-bit values (spr_to_u8),
  * RGB (a grey image repeats its channel): [ZP] §6.3's
