@@ -137,7 +137,7 @@ static int gauss_scene(rscene *s, uint64_t *st, spr_error *err)
     feature(s, f);
     const spr_pinhole *p = &s->view.cv;
     double eye[3];
-    for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
+    spr_pinhole_eye(p, eye);
     /* a world point at camera depth z seen at pixel-index (i, j) */
     double ray_i = pick(st, s->cam.width), ray_j = pick(st, s->cam.height);
     for (size_t k = 0; k < n; k++) {

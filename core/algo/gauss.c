@@ -276,8 +276,7 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     int target = -1;
     spr_result r = q && s && col && rec && (op8 || !pf->colour.op8) && (mu16 || !pf->colour.pos16) ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
     double eye[3];
-    const spr_pinhole *p = &v->cv;
-    for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
+    spr_pinhole_eye(&v->cv, eye);
     if (!r) {
         spr__gauss_of_cloud(c, q, s);
         if (pf->colour.scale8)

@@ -71,8 +71,7 @@ static local outcome(const ctx *c, const spr_gauss_profile *pf, uint32_t G)
     one.color = cl->color + 3 * (size_t)G;
     one.sh = cl->sh ? cl->sh + (size_t)G * (size_t)cl->sh_k * 3 : NULL;
     double eye[3];
-    const spr_pinhole *p = &v->cv;
-    for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
+    spr_pinhole_eye(&v->cv, eye);
     float col[3];
     spr_cloud_gauss_colors_as(&one, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, col);
     const float o = spr_gauss_profile_opacity(pf, cl->alpha[G]);

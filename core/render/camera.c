@@ -33,11 +33,15 @@ static void planes_of_projection(const double P[16], double *n, double *f)
     }
 }
 
+void spr_pinhole_eye(const spr_pinhole *p, double eye[3])
+{
+    for (int k = 0; k < 3; k++) eye[k] = -(p->R[k] * p->t[0] + p->R[3 + k] * p->t[1] + p->R[6 + k] * p->t[2]);
+}
+
 void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b)
 {
     if (c->have_pinhole) { /* the camera is placed: its eye −Rᵀt, and near/far framed below */
-        const double *R = c->pinhole.R, *t = c->pinhole.t;
-        for (int k = 0; k < 3; k++) c->eye[k] = -(R[k] * t[0] + R[3 + k] * t[1] + R[6 + k] * t[2]);
+        spr_pinhole_eye(&c->pinhole, c->eye);
         c->have_eye = 1;
     }
     if (c->have_matrices) { /* the matrices place the camera: only the eye (hash mode 3) and missing planes */

@@ -66,6 +66,8 @@ void spr_camera_defaults(spr_camera_desc *c);
 void spr_camera_frame(spr_camera_desc *c, const spr_bounds *b);
 /* The eye position of a view matrix: −R^T·t (world space). */
 void spr_view_matrix_eye(const double V[16], double eye[3]);
+/* The eye position of a pinhole's world-to-camera (R, t): −R^T·t, each component summed left to right. */
+void spr_pinhole_eye(const spr_pinhole *p, double eye[3]);
 /* Build the view; SPR_E_ARG for a degenerate camera (names the field). */
 spr_result spr_view_make(const spr_camera_desc *c, spr_view *v, spr_error *err);
 /* A pinhole camera a renderer can use: R a rotation (RᵀR = I within 1e-6,
