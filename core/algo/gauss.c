@@ -269,27 +269,22 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
     spr_gauss_desc gd = {.n = n, .mu = c->pos, .opacity = c->alpha};
     spr__gauss_frame(v, mode, run->desc, pf, gd.prm);
     float *q = spr__big_alloc(n * 4 * sizeof *q), *s = spr__big_alloc(n * 3 * sizeof *s), *col = spr__big_alloc(n * 3 * sizeof *col);
-    float *op8 = pf->colour.op8 ? spr__big_alloc(n * sizeof *op8) : NULL;
-    float *mu16 = pf->colour.pos16 ? spr__big_alloc(n * 3 * sizeof *mu16) : NULL;
+    const int stores = spr_gauss_profile_stores(pf); /* rule 9: the renderer's own storage of centres and opacities */
+    float *mu = stores ? spr__big_alloc(n * 3 * sizeof *mu) : NULL, *op = stores ? spr__big_alloc(n * sizeof *op) : NULL;
     float *rec = spr__big_alloc(n * SPR_GREC_FLOATS * sizeof *rec);
     uint32_t *range = NULL, *list = NULL, *order = NULL;
     int target = -1;
-    spr_result r = q && s && col && rec && (op8 || !pf->colour.op8) && (mu16 || !pf->colour.pos16) ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
+    spr_result r = q && s && col && rec && (!stores || (mu && op)) ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
     double eye[3];
     spr_pinhole_eye(&v->cv, eye);
     if (!r) {
         spr__gauss_of_cloud(c, q, s);
-        if (pf->colour.scale8)
-            for (size_t i = 0; i < 3 * n; i++) s[i] = spr_gauss_profile_scale(pf, s[i]); /* rule 9: σ as the renderer stores it */
         /* SPEC 10.3 step 9 under the profile's colour rule: on the host, in double, rounded once */
         spr_cloud_gauss_colors_as(c, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, col);
-        if (op8) { /* the opacity stored in 8 bits */
-            for (size_t i = 0; i < n; i++) op8[i] = spr_gauss_profile_opacity(pf, c->alpha[i]);
-            gd.opacity = op8;
-        }
-        if (mu16) { /* the centres as the renderer stores them */
-            for (size_t i = 0; i < n; i++) spr_gauss_profile_centre(pf, c->pos + 3 * i, eye, mu16 + 3 * i);
-            gd.mu = mu16;
+        if (stores) {
+#pragma omp parallel for schedule(static)
+            for (long i = 0; i < (long)n; i++) spr_gauss_profile_store(pf, c, (size_t)i, eye, s + 3 * i, mu + 3 * i, op + i);
+            gd.mu = mu, gd.opacity = op;
         }
         gd.q = q, gd.s = s, gd.color = col;
         r = spr__run_gauss_preprocess(run, &gd, rec);
@@ -331,7 +326,7 @@ spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
             r = spr__run_gauss_draw(run, "blend", target, &dd);
         }
     }
-    free(q), free(s), free(col), free(op8), free(mu16), free(rec), free(range), free(list), free(order);
+    free(q), free(s), free(col), free(mu), free(op), free(rec), free(range), free(list), free(order);
     if (!r) *final_target = target;
     return r;
 }

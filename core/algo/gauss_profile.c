@@ -196,7 +196,7 @@ const spr_gauss_profile *spr_gauss_profile_of(spr_algo algo, int profile)
     return &rows[spr_gauss_profile_from_name(algo == SPR_ALGO_GAUSS_BLEND ? "khr" : "inria")];
 }
 
-float spr_gauss_profile_scale(const spr_gauss_profile *p, float s)
+static float stored_scale(const spr_gauss_profile *p, float s)
 {
     if (p->colour.scale8 == SPR_GSCALE8_SPARK) {
         const double t = (log((double)s) + 12.0) / 21.0, c = 1.0 + floor((t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t) * 254.0 + 0.5);
@@ -221,12 +221,17 @@ static double to_half(double x)
     return nearbyint(x / step) * step;
 }
 
-void spr_gauss_profile_centre(const spr_gauss_profile *p, const float mu[3], const double eye[3], float out[3])
-{
-    for (int k = 0; k < 3; k++) out[k] = p->colour.pos16 ? (float)(eye[k] + to_half(to_half(mu[k]) - eye[k])) : mu[k];
-}
+int spr_gauss_profile_stores(const spr_gauss_profile *p) { return p->colour.scale8 || p->colour.op8 || p->colour.pos16; }
 
-float spr_gauss_profile_opacity(const spr_gauss_profile *p, float o) { return p->colour.op8 ? (float)spr_unorm8(o, p->colour.op8) : o; }
+void spr_gauss_profile_store(const spr_gauss_profile *p, const spr_cloud *c, size_t G, const double eye[3], float s[3], float mu[3], float *o)
+{
+    for (int k = 0; k < 3; k++) {
+        const float m = c->pos[3 * G + k];
+        mu[k] = p->colour.pos16 ? (float)(eye[k] + to_half(to_half(m) - eye[k])) : m;
+        s[k] = stored_scale(p, s[k]);
+    }
+    *o = p->colour.op8 ? (float)spr_unorm8(c->alpha[G], p->colour.op8) : c->alpha[G];
+}
 
 int spr_gauss_profile_fits(const spr_gauss_profile *p, spr_algo algo)
 {

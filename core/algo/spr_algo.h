@@ -162,15 +162,14 @@ const char *spr_gauss_profile_names(const char *sep);
 const spr_gauss_profile *spr_gauss_profile_of(spr_algo algo, int profile);
 /* Whether an algorithm takes a profile: its skeleton, or gauss2d with a gauss3d row. */
 int spr_gauss_profile_fits(const spr_gauss_profile *p, spr_algo algo);
-/* Opacity o as the profile stores it (rule 9's op8). */
-float spr_gauss_profile_opacity(const spr_gauss_profile *p, float o);
-/* σ as the profile stores it (rule 9's scale8): SPR_GSCALE8_SPARK code = 1 + round(clamp((ln σ + 12)/21, 0, 1)·254),
- * σ = e^(−12 + (code − 1)·21/254); SPR_GSCALE8_PLAYCANVAS code = trunc(clamp((ln σ + 12)·255/21 + 0.5, 1, 255)) (0 below
- * 1e-10), σ = e^(code·21/255 − 12) (0 for code 0); in double, rounded once. */
+/* Gaussian G of cloud c as the profile's renderer stores it (rule 9), for a camera at eye, in double, rounded once:
+ * its σ in s (given as loaded; scale8: SPR_GSCALE8_SPARK code = 1 + round(clamp((ln σ + 12)/21, 0, 1)·254),
+ * σ = e^(−12 + (code − 1)·21/254); SPR_GSCALE8_PLAYCANVAS code = trunc(clamp((ln σ + 12)·255/21 + 0.5, 1, 255)), 0 below
+ * 1e-10, σ = e^(code·21/255 − 12)), its centre in mu (pos16: eye + h(h(μ) − eye), h the nearest half float) and its
+ * opacity in *o (op8).  spr_gauss_profile_stores: whether any of the three changes anything. */
 enum { SPR_GSCALE8_NONE = 0, SPR_GSCALE8_SPARK, SPR_GSCALE8_PLAYCANVAS };
-float spr_gauss_profile_scale(const spr_gauss_profile *p, float s);
-/* The centre mu as the profile stores it (rule 9's pos16), for a camera at eye: out = mu, or eye + h(h(mu) − eye). */
-void spr_gauss_profile_centre(const spr_gauss_profile *p, const float mu[3], const double eye[3], float out[3]);
+int spr_gauss_profile_stores(const spr_gauss_profile *p);
+void spr_gauss_profile_store(const spr_gauss_profile *p, const spr_cloud *c, size_t G, const double eye[3], float s[3], float mu[3], float *o);
 
 int spr_algo_from_name(const char *name);  /* −1 if unknown */
 const char *spr_algo_name(spr_algo a);

@@ -74,11 +74,8 @@ static local outcome(const ctx *c, const spr_gauss_profile *pf, uint32_t G)
     spr_pinhole_eye(&v->cv, eye);
     float col[3];
     spr_cloud_gauss_colors_as(&one, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, col);
-    const float o = spr_gauss_profile_opacity(pf, cl->alpha[G]);
-    float sg[3];
-    for (int k = 0; k < 3; k++) sg[k] = spr_gauss_profile_scale(pf, c->sc[3 * (size_t)G + k]);
-    float mu[3];
-    spr_gauss_profile_centre(pf, cl->pos + 3 * (size_t)G, eye, mu);
+    float sg[3] = {c->sc[3 * (size_t)G], c->sc[3 * (size_t)G + 1], c->sc[3 * (size_t)G + 2]}, mu[3], o;
+    spr_gauss_profile_store(pf, cl, G, eye, sg, mu, &o);
     spr_gauss_preprocess3d(g, mu, c->q + 4 * (size_t)G, sg, o, col, rec);
     L.opacity = rec[SPR_GREC_OPACITY];
     memcpy(L.color, col, sizeof col);
