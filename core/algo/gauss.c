@@ -65,7 +65,7 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
     g[SPR_GPRM_AA_MIN] = pf->dilation.floor;
     g[SPR_GPRM_AA_FORM] = (float)pf->dilation.form;
     g[SPR_GPRM_EXT] = (float)pf->extent.kind; /* rule 4 */
-    g[SPR_GPRM_EXT_K] = pf->extent.k;
+    g[SPR_GPRM_EXT_K] = (float)sqrt(pf->extent.k2);
     g[SPR_GPRM_EXT_CAP] = pf->extent.cap_px;
     if (pf->extent.cap_view) { /* PlayCanvas: a half-axis at most min(1024, W, H) */
         if (g[SPR_GPRM_EXT_CAP] > (float)v->width) g[SPR_GPRM_EXT_CAP] = (float)v->width;
@@ -73,9 +73,7 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
     }
     g[SPR_GPRM_EXT_MIN] = pf->extent.lambda_min;
     g[SPR_GPRM_MIN_PX] = pf->extent.min_px;
-    g[SPR_GPRM_CUT] = 0.5f * pf->extent.k * pf->extent.k; /* power < −k²/2: outside k standard deviations */
-    if (pf->extent.k == 3.0f) g[SPR_GPRM_CUT] = 4.5f;
-    if (pf->extent.k == 2.8284271f) g[SPR_GPRM_CUT] = 4.0f; /* sqrt(8)σ: power < −4 */
+    g[SPR_GPRM_CUT] = (float)(0.5 * pf->extent.k2); /* power < −k²/2: outside k standard deviations */
     g[SPR_GPRM_FALLOFF] = (float)pf->extent.falloff;
     g[SPR_GPRM_STRAIGHT] = pf->blend == SPR_GBLEND_STRAIGHT ? 1.0f : 0.0f; /* rule 8 */
     g[SPR_GPRM_EXT2D_MIN] = 1e-4f;

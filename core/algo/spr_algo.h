@@ -137,8 +137,9 @@ typedef struct spr_gauss_profile {
     int tan_clamp;                     /* 2. the Jacobian's tangents clamped: 0 no; 1 at ±1.3·tan(fov/2) (inria); 2 at
                                           [−(cx/fx + 0.3·tan), (W − cx)/fx + 0.3·tan] (gsplat: the principal point) */
     struct { float eps2d; spr_gauss_comp when; spr_gauss_comp_form form; float floor; } dilation; /* 3. (eps2d in px²) */
-    struct { spr_gauss_extent kind; float k; float cap_px; int cap_view; float lambda_min; int falloff; float min_px; } extent;
-    /* 4. lambda_min: the floor under sqrt(mid² − det) of the eigenvalues; quad: half-axes k·√λ at most cap_px pixels
+    struct { spr_gauss_extent kind; double k2; float cap_px; int cap_view; float lambda_min; int falloff; float min_px; } extent;
+    /* 4. k2: the extent in standard deviations, squared (9 for 3σ, 8 for the viewers' √8σ): k = sqrt(k2) rounded once,
+     *    and gauss-blend cuts at power < −k2/2; lambda_min: the floor under sqrt(mid² − det) of the eigenvalues; quad: half-axes k·√λ at most cap_px pixels
      *    (cap_view: and at most min(W, H)), the falloff following the quad (the conic from its axes); falloff:
      *    e^power renormalised to reach 0 at the cut, (e^power − e^−cut)/(1 − e^−cut); min_px > 0: dropped when both
      *    half-axes are shorter than min_px pixels */

@@ -5,6 +5,7 @@
 #include "spr__inspect.h"
 #include "spr_profile_diff.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -13,7 +14,7 @@ static const char *num(float v, char *b, size_t cap)
 {
     if (v == 1.0f / 255.0f) snprintf(b, cap, "1/255");
     else if (v == 0.5f / 255.0f) snprintf(b, cap, "0.5/255");
-    else if (v == 2.8284271f) snprintf(b, cap, "√8");
+    else if (v == (float)sqrt(8.0)) snprintf(b, cap, "√8");
     else snprintf(b, cap, "%.6g", v);
     return b;
 }
@@ -41,7 +42,7 @@ void spr__profile_rule_text(const spr_gauss_profile *p, int rule, char *out, siz
                                                            : (snprintf(b, sizeof b, "max(%s, √(det₀/det))", num(p->dilation.floor, c, sizeof c)), b));
         break;
     case 4: {
-        const float k = p->extent.k;
+        const float k = (float)sqrt(p->extent.k2);
         size_t o = 0;
         if (p->extent.kind == SPR_GEXT_SQUARE)
             o += (size_t)snprintf(out, cap, "ceil(%s·√λmax), λ floor %s; tiles trunc", num(k, a, sizeof a), num(p->extent.lambda_min, b, sizeof b));
