@@ -362,30 +362,28 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
             spr_gauss_cull(SPR_GCULL_SMALL, rec);
             return;
         }
-        {
-            /* the falloff follows the quad, as the viewers evaluate it in the quad's own coordinates: σ_i = L_i/k
-             * (the eigenvalues with their floor, the cap), conic = u·uᵀ/σ₁² + v·vᵀ/σ₂² with v = (u.y, −u.x) */
-            SPR_PRECISE float q1 = L1 / k3;
-            SPR_PRECISE float q2 = L2 / k3;
-            SPR_PRECISE float w1a = q1 * q1;
-            SPR_PRECISE float w2a = q2 * q2;
-            SPR_PRECISE float w1 = 1.0f / w1a;
-            SPR_PRECISE float w2 = 1.0f / w2a;
-            SPR_PRECISE float xx = ux * ux;
-            SPR_PRECISE float yy = uy * uy;
-            SPR_PRECISE float xy = ux * uy;
-            SPR_PRECISE float A1 = xx * w1;
-            SPR_PRECISE float A2 = yy * w2;
-            SPR_PRECISE float C1 = yy * w1;
-            SPR_PRECISE float C2 = xx * w2;
-            SPR_PRECISE float dw = w1 - w2;
-            SPR_PRECISE float nA = A1 + A2;
-            SPR_PRECISE float nB = xy * dw;
-            SPR_PRECISE float nC = C1 + C2;
-            cA = nA;
-            cB = nB;
-            cC = nC;
-        }
+        /* the falloff follows the quad, as the viewers evaluate it in the quad's own coordinates: σ_i = L_i/k
+         * (the eigenvalues with their floor, the cap), conic = u·uᵀ/σ₁² + v·vᵀ/σ₂² with v = (u.y, −u.x) */
+        SPR_PRECISE float q1 = L1 / k3;
+        SPR_PRECISE float q2 = L2 / k3;
+        SPR_PRECISE float w1a = q1 * q1;
+        SPR_PRECISE float w2a = q2 * q2;
+        SPR_PRECISE float w1 = 1.0f / w1a;
+        SPR_PRECISE float w2 = 1.0f / w2a;
+        SPR_PRECISE float xx = ux * ux;
+        SPR_PRECISE float yy = uy * uy;
+        SPR_PRECISE float xy = ux * uy;
+        SPR_PRECISE float A1 = xx * w1;
+        SPR_PRECISE float A2 = yy * w2;
+        SPR_PRECISE float C1 = yy * w1;
+        SPR_PRECISE float C2 = xx * w2;
+        SPR_PRECISE float dw = w1 - w2;
+        SPR_PRECISE float nA = A1 + A2;
+        SPR_PRECISE float nB = xy * dw;
+        SPR_PRECISE float nC = C1 + C2;
+        cA = nA;
+        cB = nB;
+        cC = nC;
         /* the quad's bounding box */
         float aux = spr_absf(ux);
         float auy = spr_absf(uy);
