@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include <dirent.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <cjson/cJSON.h>
 #include "spr_image.h"
 #include "spr_io.h"
@@ -469,6 +470,123 @@ START_TEST(check_bounds_what_an_image_costs)
 }
 END_TEST
 
+/* check --cameras F.json --camera all --images DIR (issue 36): twelve views of the real donut, each image rendered by
+ * `render --camera K` into the name the training code's render.py gives it (00000.png, …).  Then, by construction:
+ * view 4's image gets one white pixel (it fails with exactly that pixel, alone), view 7's image is removed (its
+ * view fails, the run goes on), view 9's file holds view 10's picture (fails: each view is checked with its own
+ * camera).  One JUnit testcase a view; the other nine pass.  By img_name: a folder named ring00.png, … */
+START_TEST(check_every_view_of_a_cameras_json)
+{
+    setup_dir();
+    char model[512], cams[512], renders[128], named[128], path[256], id[8];
+    snprintf(model, sizeof model, "%s/tests/data/captures/real/donut-mipsplat.ply", SPR_SOURCE_DIR);
+    snprintf(cams, sizeof cams, "%s/tests/data/cameras/donut-ring12.json", SPR_SOURCE_DIR);
+    snprintf(renders, sizeof renders, "%s", in_dir("renders"));
+    snprintf(named, sizeof named, "%s", in_dir("named"));
+    ck_assert_int_eq(mkdir(renders, 0777), 0);
+    ck_assert_int_eq(mkdir(named, 0777), 0);
+    for (int k = 0; k < 12; k++) {
+        snprintf(id, sizeof id, "%d", k);
+        snprintf(path, sizeof path, "%s/%05d.png", renders, k);
+        ck_assert_msg(cli("render", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", id, "--out", path, "--quiet", NULL) == 0,
+                      "%s", out);
+    }
+    for (int k = 0; k < 12; k += 3) { /* by img_name: views 0, 3, 6, 9 */
+        char to[256];
+        snprintf(path, sizeof path, "%s/%05d.png", renders, k);
+        snprintf(to, sizeof to, "%s/ring%02d.png", named, k);
+        ck_assert_int_eq(link(path, to), 0);
+    }
+    /* the three changes */
+    float *im = NULL;
+    int w, h, ch;
+    spr_error err = {0};
+    snprintf(path, sizeof path, "%s/00004.png", renders);
+    ck_assert_int_eq(spr_read_image(path, &im, &w, &h, &ch, &err), SPR_OK);
+    ck_assert_int_eq(w, 64);
+    const int px = 17, py = 30; /* row 30 of spr_read_image's rows (row 0 the bottom) */
+    for (int c = 0; c < 3; c++) im[((size_t)py * w + px) * ch + c] = 1.0f;
+    ck_assert_int_eq(spr_write_png(path, im, w, h, ch, &err), SPR_OK);
+    free(im);
+    snprintf(path, sizeof path, "%s/00007.png", renders);
+    ck_assert_int_eq(unlink(path), 0);
+    char from[256];
+    snprintf(from, sizeof from, "%s/00010.png", renders);
+    snprintf(path, sizeof path, "%s/00009.png", renders);
+    ck_assert_int_eq(rename(path, in_dir("view9.png")), 0);
+    ck_assert_int_eq(link(from, path), 0);
+
+    const char *junit = in_dir("views.xml"), *rep = in_dir("report");
+    int rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", renders, "--junit", junit,
+                 "--out", rep, "--quiet", NULL);
+    ck_assert_msg(rc == 1, "rc %d: %s", rc, out);
+    for (int k = 0; k < 12; k++) {
+        char head[64];
+        snprintf(head, sizeof head, "check: view %d of 12 (camera %d, ring%02d): ", k + 1, k, k);
+        const char *l = strstr(out, head);
+        ck_assert_msg(l, "no line for view %d: %s", k, out);
+        l += strlen(head);
+        if (k == 4) ck_assert_msg(!strncmp(strstr(l, ": ") + 2, "FAIL, 1 of 3072 pixels fail", 27) && strstr(l, "first x 17, y 30"), "%.200s", l);
+        else if (k == 7) ck_assert_msg(!strncmp(l, "FAIL: no image ", 15) && strstr(l, "00007.png (nor .pfm)"), "%.200s", l);
+        else if (k == 9) ck_assert_msg(!strncmp(strstr(l, ": ") + 2, "FAIL, ", 6), "%.200s", l);
+        else ck_assert_msg(!strncmp(strstr(l, ": ") + 2, "PASS, 0 of 3072 pixels fail", 27), "view %d: %.200s", k, l);
+    }
+    ck_assert_msg(strstr(out, "check: 12 views of ") && strstr(out, ": 9 pass, 2 fail, 1 without a usable image") &&
+                  strstr(out, "verdict: FAIL (cameras 4, 7, 9)"), "%s", out);
+    /* JUnit: one testcase a view, failures exactly at 4, 7 and 9 */
+    char *x = NULL;
+    size_t xl = 0;
+    ck_assert_int_eq(spr__read_file(junit, &x, &xl, &err), SPR_OK);
+    int cases = 0, fails = 0;
+    for (const char *q = x; (q = strstr(q, "<testcase ")); q++) {
+        const char *end = strstr(q, "</testcase>"), *f = strstr(q, "<failure");
+        char name[64];
+        snprintf(name, sizeof name, " name=\"view %d of 12 (camera %d,", cases + 1, cases);
+        ck_assert_msg(!strncmp(strstr(q, " name="), name, strlen(name)), "testcase %d: %.120s", cases, q);
+        const int failed = f && end && f < end;
+        ck_assert_msg(failed == (cases == 4 || cases == 7 || cases == 9), "testcase %d failed %d", cases, failed);
+        fails += failed, cases++;
+    }
+    ck_assert_int_eq(cases, 12);
+    ck_assert_int_eq(fails, 3);
+    ck_assert_msg(strstr(x, "tests=\"12\" failures=\"3\""), "%.300s", x);
+    free(x);
+    /* the report folder: a summary, one folder a view, pictures where a view fails */
+    snprintf(path, sizeof path, "%s/report.json", rep);
+    ck_assert_int_eq(access(path, F_OK), 0);
+    snprintf(path, sizeof path, "%s/00004/heatmap.png", rep);
+    ck_assert_int_eq(access(path, F_OK), 0);
+    snprintf(path, sizeof path, "%s/00003/report.json", rep);
+    ck_assert_int_eq(access(path, F_OK), 0);
+    snprintf(path, sizeof path, "%s/00003/heatmap.png", rep);
+    ck_assert_int_ne(access(path, F_OK), 0);
+    /* undone, every view passes (exit 0) */
+    ck_assert_int_eq(unlink(in_dir("renders/00009.png")), 0);
+    ck_assert_int_eq(rename(in_dir("view9.png"), in_dir("renders/00009.png")), 0);
+    ck_assert_int_eq(link(in_dir("renders/00008.png"), in_dir("renders/00007.png")), 0); /* view 8's picture as view 7's: fails */
+    rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", renders, "--out", rep, "--quiet", NULL);
+    ck_assert_msg(rc == 1 && strstr(out, ": 10 pass, 2 fail, 0 without") && strstr(out, "(cameras 4, 7)"), "%s", out);
+    /* by img_name: views 0, 3, 6, 9 pass, the others have no image */
+    rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", named, "--image-names", "name", "--out",
+             rep, "--quiet", NULL);
+    ck_assert_msg(rc == 1 && strstr(out, ": 4 pass, 0 fail, 8 without a usable image") && strstr(out, "ring03.png: PASS") &&
+                  strstr(out, "no image ") && strstr(out, "ring01.png (nor .pfm)"), "%s", out);
+    /* one line each: --camera all without --images, --images without --camera all, all elsewhere, a bad flag */
+    static const char *const bad[][2] = {{"check", "--camera all checks every view: give --images DIR"},
+                                         {"check-images", "--images DIR goes with --cameras F.json --camera all"},
+                                         {"render", "--camera all: only check takes every view"},
+                                         {"check-names", "--image-names: 'stem' is not position or name"}};
+    for (int b = 0; b < 4; b++) {
+        const int ck = strncmp(bad[b][0], "check", 5) == 0;
+        if (!strcmp(bad[b][0], "check")) rc = cli("check", "--model", model, "--cameras", cams, "--camera", "all", "--image", in_dir("t.png"), NULL);
+        else if (!strcmp(bad[b][0], "check-images")) rc = cli("check", "--model", model, "--cameras", cams, "--camera", "3", "--images", renders, NULL);
+        else if (!strcmp(bad[b][0], "render")) rc = cli("render", "--model", model, "--cameras", cams, "--camera", "all", "--out", in_dir("x.png"), NULL);
+        else rc = cli("check", "--model", model, "--cameras", cams, "--camera", "all", "--images", renders, "--image-names", "stem", NULL);
+        ck_assert_msg(rc == 2 && strstr(out, bad[b][1]) && strchr(out, '\n') == out + strlen(out) - 1, "%s (%d): %s", bad[b][0], ck, out);
+    }
+}
+END_TEST
+
 Suite *make_tools_suite(void)
 {
     Suite *s = suite_create("tools");
@@ -480,6 +598,7 @@ Suite *make_tools_suite(void)
     tcase_add_test(tc, explain_two_groups_within_eps);
     tcase_add_test(tc, tools_bad_inputs);
     tcase_add_test(tc, check_bounds_what_an_image_costs);
+    tcase_add_test(tc, check_every_view_of_a_cameras_json);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -61,7 +61,8 @@ void cli_junit_free(cli_junit *j);
  * the FILE begin returns, end prints it and returns it, free releases it. */
 typedef struct cli_text { FILE *f; char *buf; size_t len; } cli_text;
 FILE *cli_text_begin(cli_text *t);
-const char *cli_text_end(cli_text *t);
+const char *cli_text_end(cli_text *t);   /* the text, also printed on stdout */
+const char *cli_text_close(cli_text *t); /* the text, not printed */
 void cli_text_free(cli_text *t);
 
 int cmd_render(int argc, char **argv);

@@ -13,6 +13,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define CLI_TIER_OPTS \
     {"tier", "A|B|C", "A bit-exact (default), B bounded (--ulp/--lsb/--position-tolerance; default --lsb 1), C diagnostics only"}, \
@@ -26,7 +29,10 @@ static const spr__opt check_opts[] = {
     {"pass", "N", "the plane after pass N (as numbered by render --dump; default: the last pass that has it)"},
     CLI_TIER_OPTS,
     {"out", "DIR", "report.json, heatmap.png and side-by-side.png (default check-report)"},
-    {"junit", "F.xml", "also write a JUnit XML report (one test case: the plane checked) for CI servers"},
+    {"junit", "F.xml", "also write a JUnit XML report (one test case: the plane checked; --camera all: one per view) for CI servers"},
+    {"images", "DIR", "with --cameras F.json --camera all: every view's image from DIR (one verdict per view, then a summary)"},
+    {"image-names", "position|name", "--images: position, the training code's render.py names (00000.png for the file's first entry, …; default), "
+                                     "or name, the entry's img_name (.png or .pfm added when it has neither)"},
     SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
@@ -63,6 +69,7 @@ static int tier_opts(spr__args *a, int bits, spr_check_desc *d)
 typedef struct check_io {
     const char *ref_label, *test_label, *what;
     const char *explain;   /* command explaining a pixel, "%d,%d" for it (NULL: none) */
+    const char *out_shown; /* the report folder as the text names it (NULL: out itself) */
 } check_io;
 
 static int write_side_by_side(spr__args *a, const char *path, const float *ref, const float *test, const float *heat, int w, int h, int ch)
@@ -101,8 +108,9 @@ static int write_side_by_side(spr__args *a, const char *path, const float *ref, 
 /* Compare, print the verdict, write the report directory (out may be NULL).
  * 0 pass, 1 fail, 2 error. */
 static int check_and_report(FILE *tx, spr__args *a, const check_io *io, const float *ref, const float *test, int w, int h, int ch,
-                            const spr_check_desc *d, const char *out, spr_check_result *res)
+                            const spr_check_desc *d, const char *out, int pictures, spr_check_result *res)
 {
+    /* pictures: 1 always, 2 only when the image fails */
     const size_t np = (size_t)w * h;
     float *heat = malloc(np * 3 * sizeof *heat);
     if (!heat) { spr__error(a, "out of memory"); return 2; }
@@ -133,24 +141,29 @@ static int check_and_report(FILE *tx, spr__args *a, const check_io *io, const fl
         }
     }
     int rc = 0;
+    if (pictures == 2) pictures = !r.pass && d->tier != SPR_TIER_C;
     if (out) {
+        const char *shown = io->out_shown ? io->out_shown : out;
         char tmp[1200], path[1400];
         if (cli_outdir_begin(a, "out", out, tmp, sizeof tmp)) { free(heat); return 2; }
         spr_error err = {0};
         snprintf(path, sizeof path, "%s/heatmap.png", tmp);
-        if (spr_write_png(path, heat, w, h, 3, &err)) { fprintf(stderr, "splatref %s: %s\n", cmd, err.msg); rc = 2; }
+        if (pictures && spr_write_png(path, heat, w, h, 3, &err)) { fprintf(stderr, "splatref %s: %s\n", cmd, err.msg); rc = 2; }
         snprintf(path, sizeof path, "%s/side-by-side.png", tmp);
-        if (!rc && write_side_by_side(a, path, ref, test, heat, w, h, ch)) rc = 2;
+        if (pictures && !rc && write_side_by_side(a, path, ref, test, heat, w, h, ch)) rc = 2;
         cJSON *o = spr__check_json(io->ref_label, io->test_label, io->what, w, h, ch, d, &r, explain);
         cJSON_DeleteItemFromObject(o, "verdict"); /* last, after the pictures */
-        cJSON_AddStringToObject(o, "heatmap", "heatmap.png");
-        cJSON_AddStringToObject(o, "side_by_side", "side-by-side.png");
+        if (pictures) {
+            cJSON_AddStringToObject(o, "heatmap", "heatmap.png");
+            cJSON_AddStringToObject(o, "side_by_side", "side-by-side.png");
+        }
         cJSON_AddStringToObject(o, "verdict", d->tier == SPR_TIER_C ? "diagnostic" : r.pass ? "pass" : "fail");
         snprintf(path, sizeof path, "%s/report.json", tmp);
         if (!rc && spr__write_json(a, path, o)) rc = 2;
         if (cli_outdir_end(a, "out", tmp, out, rc == 0)) rc = 2;
-        if (!rc) fprintf(tx, "%s: report %s/report.json, heat map %s/heatmap.png (blue within bounds, yellow only within one pixel, red failing), "
-                        "side by side %s/side-by-side.png (reference | image | heat map)\n", cmd, out, out, out);
+        if (!rc && !pictures) fprintf(tx, "%s: report %s/report.json\n", cmd, shown);
+        else if (!rc) fprintf(tx, "%s: report %s/report.json, heat map %s/heatmap.png (blue within bounds, yellow only within one pixel, red failing), "
+                        "side by side %s/side-by-side.png (reference | image | heat map)\n", cmd, shown, shown, shown);
     }
     free(heat);
     if (rc) return rc;
@@ -162,15 +175,197 @@ static int check_and_report(FILE *tx, spr__args *a, const check_io *io, const fl
 
 /* The command explaining a pixel of this scene: the scene options given
  * on the command line (--scene among them). */
-static void explain_command(spr__args *a, char *s, size_t cap)
+static void explain_command(spr__args *a, const char *camera, char *s, size_t cap)
 {
     size_t at = (size_t)snprintf(s, cap, "splatref explain");
     for (int k = 0; a->opts[k].name && at < cap; k++) {
-        const char *n = a->opts[k].name;
-        if (!a->value[k] || a->from_scene[k] || !spr__is_scene_option(n)) continue;
+        const char *n = a->opts[k].name, *v = camera && !strcmp(n, "camera") ? camera : a->value[k];
+        if (!a->value[k] || (a->from_scene[k] && v == a->value[k]) || !spr__is_scene_option(n)) continue;
         if (!a->opts[k].arg) at += (size_t)snprintf(s + at, cap - at, " --%s", n);
-        else at += (size_t)snprintf(s + at, cap - at, strpbrk(a->value[k], " \t'\"$") ? " --%s '%s'" : " --%s %s", n, a->value[k]);
+        else at += (size_t)snprintf(s + at, cap - at, strpbrk(v, " \t'\"$") ? " --%s '%s'" : " --%s %s", n, v);
     }
+}
+
+/* ---- check --cameras F.json --camera all --images DIR: every view ---- */
+
+/* The image of view k (entry e) in dir, into path: by position (the training code's render.py: "%05d.png" for the
+ * file's k-th entry) or by the entry's img_name; ".png", then ".pfm", added when the name has neither.  0 found,
+ * −1 none (path: the first name tried; why: the reason). */
+static int view_image(const char *dir, int by_name, size_t k, const spr_camera_entry *e, char *path, size_t cap, char *why, size_t wcap)
+{
+    char stem[300];
+    if (by_name && !e->img_name[0]) {
+        snprintf(path, cap, "%s/?", dir);
+        snprintf(why, wcap, "the entry has no img_name (--image-names position takes 00000.png, … instead)");
+        return -1;
+    }
+    if (by_name) snprintf(stem, sizeof stem, "%s", e->img_name);
+    else snprintf(stem, sizeof stem, "%05zu", k);
+    const size_t n = strlen(stem);
+    const int has_ext = n > 4 && (!strcasecmp(stem + n - 4, ".png") || !strcasecmp(stem + n - 4, ".pfm"));
+    static const char *const ext[] = {".png", ".pfm"};
+    for (int i = 0; i < (has_ext ? 1 : 2); i++) {
+        char p[1400];
+        snprintf(p, sizeof p, "%s/%s%s", dir, stem, has_ext ? "" : ext[i]);
+        if (i == 0) snprintf(path, cap, "%s", p);
+        if (access(p, F_OK) == 0) {
+            snprintf(path, cap, "%s", p);
+            return 0;
+        }
+    }
+    snprintf(why, wcap, "no image %s%s", path, has_ext ? "" : " (nor .pfm)");
+    return -1;
+}
+
+typedef struct view_outcome {
+    int status;            /* 0 pass, 1 fail (its image differs, is missing or unreadable), 2 the run cannot go on */
+    char image[1400];
+    char line[4400];       /* the verdict's line (after "check: view … :") */
+    char *text;            /* the full report, owned (NULL: line alone) */
+    spr_check_result r;
+    int checked;           /* compared (r is set) */
+} view_outcome;
+
+/* Check one view: its image, if found and of the view's size, against the reference of the moved scene. */
+static void check_view(spr__args *a, spr_scene *s, const spr_render_desc *rd, const char *pname, int pass, const char *dir, int by_name,
+                       size_t k, const spr_camera_entry *e, const char *out, const char *out_shown, view_outcome *vo)
+{
+    float *theirs = NULL, *ref = NULL;
+    int tw, th, tch, bits, rch;
+    char why[1600] = "", what[96];
+    spr_error err = {0};
+    vo->status = 1;
+    if (view_image(dir, by_name, k, e, vo->image, sizeof vo->image, why, sizeof why)) goto failed;
+    if (spr_image_size(vo->image, &tw, &th, &bits, &err) || spr_read_image_bits(vo->image, &theirs, &tw, &th, &tch, &bits, &err)) {
+        snprintf(why, sizeof why, "%s", err.msg);
+        goto failed;
+    }
+    if (tw != s->view.width || th != s->view.height) {
+        snprintf(why, sizeof why, "%s is %dx%d, the view renders %dx%d", vo->image, tw, th, s->view.width, s->view.height);
+        goto failed;
+    }
+    spr_check_desc d;
+    if (tier_opts(a, bits, &d) || spr__check_reference(a, s, rd, pname, pass, &ref, &rch, what, sizeof what) ||
+        spr__check_channels(a, vo->image, &theirs, &tch, rch, tw, th)) {
+        vo->status = 2;
+        goto done;
+    }
+    char ref_label[160], explain[2400], id[32], sub[1400], shown[1400];
+    snprintf(ref_label, sizeof ref_label, "reference (cpu, %s, camera %ld)", spr_algo_name(rd->algo), e->id);
+    snprintf(id, sizeof id, "%ld", e->id);
+    explain_command(a, id, explain, sizeof explain);
+    snprintf(sub, sizeof sub, "%s/%05zu", out, k);
+    snprintf(shown, sizeof shown, "%s/%05zu", out_shown, k);
+    check_io io = {ref_label, vo->image, what, explain, shown};
+    cli_text tx;
+    int rc = check_and_report(cli_text_begin(&tx), a, &io, ref, theirs, tw, th, rch, &d, sub, 2, &vo->r);
+    vo->text = strdup(cli_text_close(&tx));
+    cli_text_free(&tx);
+    if (rc == 2) { vo->status = 2; goto done; }
+    vo->status = rc, vo->checked = 1;
+    const spr_check_result *r = &vo->r;
+    const int n = snprintf(vo->line, sizeof vo->line, "%s: %s, %zu of %zu pixels fail, max %d LSB", vo->image,
+                           d.tier == SPR_TIER_C ? "DIAGNOSTIC" : rc ? "FAIL" : "PASS", r->failing, r->pixels, r->max_lsb);
+    if (rc && r->first_x >= 0 && n > 0 && (size_t)n < sizeof vo->line)
+        snprintf(vo->line + n, sizeof vo->line - (size_t)n, "; first x %d, y %d; why: %s --pixel %d,%d", r->first_x, r->first_y, explain,
+                 r->first_x, r->first_y);
+    goto done;
+failed:
+    snprintf(vo->line, sizeof vo->line, "FAIL: %s", why);
+done:
+    free(theirs);
+    free(ref);
+}
+
+static int check_views(spr__args *a, const char *dir, const char *pname, int pass, const char *out, const char *junit)
+{
+    const char *file = spr__get(a, "cameras"), *names = spr__get(a, "image-names");
+    if (names && strcmp(names, "position") && strcmp(names, "name")) { spr__error(a, "--image-names: '%s' is not position or name", names); return 2; }
+    const int by_name = names && !strcmp(names, "name"), tty = isatty(2) && !spr__flag(a, "quiet");
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) { spr__error(a, "--images: %s is not a folder", dir); return 2; }
+    spr_camera_entry *v = NULL;
+    size_t n = 0;
+    spr_error err = {0};
+    if (spr_cameras_json_all(file, &v, &n, &err)) { spr__error(a, "--cameras: %s", err.msg); return 2; }
+    spr_scene s;
+    spr_render_desc rd;
+    memset(&s, 0, sizeof s);
+    int rc = 2, open_out = 0;
+    size_t pass_n = 0, fail_n = 0, missing_n = 0;
+    char tmp[1200] = "", failed[400] = "";
+    cli_junit *ju = junit ? cli_junit_new("splatref check") : NULL;
+    cJSON *rep = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(rep, "views");
+    if (spr__scene_setup(a, &s, &rd, 0) || spr__reject_unused(a)) goto done;
+    if (cli_outdir_begin(a, "out", out, tmp, sizeof tmp)) goto done;
+    open_out = 1;
+    for (size_t k = 0; k < n; k++) {
+        const spr_camera_entry *e = &v[k];
+        if (tty) fprintf(stderr, "\r\033[Kcheck: view %zu of %zu (camera %ld)", k + 1, n, e->id);
+        const double t0 = spr_now_ms();
+        view_outcome vo;
+        memset(&vo, 0, sizeof vo);
+        if (spr__scene_move_camera(a, &s, &e->pinhole, e->width, e->height)) goto done;
+        check_view(a, &s, &rd, pname, pass, dir, by_name, k, e, tmp, out, &vo);
+        if (vo.status == 2) { free(vo.text); goto done; }
+        char head[400];
+        snprintf(head, sizeof head, "view %zu of %zu (camera %ld%s%s)", k + 1, n, e->id, e->img_name[0] ? ", " : "", e->img_name);
+        if (tty) fputs("\r\033[K", stderr);
+        printf("check: %s: %s\n", head, vo.line);
+        fflush(stdout);
+        if (vo.status == 0) pass_n++;
+        else {
+            if (vo.checked) fail_n++;
+            else missing_n++;
+            const size_t at = strlen(failed);
+            if (at < sizeof failed - 40) snprintf(failed + at, sizeof failed - at, "%s%ld", at ? ", " : "", e->id);
+            else if (!strstr(failed, "…")) snprintf(failed + at, sizeof failed - at, ", …");
+        }
+        char name[1900];
+        snprintf(name, sizeof name, "%s: %s", head, vo.image);
+        cli_junit_add(ju, "splatref.check", name, (spr_now_ms() - t0) / 1000.0, vo.status ? CLI_JUNIT_FAILURE : CLI_JUNIT_PASS,
+                      vo.status ? vo.line : "", vo.text ? vo.text : vo.line);
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddNumberToObject(o, "camera", (double)e->id);
+        cJSON_AddStringToObject(o, "img_name", e->img_name);
+        cJSON_AddStringToObject(o, "image", vo.image);
+        cJSON_AddStringToObject(o, "verdict", vo.status ? "fail" : "pass");
+        if (vo.checked) {
+            char sub[24];
+            snprintf(sub, sizeof sub, "%05zu", k);
+            cJSON_AddNumberToObject(o, "failing", (double)vo.r.failing);
+            cJSON_AddNumberToObject(o, "pixels", (double)vo.r.pixels);
+            cJSON_AddNumberToObject(o, "max_lsb", vo.r.max_lsb);
+            cJSON_AddStringToObject(o, "report", sub);
+        } else {
+            cJSON_AddStringToObject(o, "why", vo.line + 6);
+        }
+        cJSON_AddItemToArray(arr, o);
+        free(vo.text);
+    }
+    if (tty) fputs("\r\033[K", stderr);
+    printf("check: %zu views of %s: %zu pass, %zu fail, %zu without a usable image\n", n, file, pass_n, fail_n, missing_n);
+    cJSON_AddNumberToObject(rep, "pass", (double)pass_n);
+    cJSON_AddNumberToObject(rep, "fail", (double)fail_n);
+    cJSON_AddNumberToObject(rep, "missing", (double)missing_n);
+    cJSON_AddStringToObject(rep, "verdict", pass_n == n ? "pass" : "fail");
+    char path[1400];
+    snprintf(path, sizeof path, "%s/report.json", tmp);
+    rc = spr__write_json(a, path, rep) ? 2 : pass_n == n ? 0 : 1; /* it takes rep */
+    rep = NULL;
+    if (cli_outdir_end(a, "out", tmp, out, rc != 2)) rc = 2;
+    open_out = 0;
+    if (rc != 2) printf("check: report %s/report.json (one folder a view: heat map and side by side where it fails)\n", out);
+    if (ju && rc != 2 && cli_junit_write(a, ju, junit)) rc = 2;
+    if (rc == 0) printf("verdict: PASS (all %zu views)\n", n);
+    else if (rc == 1) printf("verdict: FAIL (camera%s %s)\n", pass_n + 1 < n ? "s" : "", failed);
+done:
+    if (open_out) cli_outdir_end(a, "out", tmp, out, 0);
+    cJSON_Delete(rep);
+    cli_junit_free(ju);
+    spr_scene_free(&s);
+    free(v);
+    return rc;
 }
 
 int cmd_check(int argc, char **argv)
@@ -179,10 +374,17 @@ int cmd_check(int argc, char **argv)
     int pr = spr__parse(&a, "check", check_opts, "--scene S.json | [scene options]  --image THEIRS.png|.pfm [--plane P] [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     const char *image = spr__get(&a, "image"), *pname = spr__get(&a, "plane"), *out = spr__get(&a, "out"), *junit = spr__get(&a, "junit");
-    if (!image) { spr__error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
+    const char *images = spr__get(&a, "images"), *camera = spr__get(&a, "camera");
+    const int all = camera && !strcmp(camera, "all");
+    if (image && images) { spr__error(&a, "--image and --images both name what to check: give one"); return 2; }
+    if (all && !images) { spr__error(&a, "--camera all checks every view: give --images DIR (their images)"); return 2; }
+    if (images && !all) { spr__error(&a, "--images DIR goes with --cameras F.json --camera all (every view)"); return 2; }
+    if (!image && !images) { spr__error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
     if (!out) out = "check-report";
     int pass = -1;
     if (spr__get_int(&a, "pass", &pass, 0, 100000) < 0) return 2;
+    a.camera_all = all;
+    if (all) return check_views(&a, images, pname, pass, out, junit);
     float *theirs = NULL, *ref = NULL;
     int tw, th, tch, bits, rch;
     spr_error err = {0};
@@ -220,12 +422,12 @@ int cmd_check(int argc, char **argv)
         goto done;
     char ref_label[160], explain[2400];
     snprintf(ref_label, sizeof ref_label, "reference (cpu, %s)", spr_algo_name(rd.algo));
-    explain_command(&a, explain, sizeof explain);
-    check_io io = {ref_label, image, what, explain};
+    explain_command(&a, NULL, explain, sizeof explain);
+    check_io io = {ref_label, image, what, explain, NULL};
     cli_text tx;
     spr_check_result r;
     memset(&r, 0, sizeof r);
-    rc = check_and_report(cli_text_begin(&tx), &a, &io, ref, theirs, tw, th, rch, &d, out, &r);
+    rc = check_and_report(cli_text_begin(&tx), &a, &io, ref, theirs, tw, th, rch, &d, out, 1, &r);
     const char *text = cli_text_end(&tx);
     if (junit) {
         cli_junit *ju = cli_junit_new("splatref check");
@@ -315,9 +517,9 @@ int cmd_compare(int argc, char **argv)
         printf("compare: heat map -> %s\n", heatmap);
         free(heat);
     }
-    check_io io = {a.positional[0], a.positional[1], "images", NULL};
+    check_io io = {a.positional[0], a.positional[1], "images", NULL, NULL};
     spr_check_result r;
-    rc = check_and_report(stdout, &a, &io, im[0], im[1], w[0], h[0], ch[0], &d, out, &r);
+    rc = check_and_report(stdout, &a, &io, im[0], im[1], w[0], h[0], ch[0], &d, out, 1, &r);
 done:
     free(im[0]);
     free(im[1]);

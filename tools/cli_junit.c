@@ -152,13 +152,20 @@ FILE *cli_text_begin(cli_text *t)
     return t->f ? t->f : stdout;
 }
 
-const char *cli_text_end(cli_text *t)
+const char *cli_text_close(cli_text *t)
 {
     if (!t->f) return "";
     fclose(t->f);
     t->f = NULL;
-    if (t->buf) fputs(t->buf, stdout);
     return t->buf ? t->buf : "";
+}
+
+const char *cli_text_end(cli_text *t)
+{
+    const int kept = t->f != NULL;
+    const char *text = cli_text_close(t);
+    if (kept) fputs(text, stdout);
+    return text;
 }
 
 void cli_text_free(cli_text *t)

@@ -22,7 +22,22 @@ int cli_outdir_begin(spr__args *a, const char *opt, const char *dir, char *tmp, 
     return 0;
 }
 
-/* Move every file of tmp into dir (created if missing), then remove tmp;
+/* Remove folder dir and the files in it (report folders hold files only). */
+static void remove_files(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    char p[2048];
+    while (d && (e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+            snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+            remove(p);
+        }
+    if (d) closedir(d);
+    rmdir(dir);
+}
+
+/* Move every file (and report folder) of tmp into dir (created if missing), then remove tmp;
  * with commit = 0 delete them instead.  0, or −1 after one line. */
 int cli_outdir_end(spr__args *a, const char *opt, const char *tmp, const char *dir, int commit)
 {
@@ -39,12 +54,18 @@ int cli_outdir_end(spr__args *a, const char *opt, const char *tmp, const char *d
         if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
         snprintf(from, sizeof from, "%s/%s", tmp, e->d_name);
         snprintf(to, sizeof to, "%s/%s", dir, e->d_name);
+        struct stat st;
+        const int is_dir = lstat(from, &st) == 0 && S_ISDIR(st.st_mode);
+        if (commit && is_dir && lstat(to, &st) == 0 && S_ISDIR(st.st_mode)) remove_files(to); /* a report folder replaced whole */
         if (commit && rename(from, to) != 0) {
             spr__error(a, "--%s: cannot move %s into %s: %s", opt, e->d_name, dir, strerror(errno));
             commit = 0;
             rc = -1;
         }
-        if (!commit) remove(from);
+        if (!commit) {
+            if (is_dir) remove_files(from);
+            else remove(from);
+        }
     }
     if (d) closedir(d);
     rmdir(tmp);

@@ -82,31 +82,46 @@ spr_result spr_cameras_json(const char *path, long id, spr_pinhole *p, int *widt
     return r;
 }
 
-spr_result spr__parse_cameras_json(const char *path, const char *text, size_t len, long id, spr_pinhole *p, int *width, int *height,
-                                   spr_error *err)
+/* The array of entries, or a one-line error naming the file (and the line, for JSON that does not parse). */
+static spr_result parse_root(const char *path, const char *text, size_t len, cJSON **root, spr_error *err)
 {
-    spr_result r;
     const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
-    if (!root) {
+    *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
+    if (!*root) {
         const char *at = cJSON_GetErrorPtr();
         size_t off = at && at >= text && at <= text + len ? (size_t)(at - text) : len;
         return spr__fail(err, SPR_E_FORMAT, "%s:%d: not valid JSON (byte %zu)", path, line_of(text, off), off);
     }
-    if (!cJSON_IsArray(root)) {
-        r = spr__fail(err, SPR_E_FORMAT, "%s: not a cameras.json (an array of camera entries)", path);
-        goto done;
+    if (!cJSON_IsArray(*root)) {
+        cJSON_Delete(*root);
+        *root = NULL;
+        return spr__fail(err, SPR_E_FORMAT, "%s: not a cameras.json (an array of camera entries)", path);
     }
+    return SPR_OK;
+}
+
+/* The whole-number "id" of entry n. */
+static spr_result entry_id(const char *path, const cJSON *e, long n, long *id, spr_error *err)
+{
+    double v;
+    if (!cJSON_IsObject(e) || !number_of(e, "id", &v) || v != floor(v) || fabs(v) > 2e9)
+        return spr__fail(err, SPR_E_FORMAT, "%s: entry %ld has no whole-number \"id\"", path, n);
+    *id = (long)v;
+    return SPR_OK;
+}
+
+spr_result spr__parse_cameras_json(const char *path, const char *text, size_t len, long id, spr_pinhole *p, int *width, int *height,
+                                   spr_error *err)
+{
+    cJSON *root;
+    spr_result r = parse_root(path, text, len, &root, err);
+    if (r) return r;
     long lo = 0, hi = -1, n = 0;
     const cJSON *e;
     cJSON_ArrayForEach(e, root)
     {
-        double v;
-        if (!cJSON_IsObject(e) || !number_of(e, "id", &v) || v != floor(v) || fabs(v) > 2e9) {
-            r = spr__fail(err, SPR_E_FORMAT, "%s: entry %ld has no whole-number \"id\"", path, n);
-            goto done;
-        }
-        const long eid = (long)v;
+        long eid;
+        if ((r = entry_id(path, e, n, &eid, err))) goto done;
         if (n == 0 || eid < lo) lo = eid;
         if (n == 0 || eid > hi) hi = eid;
         n++;
@@ -119,5 +134,55 @@ spr_result spr__parse_cameras_json(const char *path, const char *text, size_t le
           : spr__fail(err, SPR_E_FORMAT, "%s: no camera entries", path);
 done:
     cJSON_Delete(root);
+    return r;
+}
+
+spr_result spr__parse_cameras_json_all(const char *path, const char *text, size_t len, spr_camera_entry **out, size_t *count, spr_error *err)
+{
+    *out = NULL, *count = 0;
+    cJSON *root;
+    spr_result r = parse_root(path, text, len, &root, err);
+    if (r) return r;
+    const size_t n = (size_t)cJSON_GetArraySize(root);
+    spr_camera_entry *v = n ? calloc(n, sizeof *v) : NULL;
+    if (!n) r = spr__fail(err, SPR_E_FORMAT, "%s: no camera entries", path);
+    else if (!v) r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory for %zu camera entries", path, n);
+    size_t k = 0;
+    const cJSON *e;
+    cJSON_ArrayForEach(e, root)
+    {
+        if (r) break;
+        spr_camera_entry *c = &v[k];
+        if ((r = entry_id(path, e, (long)k, &c->id, err))) break;
+        for (size_t j = 0; j < k; j++)
+            if (v[j].id == c->id) {
+                r = spr__fail(err, SPR_E_FORMAT, "%s: entries %zu and %zu both have id %ld", path, j, k, c->id);
+                break;
+            }
+        if (r || (r = entry_camera(path, e, c->id, &c->pinhole, &c->width, &c->height, err))) break;
+        const cJSON *name = cJSON_GetObjectItemCaseSensitive(e, "img_name");
+        if (name && !cJSON_IsString(name))
+            r = spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"img_name\" is not a string", path, c->id);
+        else if (name && strlen(name->valuestring) >= sizeof c->img_name)
+            r = spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"img_name\" is longer than %zu bytes", path, c->id, sizeof c->img_name - 1);
+        else if (name)
+            memcpy(c->img_name, name->valuestring, strlen(name->valuestring) + 1);
+        k++;
+    }
+    cJSON_Delete(root);
+    if (r) { free(v); return r; }
+    *out = v, *count = n;
+    return SPR_OK;
+}
+
+spr_result spr_cameras_json_all(const char *path, spr_camera_entry **out, size_t *count, spr_error *err)
+{
+    char *text = NULL;
+    size_t len = 0;
+    *out = NULL, *count = 0;
+    spr_result r = spr__read_file(path, &text, &len, err);
+    if (r) return r;
+    r = spr__parse_cameras_json_all(path, text, len, out, count, err);
+    free(text);
     return r;
 }

@@ -147,6 +147,7 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
 /* cameras.json over its bytes (spr_cameras_json reads the file and calls it; the fuzz harness drives it). */
 spr_result spr__parse_cameras_json(const char *path, const char *text, size_t len, long id, spr_pinhole *p, int *width, int *height,
                                    spr_error *err);
+spr_result spr__parse_cameras_json_all(const char *path, const char *text, size_t len, spr_camera_entry **out, size_t *count, spr_error *err);
 spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);

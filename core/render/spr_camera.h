@@ -80,6 +80,18 @@ spr_result spr_pinhole_check(const spr_pinhole *p, const char *what, spr_error *
  * point at the image centre) as a pinhole camera and its image size; an
  * error naming the file and the entry when it is not there or not valid. */
 spr_result spr_cameras_json(const char *path, long id, spr_pinhole *p, int *width, int *height, spr_error *err);
+/* Every entry of a cameras.json, in the file's order (the order the
+ * training code's render.py numbers its images 00000.png, 00001.png, …):
+ * its id, its img_name ("" when it has none), its pinhole and image size.
+ * Each entry is checked as spr_cameras_json checks one; ids must differ.
+ * *out is the caller's to free. */
+typedef struct spr_camera_entry {
+    long id;
+    char img_name[256];
+    spr_pinhole pinhole;
+    int width, height;
+} spr_camera_entry;
+spr_result spr_cameras_json_all(const char *path, spr_camera_entry **out, size_t *count, spr_error *err);
 
 /* World tolerance → ray-parameter tolerance: ε/(far − near) in double → float. */
 float spr_view_eps_t(const spr_view *v, double eps_world);

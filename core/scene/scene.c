@@ -61,7 +61,9 @@ static int stream_model(spr__args *a, spr_scene *s, const spr_load_desc *ld, int
     s->cloud.n = s->src.n;
     s->cloud.flags = s->src.flags;
     s->load_ms = spr_now_ms() - t0;
-    spr_camera_frame(&s->cam, &s->src.bounds);
+    s->cam_given = s->cam;
+    s->bounds = s->src.bounds;
+    spr_camera_frame(&s->cam, &s->bounds);
     return 0;
 }
 
@@ -85,9 +87,21 @@ int spr__load_model(spr__args *a, spr_scene *s, const spr_load_desc *ld)
         }
         s->load_ms = spr_now_ms() - t0;
     }
-    spr_bounds bd;
-    spr_cloud_bounds(&s->cloud, &bd);
-    spr_camera_frame(&s->cam, &bd);
+    s->cam_given = s->cam;
+    spr_cloud_bounds(&s->cloud, &s->bounds);
+    spr_camera_frame(&s->cam, &s->bounds);
+    return 0;
+}
+
+int spr__scene_move_camera(spr__args *a, spr_scene *s, const spr_pinhole *p, int w, int h)
+{
+    spr_camera_desc c = s->cam_given;
+    spr_view v;
+    spr_error err = {0};
+    spr__camera_pinhole_sized(&c, p, w, h, spr__get(a, "size") != NULL);
+    spr_camera_frame(&c, &s->bounds);
+    if (spr_view_make(&c, &v, &err)) { spr__error(a, "%s", err.msg); return -1; }
+    s->cam = c, s->view = v;
     return 0;
 }
 
@@ -119,6 +133,10 @@ int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_
         }
     }
     if (uses & SPR_USES_GROUPS) {
+        if (a->camera_all && gd->method == SPR_GROUP_HASH && gd->hash.mode == 3) {
+            spr__error(a, "--camera all: hash mode 3's groups depend on the eye (--hash-near); check the views one by one with --camera ID");
+            return -1;
+        }
         gd->progress = spr__progress(p.quiet);
         int rc = spr__make_groups(a, s, gd, p.hash_near);
         free(axes);

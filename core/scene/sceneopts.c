@@ -210,21 +210,38 @@ static int camera_pinhole(spr__args *a, spr_camera_desc *c)
         }
         p->fx = k[0], p->fy = k[1], p->cx = k[2], p->cy = k[3];
         if (spr_pinhole_check(p, "--intrinsics/--world-to-camera", &err)) { spr__error(a, "%s", err.msg); return -1; }
+    } else if (!strcmp(id, "all")) { /* every view (check --images): the scene is set up with the first */
+        if (!a->camera_all) { spr__error(a, "--camera all: only check takes every view (with --images DIR)"); return -1; }
+        if (spr__get(a, "save")) { spr__error(a, "--camera all: a scene file holds one camera; save one view's scene with --camera ID"); return -1; }
+        spr_camera_entry *v;
+        size_t n;
+        if (spr_cameras_json_all(file, &v, &n, &err)) { spr__error(a, "--cameras: %s", err.msg); return -1; }
+        spr__camera_pinhole_sized(c, &v[0].pinhole, v[0].width, v[0].height, spr__get(a, "size") != NULL);
+        free(v);
     } else {
         char *e;
         errno = 0;
         long n = strtol(id, &e, 10);
-        if (e == id || *e || errno) { spr__error(a, "--camera: '%s' is not a whole-number id", id); return -1; }
+        if (e == id || *e || errno) { spr__error(a, "--camera: '%s' is neither a whole-number id nor all", id); return -1; }
         int w, h;
-        if (spr_cameras_json(file, n, p, &w, &h, &err)) { spr__error(a, "--cameras: %s", err.msg); return -1; }
-        if (!spr__get(a, "size")) c->width = w, c->height = h;
-        else { /* another size: the same field of view, as the training code's --resolution scales its cameras */
-            const double sx = (double)c->width / w, sy = (double)c->height / h;
-            p->fx *= sx, p->cx *= sx, p->fy *= sy, p->cy *= sy;
-        }
+        spr_pinhole q;
+        if (spr_cameras_json(file, n, &q, &w, &h, &err)) { spr__error(a, "--cameras: %s", err.msg); return -1; }
+        spr__camera_pinhole_sized(c, &q, w, h, spr__get(a, "size") != NULL);
     }
     c->have_pinhole = 1;
     return 0;
+}
+
+void spr__camera_pinhole_sized(spr_camera_desc *c, const spr_pinhole *q, int w, int h, int size_given)
+{
+    spr_pinhole *p = &c->pinhole;
+    *p = *q;
+    c->have_pinhole = 1;
+    if (!size_given) c->width = w, c->height = h;
+    else { /* another size: the same field of view, as the training code's --resolution scales its cameras */
+        const double sx = (double)c->width / w, sy = (double)c->height / h;
+        p->fx *= sx, p->cx *= sx, p->fy *= sy, p->cy *= sy;
+    }
 }
 
 int spr__scene_opts(spr__args *a, spr_scene *s, spr_render_desc *rd, spr__scene_plan *p, int allow_all)

@@ -37,6 +37,7 @@ typedef struct spr__args {
     int n_positional;
     spr_error *sink;      /* set: messages go here instead of stderr (the library's callers) */
     spr_cloud *cloud_in;  /* set: the model is this cloud (spr_ffi.h's arrays), taken over by spr__load_model and zeroed */
+    int camera_all;       /* set by check: --camera all is allowed (the scene is set up with the first entry's camera) */
 } spr__args;
 
 /* 0 on success, 1 when --help was printed, 2 after printing an error. */
@@ -101,6 +102,13 @@ int spr__scene_opts(spr__args *a, spr_scene *s, spr_render_desc *rd, spr__scene_
  * the BSP tree, the groups and the domain primitives when the algorithm uses
  * them, --save-scene.  allow_all: accept --algo all.  0 or −1 after one line. */
 int spr__scene_setup(spr__args *a, spr_scene *s, spr_render_desc *rd, int allow_all);
+/* A cameras.json entry's pinhole (its image w×h) into c; with size_given c's
+ * width and height stay and the intrinsics scale to them. */
+void spr__camera_pinhole_sized(spr_camera_desc *c, const spr_pinhole *p, int w, int h, int size_given);
+/* Move a set-up scene to another pinhole view (check --camera all): the
+ * camera as the options gave it, with this pinhole, framed on the model's
+ * bounds again (near/far), and its view.  0, or −1 after one line. */
+int spr__scene_move_camera(spr__args *a, spr_scene *s, const spr_pinhole *p, int w, int h);
 /* The GL backend's options into d (from spr_gl_defaults): --gl-driver, and
  * --gl-device where the command has it.  0, or −1 after one line. */
 int spr__gl_opts(spr__args *a, struct spr_gl_desc *d);

@@ -34,7 +34,7 @@
     {"intrinsics", "FX,FY,CX,CY", "pinhole camera of the training code: focal lengths and principal point in pixels, continuous (pixel centres at i+0.5, row 0 at the top); with --world-to-camera"}, \
     {"world-to-camera", "M12", "pinhole camera: OpenCV world-to-camera [R|t], 12 numbers row by row (x right, y down, z forward); with --intrinsics"}, \
     {"cameras", "F.json", "the training code's cameras.json; with --camera ID (its size unless --size, which scales the intrinsics)"}, \
-    {"camera", "ID", "--cameras: the entry whose id is ID"}, \
+    {"camera", "ID|all", "--cameras: the entry whose id is ID (check: all, every entry, with --images DIR)"}, \
     {"background", "R,G,B", "background colour in [0,1] (default 0,0,0)"}
 
 /* The algorithm and its parameters (which ones an algorithm reads: the registry). */

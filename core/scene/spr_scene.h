@@ -37,6 +37,8 @@ typedef struct spr_scene_domain {
 typedef struct spr_scene {
     spr_cloud cloud;
     spr_camera_desc cam;
+    spr_camera_desc cam_given; /* the camera as the options gave it, before spr_camera_frame */
+    spr_bounds bounds;      /* the model's bounds the camera was framed on */
     spr_view view;
     spr_grouping g;
     spr_bsp bsp;            /* back-to-front orders by BSP: the tree, built once (nodes NULL: none) */

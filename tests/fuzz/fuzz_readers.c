@@ -85,6 +85,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     spr_result r = spr__parse_cameras_json("fuzz.json", (const char *)data + 1, size - 1, data[0], &p, &w, &h, &err);
     check_message(r, &err, "fuzz.json");
     if (!r && (w < 1 || h < 1 || spr_pinhole_check(&p, "fuzz.json", &err))) abort(); /* an accepted camera is a camera */
+    /* every entry (check --camera all): all of them cameras, ids distinct, names terminated */
+    spr_camera_entry *v = NULL;
+    size_t n = 0;
+    memset(&err, 0, sizeof err);
+    r = spr__parse_cameras_json_all("fuzz.json", (const char *)data + 1, size - 1, &v, &n, &err);
+    check_message(r, &err, "fuzz.json");
+    if (!r && (!v || !n)) abort();
+    for (size_t k = 0; !r && k < n; k++) {
+        if (v[k].width < 1 || v[k].height < 1 || spr_pinhole_check(&v[k].pinhole, "fuzz.json", &err) ||
+            !memchr(v[k].img_name, 0, sizeof v[k].img_name))
+            abort();
+        for (size_t j = 0; j < k; j++)
+            if (v[j].id == v[k].id) abort();
+    }
+    free(v);
     (void)c;
 #elif defined(SPR_FUZZ_XYZ)
     spr_result r = spr__parse_xyz("fuzz.xyz", (const char *)data, size, NULL, &c, &err);
