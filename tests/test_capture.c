@@ -2,7 +2,9 @@
  * ellipse test worked by hand, circles kept bit for bit, the Gaussian-splat
  * mapping against values computed here from the scene's definition
  * (tests/data/make_captures.py), one scene in every capture format covering
- * the same pixels, text files by column name, and GL parity on a capture. */
+ * the same pixels, text files by column name, and GL parity on a capture;
+ * issue 36: real third-party captures (the SOG reader against PlayCanvas's,
+ * one scan in two formats, every Gaussian algorithm) and bad SOGs. */
 #include "test_util.h"
 #include "spr_arith_c.h"
 
@@ -10,6 +12,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <webp/decode.h>
+#include <webp/encode.h>
+#include <zip.h>
 
 static const char *cap(const char *name)
 {
@@ -420,16 +426,17 @@ static void gauss_sigma(const spr_cloud *c, size_t i, double S[3][3])
  * with a seen with axis k reversed (b ≈ P·a, Σ_b ≈ P·Σ_a·P).  Splats are matched by position (the
  * compressed PLY writer reorders them into spatial chunks); every one of b must be matched once. */
 typedef struct gauss_diff { double pos, sigma, opacity, dc, rest; } gauss_diff;
-static gauss_diff gauss_compare(const spr_cloud *a, const spr_cloud *b, const double flip[3])
+static gauss_diff gauss_compare_as(const spr_cloud *a, const spr_cloud *b, const double flip[3], int by_index)
 {
     gauss_diff d = {0, 0, 0, 0, 0};
     ck_assert_uint_eq(a->n, b->n);
     ck_assert(a->gauss && b->gauss && a->sh && b->sh);
     char *used = calloc(b->n, 1);
     for (size_t i = 0; i < a->n; i++) {
-        size_t j = 0;
-        double best = INFINITY;
-        for (size_t m = 0; m < b->n; m++) {
+        size_t j = i;
+        double best = by_index ? 0.0 : INFINITY;
+        for (int r = 0; by_index && r < 3; r++) best = fmax(best, fabs(flip[r] * a->pos[3 * i + r] - b->pos[3 * i + r]));
+        for (size_t m = 0; !by_index && m < b->n; m++) {
             double e = 0.0;
             for (int r = 0; r < 3; r++) e = fmax(e, fabs(flip[r] * a->pos[3 * i + r] - b->pos[3 * m + r]));
             if (e < best) best = e, j = m;
@@ -458,6 +465,7 @@ static gauss_diff gauss_compare(const spr_cloud *a, const spr_cloud *b, const do
     free(used);
     return d;
 }
+static gauss_diff gauss_compare(const spr_cloud *a, const spr_cloud *b, const double flip[3]) { return gauss_compare_as(a, b, flip, 0); }
 
 /* SH coefficient k of splat i after reversing the axes of flip: the sign of its basis function. */
 static void sh_flip(spr_cloud *c, const double f[3])
@@ -478,12 +486,21 @@ START_TEST(splat_transform_files_agree)
      *   .spz            position 12 fractional bits (±2^-13), log σ in steps of 1/16 (Σ within e^(2/32) − 1 = 6.5%),
      *                   rotation 9 bits, colour 8 bits over ±0.5/0.15, opacity 8 bits, SH rounded to 1/128 and then
  *                   to 5 bits (degree 1) or 4 bits (a step of 16/128: ±(8 + ½)/128);
-     *   .glb            float, exact.
+     *   .glb            float, exact;
+     *   .sog            below.
      * The quaternion is compared through Σ, which does not depend on its sign or on the local axes' order. */
     static const struct { const char *ext; double pos, sigma, opacity, dc, rest; } fmt[] = {
         {"compressed.ply", 0.002, 0.02, 0.5 / 255 + 1e-6, 0.5 / 255 / SPR__SH_C0 + 1e-5, 4.0 / 255 + 1e-5},
         {"spz", 1.0 / 8192 + 1e-6, 0.07, 0.5 / 255 + 1e-4, 0.5 / 255 / 0.15 + 1e-5, 1.0 / 16 + 0.5 / 128 + 1e-5},
         {"glb", 1e-6, 1e-6, 0.0, 0.0, 0.0}, /* the converter turned the frame by a rotation: last-bit differences */
+        /* .sog (the sheet only: the sphere's SH palette needs a GPU to write): log-coordinates n = ln(|v| + 1) truncated to 16 bits
+         * over the scene's [−ln 1.9375, ln 1.9375], so |Δv| <= e^|n|·2·ln(1.9375)/65535; rotation: the three smaller components
+         * of q·√2 truncated to 8 bits over [−1, 1] (|δ| <= √2/255 each), an angle of at most θ = 2·√3·√2/255, which moves Σ by
+         * θ·(σ1² − σ2²) against a largest entry of at least (σ1² + σ2²)/2: 2θ·(1 − r)/(1 + r), r = (0.08/0.12)²; log σ and
+         * f_dc from 256-entry k-means codebooks, which over the sheet's three distinct values each hold those values (float);
+         * opacity truncated to 8 bits (< 1/255) */
+        {"sog", 1.9375 * 2.0 * 0.66139848 / 65535.0 + 1e-6, 2.0 * (2.0 * 1.7320508 * 1.4142136 / 255.0) * (1.0 - 0.4444444) / (1.0 + 0.4444444) + 1e-5,
+         1.0 / 255, 1e-6, 0.0},
     };
     static const double same[3] = {1, 1, 1}, yz[3] = {1, -1, -1};
     const char *line[] = {"2.7.1", "3.7.0"}, *scene[] = {"sheet", "sphere"};
@@ -502,6 +519,7 @@ START_TEST(splat_transform_files_agree)
             for (size_t f = 0; f < sizeof fmt / sizeof fmt[0]; f++)
                 for (int raw = 0; raw < 2; raw++) {
                     if (raw && strcmp(fmt[f].ext, "spz")) continue;
+                    if (s == 1 && !strcmp(fmt[f].ext, "sog")) continue;
                     spr_cloud c;
                     snprintf(name, sizeof name, "splat-transform/%s/%s.%s", line[l], scene[s], fmt[f].ext);
                     ld.spz_raw = raw;
@@ -528,6 +546,248 @@ START_TEST(splat_transform_files_agree)
                 }
             spr_cloud_free(&ref);
         }
+}
+END_TEST
+
+/* ---- real captures of third parties (tests/data/captures/real/PROVENANCE.md) ---- */
+
+static const char *real(const char *name)
+{
+    static char buf[4][512];
+    static int k;
+    k = (k + 1) % 4;
+    snprintf(buf[k], sizeof buf[k], "%s/tests/data/captures/real/%s", SPR_SOURCE_DIR, name);
+    return buf[k];
+}
+
+static void load_sh3(const char *path, spr_cloud *c)
+{
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    ld.sh_degree = 3;
+    spr_error err = {0};
+    ck_assert_msg(spr_load(path, &ld, c, &err) == SPR_OK, "%s", err.msg);
+}
+
+START_TEST(sog_reads_as_playcanvas_reads_it)
+{
+    /* Two third-party SOGs against what PlayCanvas's own SOG reader (splat-transform 3.7.0) makes of the same bytes, written
+     * out as a 3DGS PLY: the same Gaussians in the same order (the texel order).  Both decode the same bytes, so they differ
+     * only where the PLY stores a value in float32 another way: the opacity as a logit of the byte/255 clamped to
+     * [1e-6, 1 − 1e-6] (back through the sigmoid: 1e-6, and float rounding), Σ through float32 quaternions and log-scales
+     * (relative 1e-6).  The palette of SH vectors (playbot: 2 bands, 1,024 entries) must come out coefficient for
+     * coefficient. */
+    static const struct { const char *sog, *ply; size_t n; int sh_k; } f[] = {
+        {"sog/playbot-lod6/meta.json", "sog/playbot-lod6.splat-transform-3.7.0.ply", 1873, 9},
+        {"sog/wave_0001.sog", "sog/wave_0001.splat-transform-3.7.0.ply", 4225, 1}};
+    static const double same[3] = {1, 1, 1};
+    for (int k = 0; k < 2; k++) {
+        spr_cloud a, b;
+        load_sh3(real(f[k].sog), &a);
+        load_sh3(real(f[k].ply), &b);
+        ck_assert_uint_eq(a.n, f[k].n);
+        ck_assert_int_eq(a.sh_k, f[k].sh_k);
+        ck_assert_int_eq(b.sh_k, f[k].sh_k);
+        const gauss_diff d = gauss_compare_as(&a, &b, same, 1);
+        fprintf(stderr, "SOG %s against splat-transform's reader: position %.3g, sigma %.3g, opacity %.3g, DC %.3g, SH %.3g\n", f[k].sog, d.pos,
+                d.sigma, d.opacity, d.dc, d.rest);
+        ck_assert_msg(d.pos <= 1e-6 && d.sigma <= 1e-6 && d.opacity <= 1e-6 + 1e-7 && d.dc == 0.0 && d.rest == 0.0,
+                      "%s: position %g, sigma %g, opacity %g, DC %g, SH %g", f[k].sog, d.pos, d.sigma, d.opacity, d.dc, d.rest);
+        spr_cloud_free(&a);
+        spr_cloud_free(&b);
+    }
+}
+END_TEST
+
+START_TEST(one_scan_two_formats_agree)
+{
+    /* PlayCanvas's biker: a compressed PLY (SuperSplat 2.7.1) and the SPZ version 4 its commit says was converted from that
+     * asset.  The same 152,746 Gaussians in the same order, the SPZ holding the compressed PLY's values quantised once more by
+     * its own rules (splat_transform_files_agree: position 12 fractional bits, rounded (±2^-13); log σ in steps of 1/16 and a
+     * 9-bit rotation (Σ within 7%); opacity 8 bits; f_dc 8 bits over ±0.5/0.15, rounded (±0.5/(0.15·255))). */
+    spr_cloud a, b;
+    load_sh3(real("biker.compressed.ply"), &a);
+    load_sh3(real("biker.spz"), &b);
+    ck_assert_uint_eq(a.n, 152746);
+    static const double same[3] = {1, 1, 1};
+    const gauss_diff d = gauss_compare_as(&a, &b, same, 1);
+    fprintf(stderr, "biker: compressed PLY against SPZ v4: position %.3g, sigma %.3g, opacity %.3g, DC %.3g\n", d.pos, d.sigma, d.opacity, d.dc);
+    ck_assert_msg(d.pos <= 1.0 / 8192 + 1e-6 && d.sigma <= 0.07 && d.opacity <= 0.5 / 255 + 1e-4 && d.dc <= 0.5 / 255 / 0.15 + 1e-5,
+                  "position %g, sigma %g, opacity %g, DC %g beyond the SPZ's quantisation", d.pos, d.sigma, d.opacity, d.dc);
+    spr_cloud_free(&a);
+    spr_cloud_free(&b);
+}
+END_TEST
+
+/* The real captures and the camera each is looked at from (their frames are the training code's, y down, except the
+ * donut's, z up); docs/formats.md shows the pictures. */
+static const struct { const char *file; const char *eye, *target, *up; } real_captures[] = {
+    {"donut-mipsplat.ply", "0.02,-0.16,0.28", "0,0,0.03", "0,1,0"},
+    {"biker.compressed.ply", "-0.1,-1.6,4.6", "-0.1,-1.6,0", "0,-1,0"},
+    {"biker.spz", "-0.1,-1.6,4.6", "-0.1,-1.6,0", "0,-1,0"},
+    {"fruit-drops-sh3.ply", "0.74,0.12,-1.2", "0.74,0.12,-2.13", "0,-1,0"},
+    {"seal.splat", "0,-0.5,-2.5", "0,0,0", "0,-1,0"},
+    {"fourth-st-sh3.spz", "0,-0.1,-0.45", "0,0,0", "0,-1,0"},
+    {"sog/playbot-lod6/meta.json", "0,-0.8,-3.5", "0,-0.5,0", "0,-1,0"},
+    {"sog/wave_0001.sog", "0,-3,-6", "0,-0.5,0", "0,-1,0"},
+};
+
+START_TEST(real_captures_every_algorithm)
+{
+    /* every real capture with every Gaussian algorithm, SH degree 3: the GL backend bit-exact (Tier A) with the reference */
+    static const char *const algos[] = {"gauss3d", "gauss2d", "gauss-blend"};
+    char err[8192];
+    for (size_t k = 0; k < sizeof real_captures / sizeof real_captures[0]; k++)
+        for (int a = 0; a < 3; a++) {
+            char *argv[] = {"splatref", "parity", "--model", (char *)real(real_captures[k].file), "--algo", (char *)algos[a], "--sh-degree", "3",
+                            "--size", "120x90", "--fov", "40", "--eye", (char *)real_captures[k].eye, "--target", (char *)real_captures[k].target, "--up",
+                            (char *)real_captures[k].up, "--quiet", NULL};
+            int rc = tu_run(NULL, NULL, 1, argv, err, sizeof err);
+            ck_assert_msg(rc == 0 && strstr(err, "BIT-EXACT (Tier A)"), "%s %s: rc %d: %s", real_captures[k].file, algos[a], rc, err);
+        }
+}
+END_TEST
+
+START_TEST(real_captures_render)
+{
+    /* the CPU reference of every real capture with every Gaussian algorithm: the capture fills a good part of its view
+     * (its camera frames it: more than a tenth of the pixels covered) and every value is finite */
+    static const spr_algo algos[] = {SPR_ALGO_GAUSS3D, SPR_ALGO_GAUSS2D, SPR_ALGO_GAUSS_BLEND};
+    for (size_t k = 0; k < sizeof real_captures / sizeof real_captures[0]; k++) {
+        spr_cloud c;
+        load_sh3(real(real_captures[k].file), &c);
+        spr_camera_desc cam;
+        spr_camera_defaults(&cam);
+        cam.width = 120, cam.height = 90, cam.fov_deg = 40.0;
+        ck_assert_int_eq(sscanf(real_captures[k].eye, "%lf,%lf,%lf", &cam.eye[0], &cam.eye[1], &cam.eye[2]), 3);
+        ck_assert_int_eq(sscanf(real_captures[k].target, "%lf,%lf,%lf", &cam.target[0], &cam.target[1], &cam.target[2]), 3);
+        ck_assert_int_eq(sscanf(real_captures[k].up, "%lf,%lf,%lf", &cam.up[0], &cam.up[1], &cam.up[2]), 3);
+        cam.have_eye = cam.have_target = 1;
+        spr_bounds bd;
+        spr_cloud_bounds(&c, &bd);
+        spr_camera_frame(&cam, &bd);
+        spr_view v;
+        spr_error err = {0};
+        ck_assert_msg(spr_view_make(&cam, &v, &err) == SPR_OK, "%s", err.msg);
+        for (int a = 0; a < 3; a++) {
+            spr_render_desc d = {.algo = algos[a]};
+            spr_render_result r;
+            tu_render(&v, &c, &d, 2, &r);
+            size_t cov = 0, bad = 0;
+            for (size_t i = 0; i < (size_t)120 * 90; i++) {
+                cov += r.rgba[4 * i] + r.rgba[4 * i + 1] + r.rgba[4 * i + 2] > 0.02f;
+                for (int ch = 0; ch < 4; ch++) bad += !isfinite(r.rgba[4 * i + ch]);
+            }
+            fprintf(stderr, "real capture %s, %s: %zu of %d pixels covered\n", real_captures[k].file, spr_algo_name(algos[a]), cov, 120 * 90);
+            ck_assert_msg(cov > 120 * 90 / 10 && bad == 0, "%s %s: %zu covered, %zu not finite", real_captures[k].file, spr_algo_name(algos[a]), cov, bad);
+            spr_render_result_free(&r);
+        }
+        spr_cloud_free(&c);
+    }
+}
+END_TEST
+
+/* A .sog of the given files (names[k], bytes, lens) written with libzip. */
+static void write_sog(const char *path, int n, const char *const *names, unsigned char *const *bytes, const size_t *lens)
+{
+    int ze = 0;
+    zip_t *z = zip_open(path, ZIP_CREATE | ZIP_TRUNCATE, &ze);
+    ck_assert_ptr_nonnull(z);
+    for (int k = 0; k < n; k++) {
+        zip_source_t *src = zip_source_buffer(z, bytes[k], lens[k], 0);
+        ck_assert_ptr_nonnull(src);
+        ck_assert_int_ge(zip_file_add(z, names[k], src, ZIP_FL_OVERWRITE), 0);
+    }
+    ck_assert_int_eq(zip_close(z), 0);
+}
+
+START_TEST(bad_sogs_are_one_clear_error)
+{
+    /* SOGs taken apart and put together wrong (from splat-transform's sheet.sog): each is one line naming the file and what is
+     * wrong, and nothing is loaded */
+    char dir[64];
+    tu_tmpdir(dir, "sog");
+    static const char *const names[6] = {"meta.json", "means_l.webp", "means_u.webp", "quats.webp", "scales.webp", "sh0.webp"};
+    unsigned char *b[6];
+    size_t len[6];
+    int ze = 0;
+    zip_t *z = zip_open(cap("splat-transform/3.7.0/sheet.sog"), ZIP_RDONLY, &ze);
+    ck_assert_ptr_nonnull(z);
+    for (int k = 0; k < 6; k++) {
+        zip_stat_t st;
+        ck_assert_int_eq(zip_stat(z, names[k], 0, &st), 0);
+        len[k] = (size_t)st.size;
+        b[k] = malloc(len[k] + 64);
+        zip_file_t *f = zip_fopen(z, names[k], 0);
+        ck_assert(f && zip_fread(f, b[k], st.size) == (zip_int64_t)st.size);
+        zip_fclose(f);
+    }
+    zip_discard(z);
+    char *meta = (char *)b[0];
+    meta[len[0]] = '\0';
+    /* quats with Gaussian 5's index byte 0, re-encoded losslessly */
+    int w, h;
+    uint8_t *q = WebPDecodeRGBA(b[3], len[3], &w, &h), *enc = NULL;
+    ck_assert_ptr_nonnull(q);
+    q[4 * 5 + 3] = 0;
+    const size_t qlen = WebPEncodeLosslessRGBA(q, w, h, 4 * w, &enc);
+    ck_assert_uint_gt(qlen, 0);
+    uint8_t *lossy = NULL, *sh0 = WebPDecodeRGBA(b[5], len[5], &w, &h); /* sh0 as a lossy WebP */
+    ck_assert_ptr_nonnull(sh0);
+    const size_t lossy_len = WebPEncodeRGBA(sh0, w, h, 4 * w, 90.0f, &lossy);
+    ck_assert_uint_gt(lossy_len, 0);
+    struct { const char *name; int mode; const char *from, *to; const char *want; } bad[] = {
+        {"notzip.sog", 0, NULL, NULL, "not a zip archive"},
+        {"nometa.sog", 1, NULL, NULL, "the zip holds no meta.json"},
+        {"v1.sog", 2, "\"version\":2,", "", "has no \"version\": a version 1 SOG"},
+        {"v3.sog", 2, "\"version\":2", "\"version\":3", "SOG version 3 is not read"},
+        {"count.sog", 2, "\"count\":256", "\"count\":300", "fewer than the 300 Gaussians"},
+        {"path.sog", 2, "\"quats\":{\"files\":[\"quats.webp\"]", "\"quats\":{\"files\":[\"../quats.webp\"]", "a SOG's files are plain names"},
+        {"codebook.sog", 2, "\"codebook\":[", "\"codebook\":[null,", "codebook is not 256 numbers"},
+        {"model.sog", 2, "\"count\":256", "\"count\":256,\"model\":\"2dgs\"", "\"model\" \"2dgs\" is not read"},
+        {"quat.sog", 3, NULL, NULL, "quats.webp texel (5, 0) (Gaussian 5): alpha 0 is not 252..255"},
+        {"half.sog", 4, NULL, NULL, "half.sog: "},
+        {"cut.sog", 5, NULL, NULL, "sh0.webp: not a WebP image"},
+        {"lossy.sog", 6, NULL, NULL, "sh0.webp: a lossy WebP (SOG's images are lossless"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        const char *path = tu_in(dir, bad[k].name);
+        unsigned char *fb[6];
+        size_t fl[6];
+        for (int i = 0; i < 6; i++) fb[i] = b[i], fl[i] = len[i];
+        char edited[16384];
+        if (bad[k].mode == 0) {
+            FILE *f = fopen(path, "wb");
+            ck_assert(f && fwrite("PK\x03\x04 not really", 1, 16, f) == 16);
+            fclose(f);
+        } else if (bad[k].mode == 1) {
+            write_sog(path, 5, names + 1, fb + 1, fl + 1);
+        } else {
+            if (bad[k].mode == 2) {
+                const char *at = strstr(meta, bad[k].from);
+                ck_assert_msg(at, "%s: no %s in meta.json", bad[k].name, bad[k].from);
+                snprintf(edited, sizeof edited, "%.*s%s%s", (int)(at - meta), meta, bad[k].to, at + strlen(bad[k].from));
+                fb[0] = (unsigned char *)edited, fl[0] = strlen(edited);
+            }
+            if (bad[k].mode == 3) fb[3] = enc, fl[3] = qlen;
+            if (bad[k].mode == 5) fl[5] = 12; /* sh0.webp cut to its RIFF header */
+            if (bad[k].mode == 6) fb[5] = lossy, fl[5] = lossy_len;
+            write_sog(path, 6, names, fb, fl);
+            if (bad[k].mode == 4) ck_assert_int_eq(truncate(path, 6000), 0);
+        }
+        spr_cloud c;
+        spr_error err = {0};
+        memset(&c, 0, sizeof c);
+        ck_assert_msg(spr_load(path, NULL, &c, &err) != SPR_OK, "%s loaded", bad[k].name);
+        ck_assert_msg(strstr(err.msg, bad[k].name) && strstr(err.msg, bad[k].want) && !strchr(err.msg, '\n'), "%s: %s", bad[k].name, err.msg);
+        ck_assert_ptr_null(c.pos);
+        fprintf(stderr, "bad SOG %s: %s\n", bad[k].name, err.msg);
+    }
+    WebPFree(q);
+    WebPFree(enc);
+    WebPFree(sh0);
+    WebPFree(lossy);
+    for (int k = 0; k < 6; k++) free(b[k]);
 }
 END_TEST
 
@@ -639,6 +899,10 @@ Suite *make_capture_suite(void)
     tcase_add_test(tc, exporters_files_load);
     tcase_add_test(tc, bad_captures_are_one_clear_error);
     tcase_add_test(tc, splat_transform_files_agree);
+    tcase_add_test(tc, sog_reads_as_playcanvas_reads_it);
+    tcase_add_test(tc, one_scan_two_formats_agree);
+    tcase_add_test(tc, bad_sogs_are_one_clear_error);
+    tcase_add_test(tc, real_captures_render);
     suite_add_tcase(s, tc);
     return s;
 }
@@ -649,6 +913,7 @@ Suite *make_capture_gl_suite(void)
     TCase *tc = tcase_create("capture_gl");
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, capture_parity_every_algorithm);
+    tcase_add_test(tc, real_captures_every_algorithm);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -7,7 +7,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 
 pkgs="build-essential cmake pkg-config ca-certificates \
   libflann-dev liblz4-dev check libsubunit-dev \
-  libpng-dev zlib1g-dev libzstd-dev \
+  libpng-dev zlib1g-dev libzstd-dev libzip-dev libwebp-dev \
   python3-numpy python3-pil python3-pytest python3-venv python3-pip python3-junitparser libxml2-utils \
   jupyter-nbconvert python3-ipykernel python3-matplotlib \
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-vulkan-drivers \

@@ -180,16 +180,15 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
 {
     int ply = ieq(ext, "ply"), off = ieq(ext, "off"), xyz = ieq(ext, "xyz") || ieq(ext, "pwn"),
         txt = ieq(ext, "txt") || ieq(ext, "asc") || ieq(ext, "csv") || ieq(ext, "pts"), splat = ieq(ext, "splat"), spz = ieq(ext, "spz"),
-        glb = ieq(ext, "glb");
-    if (ieq(ext, "sog"))
-        return spr__fail(err, SPR_E_FORMAT, "%s: PlayCanvas SOG (WebP images of quantised attributes in a zip) is not read: convert it to .ply or .spz "
-                         "with splat-transform (docs/formats.md)", path);
+        glb = ieq(ext, "glb"), sog = ieq(ext, "sog");
+    const char *base = strrchr(path, '/');
+    const int sog_folder = !strcmp(base ? base + 1 : path, "meta.json"); /* a SOG unzipped: meta.json beside its images */
     if (ieq(ext, "ksplat"))
         return spr__fail(err, SPR_E_FORMAT, "%s: .ksplat (GaussianSplats3D's compressed format) is not read: convert it to .ply or .spz with "
                          "splat-transform (docs/formats.md)", path);
-    if (!ply && !off && !xyz && !txt && !splat && !spz && !glb)
-        return spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz, .pwn, .txt, .asc, .csv, .pts, .splat, .spz or .glb)",
-                         path, ext);
+    if (!ply && !off && !xyz && !txt && !splat && !spz && !glb && !sog && !sog_folder)
+        return spr__fail(err, SPR_E_FORMAT, "%s: unknown file type \".%s\" (expected .ply, .off, .xyz, .pwn, .txt, .asc, .csv, .pts, .splat, .spz, .glb, "
+                         ".sog or a SOG's meta.json)", path, ext);
     if (d && d->columns && !(xyz || txt))
         return spr__fail(err, SPR_E_ARG, "%s: --columns names the columns of text point files (.xyz .pwn .txt .asc .csv .pts), not .%s", path, ext);
     spr__gauss_opts go;
@@ -208,6 +207,8 @@ static spr_result load_file(const char *path, const char *ext, spr_cloud *c, spr
     else if (splat) r = spr__parse_splat(path, buf, len, &go, c, err);
     else if (spz) r = spr__parse_spz(path, buf, len, &go, c, err);
     else if (glb) r = spr__parse_glb(path, buf, len, &go, c, err);
+    else if (sog) r = spr__parse_sog(path, buf, len, &go, c, err);
+    else if (sog_folder) r = spr__parse_sog_folder(path, buf, len, &go, c, err);
     else r = spr__parse_xyz(path, buf, len, d ? d->columns : NULL, c, err);
     spr__unmap_file(buf, len, mapped);
     return r;

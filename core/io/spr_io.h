@@ -151,6 +151,13 @@ spr_result spr__parse_cameras_json_all(const char *path, const char *text, size_
 spr_result spr__parse_splat(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_spz(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_glb(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
+/* PlayCanvas SOG version 2 (io_sog.c): a .sog zip over its bytes, or the folder form from its meta.json's bytes
+ * (the images read beside path). */
+spr_result spr__parse_sog(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
+spr_result spr__parse_sog_folder(const char *path, const char *buf, size_t len, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
+/* The same over files in memory (the fuzz harness: a SOG's own files, mutated, without its zip). */
+typedef struct spr__sog_file { const char *name; const unsigned char *data; size_t len; } spr__sog_file;
+spr_result spr__parse_sog_files(const char *path, const spr__sog_file *files, size_t n, const spr__gauss_opts *o, spr_cloud *c, spr_error *err);
 spr_result spr__parse_off(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, spr_error *err);
 /* Point files by column name (docs/formats.md): a header line (`//X Y Z
  * R G B … Nx Ny Nz`, `# x y z nx ny nz`, CSV `x,y,z,…`) names the columns,

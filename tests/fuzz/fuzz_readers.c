@@ -2,7 +2,7 @@
  *
  * One source, one harness per reader, chosen at compile time with
  * -DSPR_FUZZ_PLY / _OFF / _XYZ / _GROUPS / _SPLAT / _SPZ / _GLB / _CAMERAS (issue 15:
- * the Gaussian-splat readers) / _IMAGE (issue 25: the PNG and PFM readers of check;
+ * the Gaussian-splat readers) / _SOG (issue 36: PlayCanvas SOG, zipped or its files) / _IMAGE (issue 25: the PNG and PFM readers of check;
  * the Gaussian-splat readers; their first input byte picks the options) / _SCENE (issue 25:
  * scene files, read and checked).  The readers run over the input
  * as it is, in memory (spr__parse_*; the groups reader through a memfd):
@@ -101,6 +101,41 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     free(v);
     (void)c;
+#elif defined(SPR_FUZZ_SOG)
+    /* PlayCanvas SOG: the first byte picks the form and the SH degree kept (bits 1–2).  Even: the rest is a .sog
+     * (a zip); odd: the rest holds the SOG's files themselves, each as a name length (1 byte), the name, a data
+     * length (4 bytes, little endian) and the data, so that mutations reach meta.json and the WebP images (inside
+     * the zip, their CRCs would refuse almost every one first) */
+    if (size < 1) return 0;
+    const spr__gauss_opts go = {3.0, (data[0] >> 1) & 3, 0};
+    spr_result r;
+    if (!(data[0] & 1)) {
+        r = spr__parse_sog("fuzz.sog", (const char *)data + 1, size - 1, &go, &c, &err);
+    } else {
+        spr__sog_file f[16];
+        char names[16][256];
+        size_t n = 0, at = 1;
+        while (n < 16 && at < size) {
+            const size_t nl = data[at++];
+            if (at + nl + 4 > size) break;
+            memcpy(names[n], data + at, nl);
+            names[n][nl] = '\0';
+            at += nl;
+            size_t dl = (size_t)data[at] | (size_t)data[at + 1] << 8 | (size_t)data[at + 2] << 16 | (size_t)data[at + 3] << 24;
+            at += 4;
+            if (dl > size - at) dl = size - at;
+            f[n] = (spr__sog_file){names[n], data + at, dl};
+            at += dl, n++;
+        }
+        r = spr__parse_sog_files("fuzz.sog", f, n, &go, &c, &err);
+    }
+    check_message(r, &err, "fuzz.sog");
+    if (!r) {
+        if (!c.n || !c.gauss || !c.sh) abort();
+        for (size_t i = 0; i < c.n; i++)
+            if (!(c.alpha[i] >= 0.0f && c.alpha[i] <= 1.0f) || !(c.radius[i] > 0.0f)) abort(); /* an accepted Gaussian is a Gaussian */
+        spr_cloud_free(&c);
+    }
 #elif defined(SPR_FUZZ_XYZ)
     spr_result r = spr__parse_xyz("fuzz.xyz", (const char *)data, size, NULL, &c, &err);
     check_message(r, &err, "fuzz.xyz");
