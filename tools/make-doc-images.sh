@@ -1,7 +1,8 @@
 #!/bin/sh
 # Regenerates the pictures of README.md and docs/ with the CPU reference
-# (`domains`, `gaussians` or `profiles` as the argument: only those of
-# docs/domains.md, docs/gaussians.md or its profile gallery).
+# (`domains`, `gaussians`, `profiles` or `captures` as the argument: only those
+# of docs/domains.md, docs/gaussians.md, its profile gallery or docs/formats.md's
+# real captures).
 # Run deliberately, look at every picture before committing them.
 set -eu
 cd "$(dirname "$0")/.."
@@ -63,6 +64,22 @@ profile_images() { # docs/gaussians.md: the real donut capture under every profi
   done
   rm -rf "$tmp"
 }
+capture_images() { # docs/formats.md: the real third-party captures (tests/data/captures/real), gauss3d, SH degree 3, the tests' cameras
+  D=$O/captures
+  R=tests/data/captures/real
+  mkdir -p "$D"
+  for c in "donut:donut-mipsplat.ply:0.02,-0.16,0.28:0,0,0.03:0,1,0" "biker-compressed:biker.compressed.ply:-0.1,-1.6,4.6:-0.1,-1.6,0:0,-1,0" \
+           "biker-spz:biker.spz:-0.1,-1.6,4.6:-0.1,-1.6,0:0,-1,0" "fruit-drops:fruit-drops-sh3.ply:0.74,0.12,-1.2:0.74,0.12,-2.13:0,-1,0" \
+           "seal:seal.splat:0,-0.5,-2.5:0,0,0:0,-1,0" "fourth-st:fourth-st-sh3.spz:0,-0.1,-0.45:0,0,0:0,-1,0" \
+           "playbot:sog/playbot-lod6/meta.json:0,-0.8,-3.5:0,-0.5,0:0,-1,0" "wave:sog/wave_0001.sog:0,-3,-6:0,-0.5,0:0,-1,0"; do
+    IFS=: read -r name file eye target up <<EOF2
+$c
+EOF2
+    $S render --model "$R/$file" --algo gauss3d --sh-degree 3 --size 240x180 --fov 40 --eye "$eye" --target "$target" --up "$up" --quiet \
+      --out "$D/$name.png" > /dev/null
+  done
+}
+if [ "${1:-}" = captures ]; then capture_images; exit 0; fi
 if [ "${1:-}" = domains ]; then domain_images; exit 0; fi
 if [ "${1:-}" = gaussians ]; then gauss_images; profile_images; exit 0; fi
 if [ "${1:-}" = profiles ]; then profile_images; exit 0; fi
@@ -77,3 +94,4 @@ $S render --size 384x384 --quiet --out $O/default_torus.png
 domain_images
 gauss_images
 profile_images
+capture_images

@@ -16,7 +16,7 @@ for v in 2.7.1 3.7.0; do
       "$st" -w -q "$here/gen-$scene.mjs" "$here/$v/$scene.$ext"
     done
   done
-  # the SOG bundle of the sheet (the sphere's SH need a GPU to compress): a format we refuse by name
+  # the SOG bundle of the sheet (the sphere's SH need a GPU to compress)
   "$st" -w -q "$here/gen-sheet.mjs" "$here/$v/sheet.sog"
 done
 # the 3.x line also writes SPZ version 3 (gzip)
