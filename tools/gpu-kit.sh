@@ -36,11 +36,12 @@ kit="$here/.gpu-kit"
 # compiler's own) stay the machine's.
 PKGS="libflann-dev libflann1.9 liblz4-1 liblz4-dev \
   libpng-dev libpng16-16 zlib1g-dev zlib1g libzstd-dev libzstd1 \
+  libzip-dev libzip4 libbz2-1.0 libssl3 libwebp-dev libwebp7 libwebpmux3 libwebpdemux2 \
   libqhull-dev libqhull-r8.0 libqhull8.0 libqhullcpp8.0 libcjson-dev libcjson1 \
   libegl-dev libegl1 libgl-dev libgl1 libglx-dev libglx0 libopengl-dev libopengl0 libgles-dev libgles1 libgles2 libglvnd0 libglvnd-dev \
   pkgconf pkgconf-bin libpkgconf3"
 # the -dev packages whose headers try-here hides
-DEV_PKGS="libflann-dev liblz4-dev libpng-dev zlib1g-dev libzstd-dev libqhull-dev libcjson-dev libegl-dev libgl-dev libglx-dev libopengl-dev libgles-dev libglvnd-dev"
+DEV_PKGS="libflann-dev liblz4-dev libpng-dev zlib1g-dev libzstd-dev libzip-dev libwebp-dev libqhull-dev libcjson-dev libegl-dev libgl-dev libglx-dev libopengl-dev libgles-dev libglvnd-dev"
 ARCH_LIB=usr/lib/x86_64-linux-gnu
 MODELS="bunny00.off armadillo.off ChineseDragon-10kv.off"
 
@@ -177,7 +178,7 @@ run() {
   [ -n "$vend" ] && export __EGL_VENDOR_LIBRARY_DIRS="$vend"
   section "where the libraries came from"
   bad=0
-  for l in flann png16 z zstd qhull_r cjson EGL OpenGL; do
+  for l in flann png16 z zstd zip webp qhull_r cjson EGL OpenGL; do
     at=$(ldd "$bin" | awk -v l="lib$l.so" 'index($1, l) == 1 { print $3 }' | head -1)
     case $at in "$prefix"/*) printf 'lib%s: %s\n' "$l" "$at" | tee -a "$log" ;; *) printf 'lib%s: NOT FROM THE KIT (%s)\n' "$l" "${at:-not linked}" | tee -a "$log"; bad=1 ;; esac
   done
