@@ -279,7 +279,7 @@ done:
 
 static int check_views(spr__args *a, const char *dir, const char *pname, int pass, const char *out, const char *junit)
 {
-    const char *file = spr__get(a, "cameras"), *names = spr__get(a, "image-names");
+    const char *names = spr__get(a, "image-names"), *file = NULL;
     if (names && strcmp(names, "position") && strcmp(names, "name")) { spr__error(a, "--image-names: '%s' is not position or name", names); return 2; }
     const int by_name = names && !strcmp(names, "name"), tty = isatty(2) && !spr__flag(a, "quiet");
     struct stat st;
@@ -287,7 +287,6 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
     spr_camera_entry *v = NULL;
     size_t n = 0;
     spr_error err = {0};
-    if (spr_cameras_json_all(file, &v, &n, &err)) { spr__error(a, "--cameras: %s", err.msg); return 2; }
     spr_scene s;
     spr_render_desc rd;
     memset(&s, 0, sizeof s);
@@ -296,7 +295,9 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
     char tmp[1200] = "", failed[400] = "";
     cli_junit *ju = junit ? cli_junit_new("splatref check") : NULL;
     cJSON *rep = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(rep, "views");
-    if (spr__scene_setup(a, &s, &rd, 0) || spr__reject_unused(a)) goto done;
+    if (spr__scene_setup(a, &s, &rd, 0) || spr__reject_unused(a)) goto done; /* --scene's values are read here */
+    file = spr__get(a, "cameras");
+    if (spr_cameras_json_all(file, &v, &n, &err)) { spr__error(a, "--cameras: %s", err.msg); goto done; }
     if (cli_outdir_begin(a, "out", out, tmp, sizeof tmp)) goto done;
     open_out = 1;
     for (size_t k = 0; k < n; k++) {
