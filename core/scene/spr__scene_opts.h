@@ -6,7 +6,7 @@
 
 /* Loading a model. */
 #define SPR__MODEL_OPTS \
-    {"model", "PATH|builtin:NAME", "model file (.ply .off .xyz .pwn .txt .asc .csv .pts .splat .spz .glb; docs/formats.md) or builtin:sphere|torus|octahedron|planes|cube|spheres (default builtin:torus)"}, \
+    {"model", "PATH|builtin:NAME", "model file (.ply .off .xyz .pwn .txt .asc .csv .pts .splat .spz .glb .sog, a SOG folder's meta.json; docs/formats.md) or builtin:sphere|torus|octahedron|planes|cube|spheres (default builtin:torus)"}, \
     {"points", "N", "size of a built-in model (default 20000)"}, \
     {"radius-k", "K", "k of the radius rule r = rho*d_k when the file has no radii (default 8)"}, \
     {"radius-scale", "RHO", "rho of the radius rule (default 1.0)"}, \
