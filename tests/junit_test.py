@@ -97,3 +97,28 @@ def test_reference_one_case_per_scene(tmp_path):
     assert suite.tests == 1 and cases[0].name == "torus_deferred_mgc" and outcome(cases[0]) == []
     line = [l for l in p.stdout.splitlines() if l.startswith("reference torus_deferred_mgc")][0]
     assert cases[0].system_out.strip() == line
+
+
+def test_check_every_view(tmp_path):
+    """check --camera all: one testcase a view, in the file's order; the view whose image is missing and the view whose
+    image holds another view's picture fail, the others pass; the schema holds."""
+    model = os.path.join(SRC, "tests", "data", "captures", "real", "donut-mipsplat.ply")
+    cams = os.path.join(SRC, "tests", "data", "cameras", "donut-ring12.json")
+    os.mkdir(tmp_path / "renders")
+    for k in range(12):
+        p = run("render", "--model", model, "--algo", "gauss-blend", "--cameras", cams, "--camera", str(k), "--size", "32x24",
+                "--out", f"renders/{k:05d}.png", "--quiet", cwd=tmp_path)
+        assert p.returncode == 0, p.stderr
+    os.remove(tmp_path / "renders" / "00002.png")
+    shutil.copy(tmp_path / "renders" / "00006.png", tmp_path / "renders" / "00005.png")
+    p = run("check", "--model", model, "--algo", "gauss-blend", "--cameras", cams, "--camera", "all", "--images", "renders", "--size", "32x24",
+            "--junit", "views.xml", "--quiet", cwd=tmp_path)
+    assert p.returncode == 1, p.stdout + p.stderr
+    suite, cases = read(tmp_path / "views.xml")
+    assert len(cases) == 12
+    for k, c in enumerate(cases):
+        assert c.name.startswith(f"view {k + 1} of 12 (camera {k}, ring{k:02d}): "), c.name
+        assert outcome(c) == (["Failure"] if k in (2, 5) else []), (k, outcome(c))
+    assert "no image renders/00002.png" in cases[2].result[0].message
+    assert "FAIL, " in cases[5].result[0].message
+    assert suite.failures == 2 and suite.tests == 12
