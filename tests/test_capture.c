@@ -553,11 +553,9 @@ END_TEST
 
 static const char *real(const char *name)
 {
-    static char buf[4][512];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(buf[k], sizeof buf[k], "%s/tests/data/captures/real/%s", SPR_SOURCE_DIR, name);
-    return buf[k];
+    char rel[256];
+    snprintf(rel, sizeof rel, "real/%s", name);
+    return cap(rel);
 }
 
 static void load_sh3(const char *path, spr_cloud *c)
