@@ -296,6 +296,7 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
     cli_junit *ju = junit ? cli_junit_new("splatref check") : NULL;
     cJSON *rep = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(rep, "views");
     if (spr__scene_setup(a, &s, &rd, 0) || spr__reject_unused(a)) goto done; /* --scene's values are read here */
+    rd.progress = (spr_progress){NULL, NULL}; /* the terminal line is the views' (below), not each frame's passes */
     file = spr__get(a, "cameras");
     if (spr_cameras_json_all(file, &v, &n, &err)) { spr__error(a, "--cameras: %s", err.msg); goto done; }
     if (cli_outdir_begin(a, "out", out, tmp, sizeof tmp)) goto done;
