@@ -340,15 +340,29 @@ START_TEST(sheet_and_sphere_of_every_writer)
      * inner part in the DC colour and nothing beyond.  Edge-on from (5, 0, 0) the sheet is a line through the
      * image's middle rows: at most 4 rows (the dilation's 0.3 px² gives σ ≈ 0.55 px), none for surfels (no pixel
      * centre lies in the plane z = 0 with an even height). */
+    /* Each file of each line (3.7.0's .spz are read in its raw frame, see PROVENANCE.md), with the DC colour's step in the
+     * format: float (PLY, .glb; .sog, whose 256-entry codebook of f_dc holds the sheet's two values), 8 bits (compressed
+     * PLY), 0.5/(0.15·255)·C0 (.spz).  Beside the properties, each face-on gauss3d image is compared with the line's PLY
+     * image (printed: the files hold the same Gaussians within their quantisation, splat_transform_files_agree). */
+    static const struct { const char *name; int raw_370, only_370; double tol; } fmts[] = {
+        {"sheet.ply", 0, 0, 1e-5},
+        {"sheet.compressed.ply", 0, 0, 0.5 / 255 + 1e-5},
+        {"sheet.spz", 1, 0, 0.5 / 255 / 0.15 * SPR__SH_C0 + 1e-5},
+        {"sheet.glb", 0, 0, 1e-5},
+        {"sheet-v3.spz", 1, 1, 0.5 / 255 / 0.15 * SPR__SH_C0 + 1e-5},
+        {"sheet.sog", 0, 0, 1e-5},
+    };
     const char *lines[] = {"2.7.1", "3.7.0"};
-    const char *fmts[] = {"sheet.ply", "sheet.compressed.ply", "sheet.spz", "sheet.glb", "sheet-v3.spz"};
     const spr_algo algos[] = {SPR_ALGO_GAUSS3D, SPR_ALGO_GAUSS_BLEND, SPR_ALGO_GAUSS2D, SPR_ALGO_DEFERRED};
-    for (int l = 0; l < 2; l++)
-        for (int f = 0; f < 5; f++) {
-            if (f == 4 && l == 0) continue; /* 2.7.1 writes no version 3 */
+    for (int l = 0; l < 2; l++) {
+        spr_render_result ply;
+        sheet_render(st_file(lines[l], "sheet.ply"), 0, SPR_ALGO_GAUSS3D, 0, &ply);
+        for (size_t f = 0; f < sizeof fmts / sizeof fmts[0]; f++) {
+            if (fmts[f].only_370 && l == 0) continue; /* 2.7.1 writes no version 3 */
+            const int raw = l == 1 && fmts[f].raw_370;
             for (int a = 0; a < 4; a++) {
                 spr_render_result r;
-                sheet_render(st_file(lines[l], fmts[f]), l == 1 && f >= 2 && f != 3, algos[a], 0, &r);
+                sheet_render(st_file(lines[l], fmts[f].name), raw, algos[a], 0, &r);
                 size_t inside = 0, bad_inside = 0, outside = 0, bad_outside = 0;
                 double worst = 0.0;
                 for (int y = 0; y < 120; y++)
@@ -369,25 +383,34 @@ START_TEST(sheet_and_sphere_of_every_writer)
                             bad_outside += algos[a] == SPR_ALGO_DEFERRED ? p[3] > 0.0f : p[3] >= 1.0f / 255.0f;
                         }
                     }
-                /* the DC colour within the format's colour step: 8 bits (compressed PLY), 0.5/(0.15·255)·C0 (.spz) */
-                const double tol = f == 0 || f == 3 ? 1e-5 : f == 1 ? 0.5 / 255 + 1e-5 : 0.5 / 255 / 0.15 * SPR__SH_C0 + 1e-5;
-                ck_assert_msg(inside > 2500 && outside > 4000 && bad_inside == 0 && bad_outside == 0 && worst <= tol,
-                              "%s %s, %s: %zu of %zu inside not covered, %zu of %zu outside covered, colour off by %g", lines[l], fmts[f],
+                ck_assert_msg(inside > 2500 && outside > 4000 && bad_inside == 0 && bad_outside == 0 && worst <= fmts[f].tol,
+                              "%s %s, %s: %zu of %zu inside not covered, %zu of %zu outside covered, colour off by %g", lines[l], fmts[f].name,
                               spr_algo_name(algos[a]), bad_inside, inside, bad_outside, outside, worst);
+                if (algos[a] == SPR_ALGO_GAUSS3D) {
+                    double dmax = 0.0, dsum = 0.0;
+                    for (size_t i = 0; i < (size_t)4 * 160 * 120; i++) {
+                        const double e = fabs((double)r.rgba[i] - ply.rgba[i]);
+                        dmax = fmax(dmax, e), dsum += e;
+                    }
+                    fprintf(stderr, "splat-transform %s %s: gauss3d face-on against the PLY's image: max %.3g (%.2f/255), mean %.3g\n", lines[l],
+                            fmts[f].name, dmax, 255.0 * dmax, dsum / (4.0 * 160 * 120));
+                }
                 spr_render_result_free(&r);
                 /* edge-on */
-                sheet_render(st_file(lines[l], fmts[f]), l == 1 && f >= 2 && f != 3, algos[a], 1, &r);
+                sheet_render(st_file(lines[l], fmts[f].name), raw, algos[a], 1, &r);
                 int rows = 0;
                 for (int y = 0; y < 120; y++) {
                     int any = 0;
                     for (int x = 0; x < 160; x++) any |= r.rgba[4 * ((size_t)y * 160 + x) + 3] >= 1.0f / 255.0f;
                     rows += any;
                 }
-                ck_assert_msg(rows <= (algos[a] == SPR_ALGO_DEFERRED ? 0 : 4), "%s %s, %s: edge-on covers %d rows", lines[l], fmts[f],
+                ck_assert_msg(rows <= (algos[a] == SPR_ALGO_DEFERRED ? 0 : 4), "%s %s, %s: edge-on covers %d rows", lines[l], fmts[f].name,
                               spr_algo_name(algos[a]), rows);
                 spr_render_result_free(&r);
             }
         }
+        spr_render_result_free(&ply);
+    }
 }
 END_TEST
 

@@ -68,8 +68,8 @@ capture_images() { # docs/formats.md: the real third-party captures (tests/data/
   D=$O/captures
   R=tests/data/captures/real
   mkdir -p "$D"
-  for c in "donut:donut-mipsplat.ply:0.02,-0.16,0.28:0,0,0.03:0,1,0" "biker-compressed:biker.compressed.ply:-0.1,-1.6,4.6:-0.1,-1.6,0:0,-1,0" \
-           "biker-spz:biker.spz:-0.1,-1.6,4.6:-0.1,-1.6,0:0,-1,0" "fruit-drops:fruit-drops-sh3.ply:0.74,0.12,-1.2:0.74,0.12,-2.13:0,-1,0" \
+  for c in "donut:donut-mipsplat.ply:0.02,-0.16,0.28:0,0,0.03:0,1,0" "biker-compressed:biker.compressed.ply:-0.1,-1.65,4.9:-0.1,-1.65,0:0,-1,0" \
+           "biker-spz:biker.spz:-0.1,-1.65,4.9:-0.1,-1.65,0:0,-1,0" "fruit-drops:fruit-drops-sh3.ply:0.74,0.12,-1.2:0.74,0.12,-2.13:0,-1,0" \
            "seal:seal.splat:0,-0.5,-2.5:0,0,0:0,-1,0" "fourth-st:fourth-st-sh3.spz:0,-0.1,-0.45:0,0,0:0,-1,0" \
            "playbot:sog/playbot-lod6/meta.json:0,-0.8,-3.5:0,-0.5,0:0,-1,0" "wave:sog/wave_0001.sog:0,-3,-6:0,-0.5,0:0,-1,0"; do
     IFS=: read -r name file eye target up <<EOF2

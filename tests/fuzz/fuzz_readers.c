@@ -232,7 +232,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     spr__scene_forget(&a); /* the option phase holds nothing else */
     (void)c;
 #else
-#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB, SPR_FUZZ_CAMERAS, SPR_FUZZ_IMAGE, SPR_FUZZ_SCENE"
+#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB, SPR_FUZZ_SOG, SPR_FUZZ_CAMERAS, SPR_FUZZ_IMAGE, SPR_FUZZ_SCENE"
 #endif
     return 0;
 }
