@@ -743,10 +743,16 @@ START_TEST(bad_sogs_are_one_clear_error)
         {"path.sog", 2, "\"quats\":{\"files\":[\"quats.webp\"]", "\"quats\":{\"files\":[\"../quats.webp\"]", "a SOG's files are plain names"},
         {"codebook.sog", 2, "\"codebook\":[", "\"codebook\":[null,", "codebook is not 256 numbers"},
         {"model.sog", 2, "\"count\":256", "\"count\":256,\"model\":\"2dgs\"", "\"model\" \"2dgs\" is not read"},
+        /* JSON strings may hold control characters: what the messages would show on a second line (fuzz_sog's finding) */
+        {"ctlname.sog", 2, "\"quats\":{\"files\":[\"quats.webp\"]", "\"quats\":{\"files\":[\"quats\\nwebp\"]",
+         "names a file with the control character 0x0a at byte 5 of its name"},
+        {"ctlmodel.sog", 2, "\"count\":256", "\"count\":256,\"model\":\"2d\\ngs\"", "\"model\" (a string with control characters) is not read"},
         {"quat.sog", 3, NULL, NULL, "quats.webp texel (5, 0) (Gaussian 5): alpha 0 is not 252..255"},
         {"half.sog", 4, NULL, NULL, "half.sog: "},
         {"cut.sog", 5, NULL, NULL, "sh0.webp: not a WebP image"},
         {"lossy.sog", 6, NULL, NULL, "sh0.webp: a lossy WebP (SOG's images are lossless"},
+        /* the converter's own (stored) file with one digit of meta.json changed in place: its CRC-32 no longer matches */
+        {"crc.sog", 7, "\"count\":256", "\"count\":255", "meta.json: its bytes have the CRC-32 "},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         const char *path = tu_in(dir, bad[k].name);
@@ -754,7 +760,22 @@ START_TEST(bad_sogs_are_one_clear_error)
         size_t fl[6];
         for (int i = 0; i < 6; i++) fb[i] = b[i], fl[i] = len[i];
         char edited[16384];
-        if (bad[k].mode == 0) {
+        if (bad[k].mode == 7) {
+            char *raw = NULL;
+            size_t rl = 0;
+            spr_error re = {0};
+            ck_assert_int_eq(spr__read_file(cap("splat-transform/3.7.0/sheet.sog"), &raw, &rl, &re), SPR_OK);
+            const size_t fl0 = strlen(bad[k].from);
+            char *at = NULL;
+            for (size_t i = 0; !at && i + fl0 <= rl; i++)
+                if (!memcmp(raw + i, bad[k].from, fl0)) at = raw + i;
+            ck_assert_msg(at, "no %s in the stored meta.json", bad[k].from);
+            memcpy(at, bad[k].to, strlen(bad[k].to));
+            FILE *f = fopen(path, "wb");
+            ck_assert(f && fwrite(raw, 1, rl, f) == rl);
+            fclose(f);
+            free(raw);
+        } else if (bad[k].mode == 0) {
             FILE *f = fopen(path, "wb");
             ck_assert(f && fwrite("PK\x03\x04 not really", 1, 16, f) == 16);
             fclose(f);

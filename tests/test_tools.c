@@ -497,6 +497,57 @@ START_TEST(check_every_view_of_a_cameras_json)
         snprintf(to, sizeof to, "%s/ring%02d.png", named, k);
         ck_assert_int_eq(link(path, to), 0);
     }
+    /* a model trained with --eval (3DGS's scene/__init__.py writes its test cameras first, then the training ones;
+     * render.py numbers test/ and train/ from 00000 each): entries 0..2 as its test views, 3..11 as its training views */
+    char train[128], test[128];
+    snprintf(train, sizeof train, "%s", in_dir("train"));
+    snprintf(test, sizeof test, "%s", in_dir("test"));
+    ck_assert_int_eq(mkdir(train, 0777), 0);
+    ck_assert_int_eq(mkdir(test, 0777), 0);
+    for (int k = 0; k < 12; k++) {
+        char to[256];
+        snprintf(path, sizeof path, "%s/%05d.png", renders, k);
+        snprintf(to, sizeof to, "%s/%05d.png", k < 3 ? test : train, k < 3 ? k : k - 3);
+        ck_assert_int_eq(link(path, to), 0);
+    }
+    int rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", train, "--views", "3..", "--out",
+                 in_dir("report-train"), "--quiet", NULL);
+    ck_assert_msg(rc == 0 && strstr(out, "check: view 1 of 9 (camera 3, ring03): ") && strstr(out, "train/00000.png: PASS") &&
+                      strstr(out, "check: 9 views (entries 3..11) of ") && strstr(out, ": 9 pass, 0 fail, 0 without") &&
+                      strstr(out, "verdict: PASS (all 9 views)") && !strstr(out, "hint"),
+                  "rc %d: %s", rc, out);
+    rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", test, "--views", "0..2", "--out",
+             in_dir("report-test"), "--quiet", NULL);
+    ck_assert_msg(rc == 0 && strstr(out, "check: 3 views (entries 0..2) of ") && strstr(out, "verdict: PASS (all 3 views)"), "rc %d: %s", rc, out);
+    /* the training folder checked against every entry: every view fails, and the hint names both selections */
+    rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", train, "--out", in_dir("report-all"),
+             "--quiet", NULL);
+    ck_assert_msg(rc == 1 && strstr(out, ": 0 pass, ") && strstr(out, "holds 9 images 00000.png, … for 12 views") &&
+                      strstr(out, "for its training views give --views 3.., for its test views --views 0..8"),
+                  "rc %d: %s", rc, out);
+    /* a range beyond the file, or not a range: one line naming the file; --views without --camera all */
+    static const char *const bad_views[][2] = {{"3..12", "has 12 entries (0..11)"}, {"3", "give FIRST..LAST or FIRST.."}, {"5..2", "give FIRST..LAST"}};
+    for (int b = 0; b < 3; b++) {
+        rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", train, "--views", bad_views[b][0],
+                 "--out", in_dir("report-bad"), NULL);
+        ck_assert_msg(rc == 2 && strstr(out, bad_views[b][1]) && (b || strstr(out, "donut-ring12.json")) && strchr(out, '\n') == out + strlen(out) - 1,
+                      "%s: rc %d: %s", bad_views[b][0], rc, out);
+        ck_assert_int_ne(access(in_dir("report-bad"), F_OK), 0);
+    }
+    /* an img_name with a control character (JSON allows \n): refused as the file is read, one line */
+    FILE *cf = fopen(in_dir("ctl.json"), "w");
+    ck_assert_ptr_nonnull(cf);
+    fputs("[{\"id\": 0, \"img_name\": \"ring\\n00\", \"width\": 8, \"height\": 8, \"position\": [0,0,0], "
+          "\"rotation\": [[1,0,0],[0,1,0],[0,0,1]], \"fx\": 5, \"fy\": 5}]", cf);
+    fclose(cf);
+    rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", in_dir("ctl.json"), "--camera", "all", "--images", train, "--out",
+             in_dir("report-bad"), NULL);
+    ck_assert_msg(rc == 2 && strstr(out, "ctl.json: camera 0: \"img_name\" holds the control character 0x0a at byte 4") &&
+                      strchr(out, '\n') == out + strlen(out) - 1,
+                  "rc %d: %s", rc, out);
+    rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "3", "--image", path, "--views", "0..2", NULL);
+    ck_assert_msg(rc == 2 && strstr(out, "--views goes with --cameras F.json --camera all"), "rc %d: %s", rc, out);
+
     /* the three changes */
     float *im = NULL;
     int w, h, ch;
@@ -517,7 +568,7 @@ START_TEST(check_every_view_of_a_cameras_json)
     ck_assert_int_eq(link(from, path), 0);
 
     const char *junit = in_dir("views.xml"), *rep = in_dir("report");
-    int rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", renders, "--junit", junit,
+    rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", renders, "--junit", junit,
                  "--out", rep, "--quiet", NULL);
     ck_assert_msg(rc == 1, "rc %d: %s", rc, out);
     for (int k = 0; k < 12; k++) {

@@ -13,6 +13,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <errno.h>
 #include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -33,6 +35,9 @@ static const spr__opt check_opts[] = {
     {"images", "DIR", "with --cameras F.json --camera all: every view's image from DIR (one verdict per view, then a summary)"},
     {"image-names", "position|name", "--images: position, the training code's render.py names (00000.png for the file's first entry, …; default), "
                                      "or name, the entry's img_name (.png or .pfm added when it has neither)"},
+    {"views", "FIRST..LAST", "--camera all: only the entries FIRST to LAST of the file (0-based, LAST may be left out: to the end); by position "
+                             "the image of entry FIRST is 00000.png (a model trained with --eval: cameras.json lists its T test views first, "
+                             "render.py numbers test/ and train/ from 00000 each: --views 0..T-1 and --views T..)"},
     SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
@@ -277,6 +282,51 @@ done:
     free(ref);
 }
 
+/* --views FIRST..LAST (LAST may be left out) over the n entries of file into [*lo, *hi]; 0, or −1 with the error said. */
+static int views_range(spr__args *a, const char *file, size_t n, size_t *lo, size_t *hi)
+{
+    const char *r = spr__get(a, "views");
+    *lo = 0, *hi = n ? n - 1 : 0;
+    if (!r) return 0;
+    const char *dots = strstr(r, "..");
+    char *end = NULL;
+    errno = 0;
+    const long first = dots && dots > r ? strtol(r, &end, 10) : -1;
+    const int first_ok = end == dots && first >= 0 && errno == 0;
+    long last = (long)n - 1;
+    int last_ok = 1;
+    if (first_ok && dots[2]) {
+        last = strtol(dots + 2, &end, 10);
+        last_ok = *end == '\0' && errno == 0 && last >= first;
+    }
+    if (!first_ok || !last_ok) {
+        spr__error(a, "--views '%s': give FIRST..LAST or FIRST.. (positions in the cameras file, from 0)", r);
+        return -1;
+    }
+    if ((size_t)first >= n || (size_t)last >= n) {
+        spr__error(a, "--views '%s': %s has %zu entries (0..%zu)", r, file, n, n ? n - 1 : 0);
+        return -1;
+    }
+    *lo = (size_t)first, *hi = (size_t)last;
+    return 0;
+}
+
+/* Images in dir named as render.py names them (00000.png, …: five digits, .png or .pfm). */
+static size_t position_images(const char *dir)
+{
+    DIR *d = opendir(dir);
+    size_t m = 0;
+    if (!d) return 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        const char *n = e->d_name;
+        int digits = 0;
+        while (n[digits] >= '0' && n[digits] <= '9') digits++;
+        m += digits == 5 && (!strcasecmp(n + 5, ".png") || !strcasecmp(n + 5, ".pfm"));
+    }
+    closedir(d);
+    return m;
+}
+
 static int check_views(spr__args *a, const char *dir, const char *pname, int pass, const char *out, const char *junit)
 {
     const char *names = spr__get(a, "image-names"), *file = NULL;
@@ -299,19 +349,23 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
     rd.progress = (spr_progress){NULL, NULL}; /* the terminal line is the views' (below), not each frame's passes */
     file = spr__get(a, "cameras");
     if (spr_cameras_json_all(file, &v, &n, &err)) { spr__error(a, "--cameras: %s", err.msg); goto done; }
+    size_t lo, hi;
+    if (views_range(a, file, n, &lo, &hi)) goto done;
+    const size_t nv = hi - lo + 1; /* the views checked: entries lo..hi, view j = entry lo + j, its image by position j */
     if (cli_outdir_begin(a, "out", out, tmp, sizeof tmp)) goto done;
     open_out = 1;
-    for (size_t k = 0; k < n; k++) {
+    for (size_t j = 0; j < nv; j++) {
+        const size_t k = lo + j;
         const spr_camera_entry *e = &v[k];
-        if (tty) fprintf(stderr, "\r\033[Kcheck: view %zu of %zu (camera %ld)", k + 1, n, e->id);
+        if (tty) fprintf(stderr, "\r\033[Kcheck: view %zu of %zu (camera %ld)", j + 1, nv, e->id);
         const double t0 = spr_now_ms();
         view_outcome vo;
         memset(&vo, 0, sizeof vo);
         if (spr__scene_move_camera(a, &s, &e->pinhole, e->width, e->height)) goto done;
-        check_view(a, &s, &rd, pname, pass, dir, by_name, k, e, tmp, out, &vo);
+        check_view(a, &s, &rd, pname, pass, dir, by_name, j, e, tmp, out, &vo);
         if (vo.status == 2) { free(vo.text); goto done; }
         char head[400];
-        snprintf(head, sizeof head, "view %zu of %zu (camera %ld%s%s)", k + 1, n, e->id, e->img_name[0] ? ", " : "", e->img_name);
+        snprintf(head, sizeof head, "view %zu of %zu (camera %ld%s%s)", j + 1, nv, e->id, e->img_name[0] ? ", " : "", e->img_name);
         if (tty) fputs("\r\033[K", stderr);
         printf("check: %s: %s\n", head, vo.line);
         fflush(stdout);
@@ -334,7 +388,7 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
         cJSON_AddStringToObject(o, "verdict", vo.status ? "fail" : "pass");
         if (vo.checked) {
             char sub[24];
-            snprintf(sub, sizeof sub, "%05zu", k);
+            snprintf(sub, sizeof sub, "%05zu", j);
             cJSON_AddNumberToObject(o, "failing", (double)vo.r.failing);
             cJSON_AddNumberToObject(o, "pixels", (double)vo.r.pixels);
             cJSON_AddNumberToObject(o, "max_lsb", vo.r.max_lsb);
@@ -346,21 +400,32 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
         free(vo.text);
     }
     if (tty) fputs("\r\033[K", stderr);
-    printf("check: %zu views of %s: %zu pass, %zu fail, %zu without a usable image\n", n, file, pass_n, fail_n, missing_n);
+    if (lo > 0 || hi + 1 < n)
+        printf("check: %zu views (entries %zu..%zu) of %s: %zu pass, %zu fail, %zu without a usable image\n", nv, lo, hi, file, pass_n, fail_n,
+               missing_n);
+    else printf("check: %zu views of %s: %zu pass, %zu fail, %zu without a usable image\n", n, file, pass_n, fail_n, missing_n);
+    if (!by_name && pass_n < nv && lo == 0 && hi + 1 == n) { /* by position, a folder of fewer images than views: an --eval model's? */
+        const size_t m = position_images(dir);
+        if (m && m < n)
+            printf("check: hint: %s holds %zu images 00000.png, … for %zu views. A model trained with --eval lists its test views first "
+                   "in cameras.json, and render.py numbers test/ and train/ each from 00000: for its training views give --views %zu.., "
+                   "for its test views --views 0..%zu\n",
+                   dir, m, n, n - m, m - 1);
+    }
     cJSON_AddNumberToObject(rep, "pass", (double)pass_n);
     cJSON_AddNumberToObject(rep, "fail", (double)fail_n);
     cJSON_AddNumberToObject(rep, "missing", (double)missing_n);
     cJSON_AddStringToObject(rep, "verdict", pass_n == n ? "pass" : "fail");
     char path[1400];
     snprintf(path, sizeof path, "%s/report.json", tmp);
-    rc = spr__write_json(a, path, rep) ? 2 : pass_n == n ? 0 : 1; /* it takes rep */
+    rc = spr__write_json(a, path, rep) ? 2 : pass_n == nv ? 0 : 1; /* it takes rep */
     rep = NULL;
     if (cli_outdir_end(a, "out", tmp, out, rc != 2)) rc = 2;
     open_out = 0;
     if (rc != 2) printf("check: report %s/report.json (one folder a view: heat map and side by side where it fails)\n", out);
     if (ju && rc != 2 && cli_junit_write(a, ju, junit)) rc = 2;
-    if (rc == 0) printf("verdict: PASS (all %zu views)\n", n);
-    else if (rc == 1) printf("verdict: FAIL (camera%s %s)\n", pass_n + 1 < n ? "s" : "", failed);
+    if (rc == 0) printf("verdict: PASS (all %zu views)\n", nv);
+    else if (rc == 1) printf("verdict: FAIL (camera%s %s)\n", pass_n + 1 < nv ? "s" : "", failed);
 done:
     if (open_out) cli_outdir_end(a, "out", tmp, out, 0);
     cJSON_Delete(rep);
@@ -381,6 +446,7 @@ int cmd_check(int argc, char **argv)
     if (image && images) { spr__error(&a, "--image and --images both name what to check: give one"); return 2; }
     if (all && !images) { spr__error(&a, "--camera all checks every view: give --images DIR (their images)"); return 2; }
     if (images && !all) { spr__error(&a, "--images DIR goes with --cameras F.json --camera all (every view)"); return 2; }
+    if (spr__get(&a, "views") && !all) { spr__error(&a, "--views goes with --cameras F.json --camera all --images DIR"); return 2; }
     if (!image && !images) { spr__error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
     if (!out) out = "check-report";
     int pass = -1;
