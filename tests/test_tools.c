@@ -534,6 +534,53 @@ START_TEST(check_every_view_of_a_cameras_json)
                       "%s: rc %d: %s", bad_views[b][0], rc, out);
         ck_assert_int_ne(access(in_dir("report-bad"), F_OK), 0);
     }
+    /* views of different sizes (training sets resized per image): the first three entries, the second at 80 × 60;
+     * each view is rendered and checked at its own size, and an image of another view's size fails that view alone */
+    {
+        char *text = NULL;
+        size_t tl = 0;
+        spr_error je = {0};
+        ck_assert_int_eq(spr__read_file(cams, &text, &tl, &je), SPR_OK);
+        cJSON *all = cJSON_Parse(text), *three = cJSON_CreateArray();
+        free(text);
+        ck_assert_ptr_nonnull(all);
+        for (int k = 0; k < 3; k++) cJSON_AddItemToArray(three, cJSON_Duplicate(cJSON_GetArrayItem(all, k), 1));
+        cJSON_Delete(all);
+        cJSON *e1 = cJSON_GetArrayItem(three, 1);
+        cJSON_ReplaceItemInObject(e1, "width", cJSON_CreateNumber(80));
+        cJSON_ReplaceItemInObject(e1, "height", cJSON_CreateNumber(60));
+        cJSON_ReplaceItemInObject(e1, "fx", cJSON_CreateNumber(70));
+        cJSON_ReplaceItemInObject(e1, "fy", cJSON_CreateNumber(70));
+        char *js = cJSON_Print(three);
+        cJSON_Delete(three);
+        char mixed[128], mcams[128];
+        snprintf(mixed, sizeof mixed, "%s", in_dir("mixed"));
+        snprintf(mcams, sizeof mcams, "%s", in_dir("mixed.json"));
+        FILE *mf = fopen(mcams, "w");
+        ck_assert(mf && fputs(js, mf) >= 0);
+        fclose(mf);
+        free(js);
+        ck_assert_int_eq(mkdir(mixed, 0777), 0);
+        for (int k = 0; k < 3; k++) {
+            snprintf(id, sizeof id, "%d", k);
+            snprintf(path, sizeof path, "%s/%05d.png", mixed, k);
+            ck_assert_msg(cli("render", "--model", model, "--algo", "gauss3d", "--cameras", mcams, "--camera", id, "--out", path, "--quiet", NULL) == 0,
+                          "%s", out);
+        }
+        rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", mcams, "--camera", "all", "--images", mixed, "--out", in_dir("report-mixed"),
+                 "--quiet", NULL);
+        ck_assert_msg(rc == 0 && strstr(out, "00001.png: PASS, 0 of 4800 pixels fail") && strstr(out, "00002.png: PASS, 0 of 3072 pixels fail"),
+                      "rc %d: %s", rc, out);
+        char from0[256], to1[256];
+        snprintf(from0, sizeof from0, "%s/00000.png", mixed);
+        snprintf(to1, sizeof to1, "%s/00001.png", mixed);
+        ck_assert_int_eq(unlink(to1), 0);
+        ck_assert_int_eq(link(from0, to1), 0);
+        rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", mcams, "--camera", "all", "--images", mixed, "--out", in_dir("report-mixed"),
+                 "--quiet", NULL);
+        ck_assert_msg(rc == 1 && strstr(out, "00001.png is 64x48, the view renders 80x60") && strstr(out, ": 2 pass, 0 fail, 1 without a usable image"),
+                      "rc %d: %s", rc, out);
+    }
     /* an img_name with a control character (JSON allows \n): refused as the file is read, one line */
     FILE *cf = fopen(in_dir("ctl.json"), "w");
     ck_assert_ptr_nonnull(cf);
