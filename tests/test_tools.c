@@ -470,6 +470,18 @@ START_TEST(check_bounds_what_an_image_costs)
 }
 END_TEST
 
+/* Views 0 … n − 1 of the cameras file rendered with gauss3d into dir, named as render.py names them (00000.png, …). */
+static void render_views(const char *model, const char *cams, const char *dir, int n)
+{
+    char id[16], path[300];
+    for (int k = 0; k < n; k++) {
+        snprintf(id, sizeof id, "%d", k);
+        snprintf(path, sizeof path, "%s/%05d.png", dir, k);
+        ck_assert_msg(cli("render", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", id, "--out", path, "--quiet", NULL) == 0,
+                      "%s", out);
+    }
+}
+
 /* check --cameras F.json --camera all --images DIR (issue 36): twelve views of the real donut, each image rendered by
  * `render --camera K` into the name the training code's render.py gives it (00000.png, …).  Then, by construction:
  * view 4's image gets one white pixel (it fails with exactly that pixel, alone), view 7's image is removed (its
@@ -478,19 +490,14 @@ END_TEST
 START_TEST(check_every_view_of_a_cameras_json)
 {
     setup_dir();
-    char model[512], cams[512], renders[128], named[128], path[256], id[8];
+    char model[512], cams[512], renders[128], named[128], path[256];
     snprintf(model, sizeof model, "%s/tests/data/captures/real/donut-mipsplat.ply", SPR_SOURCE_DIR);
     snprintf(cams, sizeof cams, "%s/tests/data/cameras/donut-ring12.json", SPR_SOURCE_DIR);
     snprintf(renders, sizeof renders, "%s", in_dir("renders"));
     snprintf(named, sizeof named, "%s", in_dir("named"));
     ck_assert_int_eq(mkdir(renders, 0777), 0);
     ck_assert_int_eq(mkdir(named, 0777), 0);
-    for (int k = 0; k < 12; k++) {
-        snprintf(id, sizeof id, "%d", k);
-        snprintf(path, sizeof path, "%s/%05d.png", renders, k);
-        ck_assert_msg(cli("render", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", id, "--out", path, "--quiet", NULL) == 0,
-                      "%s", out);
-    }
+    render_views(model, cams, renders, 12);
     for (int k = 0; k < 12; k += 3) { /* by img_name: views 0, 3, 6, 9 */
         char to[256];
         snprintf(path, sizeof path, "%s/%05d.png", renders, k);
@@ -561,12 +568,7 @@ START_TEST(check_every_view_of_a_cameras_json)
         fclose(mf);
         free(js);
         ck_assert_int_eq(mkdir(mixed, 0777), 0);
-        for (int k = 0; k < 3; k++) {
-            snprintf(id, sizeof id, "%d", k);
-            snprintf(path, sizeof path, "%s/%05d.png", mixed, k);
-            ck_assert_msg(cli("render", "--model", model, "--algo", "gauss3d", "--cameras", mcams, "--camera", id, "--out", path, "--quiet", NULL) == 0,
-                          "%s", out);
-        }
+        render_views(model, mcams, mixed, 3);
         rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", mcams, "--camera", "all", "--images", mixed, "--out", in_dir("report-mixed"),
                  "--quiet", NULL);
         ck_assert_msg(rc == 0 && strstr(out, "00001.png: PASS, 0 of 4800 pixels fail") && strstr(out, "00002.png: PASS, 0 of 3072 pixels fail"),
