@@ -8,6 +8,8 @@
 #ifndef SPR_RESULT_H
 #define SPR_RESULT_H
 
+#include <stddef.h>
+
 #define SPR_RESULT_LIST(X)                                              \
     X(SPR_OK,            0, "success")                                  \
     X(SPR_E_IO,         -1, "input/output error")                       \
@@ -35,7 +37,10 @@ typedef struct spr_error {
 /* Static message of a code (never NULL). */
 const char *spr_strerror(spr_result r);
 
-/* Fill err (may be NULL) with code and a printf-formatted line; returns code. */
+/* src into dst (cap bytes) as one line: control characters as C escapes (\n, \xNN); cut to fit. */
+void spr__one_line(char *dst, size_t cap, const char *src);
+
+/* Fill err (may be NULL) with code and a printf-formatted line (made one line by spr__one_line); returns code. */
 spr_result spr__fail(spr_error *err, spr_result code, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

@@ -62,23 +62,10 @@ typedef struct sog_image {
     int w, h;
 } sog_image;
 
-/* The byte offset + 1 of the first control character of t (a string of meta.json shown in a message would break its
- * one line), or 0. */
-static size_t control_char(const char *t)
-{
-    for (size_t k = 0; t[k]; k++)
-        if ((unsigned char)t[k] < 0x20 || t[k] == 0x7f) return k + 1;
-    return 0;
-}
-
 /* The bytes of one of the SOG's files. */
 static spr_result sog_read(sog_src *s, const char *name, unsigned char **out, size_t *len, spr_error *err)
 {
     *out = NULL, *len = 0;
-    const size_t cc = control_char(name); /* the name is in every message below */
-    if (cc)
-        return spr__fail(err, SPR_E_FORMAT, "%s: meta.json names a file with the control character 0x%02x at byte %zu of its name: a SOG's files are plain names beside meta.json",
-                         s->path, (unsigned)(unsigned char)name[cc - 1], cc - 1);
     if (!name[0] || strchr(name, '/') || strchr(name, '\\') || !strcmp(name, "..") || !strcmp(name, "."))
         return spr__fail(err, SPR_E_FORMAT, "%s: meta.json names the file \"%s\": a SOG's files are plain names beside meta.json", s->path, name);
     if (s->mem) {
@@ -126,8 +113,8 @@ static spr_result sog_read(sog_src *s, const char *name, unsigned char **out, si
                          (unsigned long long)st.size, why);
     }
     /* libzip checks an entry's CRC-32 only when it is read past its end: here it is compared whole (zlib) */
-    if ((st.valid & ZIP_STAT_CRC) && crc32_z(0, b, (z_size_t)st.size) != st.crc) {
-        const unsigned long crc = crc32_z(0, b, (z_size_t)st.size);
+    const unsigned long crc = (st.valid & ZIP_STAT_CRC) ? crc32_z(0, b, (z_size_t)st.size) : 0;
+    if ((st.valid & ZIP_STAT_CRC) && crc != st.crc) {
         free(b);
         return spr__fail(err, SPR_E_FORMAT, "%s: %s: its bytes have the CRC-32 %08lx, the zip's directory says %08lx (the zip is damaged)", s->path, name,
                          crc, (unsigned long)st.crc);
@@ -291,9 +278,8 @@ static spr_result sog_parse(sog_src *s, const char *json, size_t jlen, const spr
     L->n = (size_t)cnt; /* nothing is allocated for it before the images, whose size bounds it, are read */
     const cJSON *model = cJSON_GetObjectItemCaseSensitive(meta, "model");
     if (model && (!cJSON_IsString(model) || (strcmp(model->valuestring, "default") && strcmp(model->valuestring, "antialiased")))) {
-        const int shown = cJSON_IsString(model) && !control_char(model->valuestring); /* the message stays one line */
-        r = spr__fail(err, SPR_E_FORMAT, "%s: meta.json: \"model\" %s%s%s is not read (default and antialiased are)", path, shown ? "\"" : "",
-                      shown ? model->valuestring : cJSON_IsString(model) ? "(a string with control characters)" : "(not a string)", shown ? "\"" : "");
+        r = spr__fail(err, SPR_E_FORMAT, "%s: meta.json: \"model\" %s%s%s is not read (default and antialiased are)", path,
+                      cJSON_IsString(model) ? "\"" : "", cJSON_IsString(model) ? model->valuestring : "(not a string)", cJSON_IsString(model) ? "\"" : "");
         goto done;
     }
     if ((r = attribute(path, meta, "means", 2, files + ML, NULL, L->mins, L->maxs, err)) ||

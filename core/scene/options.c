@@ -16,14 +16,7 @@ void spr__error(spr__args *a, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
-    /* one line whatever a value or a scene file's key holds: control characters as C escapes */
-    size_t o = 0;
-    for (const unsigned char *p = (const unsigned char *)raw; *p && o + 5 < sizeof msg; p++) {
-        if (*p >= 0x20 && *p != 0x7f) msg[o++] = (char)*p;
-        else if (*p == '\n') msg[o++] = '\\', msg[o++] = 'n';
-        else o += (size_t)snprintf(msg + o, sizeof msg - o, "\\x%02x", *p);
-    }
-    msg[o] = '\0';
+    spr__one_line(msg, sizeof msg, raw); /* one line whatever a value or a scene file's key holds */
     /* about an option read from --scene ("--NAME: …", "--A and --NAME go together"): say which file it came from */
     const char *where = "";
     for (const char *m = strstr(msg, "--"); m && !*where; m = strstr(m + 2, "--")) {
