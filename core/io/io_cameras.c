@@ -13,9 +13,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Bytes a name may not hold (ASCII controls): 1..31 and 127. */
-#define CONTROL_CHARS "\x01\x02\x03\x04\x05\x06\x07\x08\x09\x0a\x0b\x0c\x0d\x0e\x0f\x10\x11\x12\x13\x14\x15\x16\x17\x18\x19\x1a\x1b\x1c\x1d\x1e\x1f\x7f"
-
 static int number_of(const cJSON *e, const char *key, double *out)
 {
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(e, key);
@@ -164,14 +161,15 @@ spr_result spr__parse_cameras_json_all(const char *path, const char *text, size_
             }
         if (r || (r = entry_camera(path, e, c->id, &c->pinhole, &c->width, &c->height, err))) break;
         const cJSON *name = cJSON_GetObjectItemCaseSensitive(e, "img_name");
-        const char *ctl = cJSON_IsString(name) ? strpbrk(name->valuestring, CONTROL_CHARS) : NULL;
+        size_t ctl = 0; /* the first control character of the name (at its end: none) */
+        while (cJSON_IsString(name) && name->valuestring[ctl] && (unsigned char)name->valuestring[ctl] >= 0x20 && name->valuestring[ctl] != 0x7f) ctl++;
         if (name && !cJSON_IsString(name))
             r = spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"img_name\" is not a string", path, c->id);
         else if (name && strlen(name->valuestring) >= sizeof c->img_name)
             r = spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"img_name\" is longer than %zu bytes", path, c->id, sizeof c->img_name - 1);
-        else if (ctl) /* it is shown in check's one line a view, and names a file */
+        else if (name && name->valuestring[ctl]) /* it is shown in check's one line a view, and names a file */
             r = spr__fail(err, SPR_E_FORMAT, "%s: camera %ld: \"img_name\" holds the control character 0x%02x at byte %zu", path, c->id,
-                          (unsigned)(unsigned char)*ctl, (size_t)(ctl - name->valuestring));
+                          (unsigned)(unsigned char)name->valuestring[ctl], ctl);
         else if (name)
             memcpy(c->img_name, name->valuestring, strlen(name->valuestring) + 1);
         k++;
