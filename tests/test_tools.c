@@ -523,6 +523,18 @@ START_TEST(check_every_view_of_a_cameras_json)
                       strstr(out, "check: 9 views (entries 3..11) of ") && strstr(out, ": 9 pass, 0 fail, 0 without") &&
                       strstr(out, "verdict: PASS (all 9 views)") && !strstr(out, "hint"),
                   "rc %d: %s", rc, out);
+    {
+        char *text = NULL;
+        size_t tl = 0;
+        spr_error je = {0};
+        ck_assert_int_eq(spr__read_file(in_dir("report-train/report.json"), &text, &tl, &je), SPR_OK);
+        cJSON *rj = cJSON_Parse(text);
+        free(text);
+        const cJSON *verdict = cJSON_GetObjectItem(rj, "verdict"), *views = cJSON_GetObjectItem(rj, "views");
+        ck_assert_msg(cJSON_IsString(verdict) && !strcmp(verdict->valuestring, "pass") && cJSON_GetArraySize(views) == 9,
+                      "report.json of --views 3..: verdict %s, %d views", cJSON_IsString(verdict) ? verdict->valuestring : "?", cJSON_GetArraySize(views));
+        cJSON_Delete(rj);
+    }
     rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", test, "--views", "0..2", "--out",
              in_dir("report-test"), "--quiet", NULL);
     ck_assert_msg(rc == 0 && strstr(out, "check: 3 views (entries 0..2) of ") && strstr(out, "verdict: PASS (all 3 views)"), "rc %d: %s", rc, out);

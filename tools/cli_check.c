@@ -400,11 +400,11 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
         free(vo.text);
     }
     if (tty) fputs("\r\033[K", stderr);
-    if (lo > 0 || hi + 1 < n)
-        printf("check: %zu views (entries %zu..%zu) of %s: %zu pass, %zu fail, %zu without a usable image\n", nv, lo, hi, file, pass_n, fail_n,
-               missing_n);
-    else printf("check: %zu views of %s: %zu pass, %zu fail, %zu without a usable image\n", n, file, pass_n, fail_n, missing_n);
-    if (!by_name && pass_n < nv && lo == 0 && hi + 1 == n) { /* by position, a folder of fewer images than views: an --eval model's? */
+    const int every = nv == n; /* no --views, or all of them */
+    char entries[64] = "";
+    if (!every) snprintf(entries, sizeof entries, " (entries %zu..%zu)", lo, hi);
+    printf("check: %zu views%s of %s: %zu pass, %zu fail, %zu without a usable image\n", nv, entries, file, pass_n, fail_n, missing_n);
+    if (!by_name && pass_n < nv && every) { /* by position, a folder of fewer images than views: an --eval model's? */
         const size_t m = position_images(dir);
         if (m && m < n)
             printf("check: hint: %s holds %zu images 00000.png, … for %zu views. A model trained with --eval lists its test views first "
@@ -415,7 +415,7 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
     cJSON_AddNumberToObject(rep, "pass", (double)pass_n);
     cJSON_AddNumberToObject(rep, "fail", (double)fail_n);
     cJSON_AddNumberToObject(rep, "missing", (double)missing_n);
-    cJSON_AddStringToObject(rep, "verdict", pass_n == n ? "pass" : "fail");
+    cJSON_AddStringToObject(rep, "verdict", pass_n == nv ? "pass" : "fail");
     char path[1400];
     snprintf(path, sizeof path, "%s/report.json", tmp);
     rc = spr__write_json(a, path, rep) ? 2 : pass_n == nv ? 0 : 1; /* it takes rep */
