@@ -43,7 +43,7 @@ def png(w, h, depth, colour, rows, interlace=0, idat_cut=None):
             + chunk(b"IDAT", z) + chunk(b"IEND", b""))
 
 
-def crafted(w, h, into):
+def crafted(w, h, into, max_bytes):
     """Inputs of at most 64 KiB that make a reader of the scene's size W x H work hardest: the largest raw image
     (16-bit RGBA, zeros, which deflate stretches about 1000:1), interlaced, its data cut short, a PFM of that size
     whose data is cut short, and a PNG of one more row (refused by its header)."""
@@ -59,7 +59,7 @@ def crafted(w, h, into):
     for name, data in made.items():
         with open(os.path.join(into, name), "wb") as f:
             f.write(data)
-    return [os.path.join(into, n) for n in made if len(made[n]) <= 65536]
+    return [os.path.join(into, n) for n in made if len(made[n]) <= max_bytes]
 
 
 def png_size(path):
@@ -74,7 +74,7 @@ def run(cli, scene, image, out):
                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     err = p.stderr.read()
     _, status, ru = os.wait4(p.pid, 0)
-    p.returncode = os.waitstatus_to_exitcode(status)
+    p.returncode = os.waitstatus_to_exitcode(status)  # reaped here: Popen must not wait for it again
     p.stderr.close()
     return p.returncode, ru.ru_maxrss / 1024.0, time.monotonic() - t0, err.decode(errors="replace")
 
@@ -107,7 +107,7 @@ def main():
         if a.crafted:
             w, h = png_size(own_png)
             os.mkdir(os.path.join(work, "crafted"))
-            files += [(f, True) for f in crafted(w, h, os.path.join(work, "crafted"))]
+            files += [(f, True) for f in crafted(w, h, os.path.join(work, "crafted"), a.max_bytes)]
         worst_mb, worst_s, bad, codes = (0.0, ""), (0.0, ""), [], {}
         tty = sys.stderr.isatty()
         for k, (f, plain) in enumerate(files):
