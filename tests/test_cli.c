@@ -194,12 +194,7 @@ START_TEST(group_command)
     ck_assert_int_ge(lines, 2976); /* every splat, plus duplicates */
     /* the statistics agree with the memberships file: K, group sizes, the
      * membership count, and every one of the 2976 splats present */
-    char *js_text;
-    size_t js_len;
-    spr_error je = {0};
-    ck_assert_int_eq(spr__read_file(js, &js_text, &js_len, &je), SPR_OK);
-    cJSON *root = cJSON_Parse(js_text);
-    ck_assert_ptr_nonnull(root);
+    cJSON *root = tu_read_json(js);
     ck_assert_int_eq(cJSON_GetObjectItem(root, "K")->valueint, 8);
     ck_assert_int_eq(cJSON_GetObjectItem(root, "memberships")->valueint, lines);
     ck_assert_int_eq(cJSON_GetObjectItem(root, "splats")->valueint, 2976);
@@ -218,7 +213,6 @@ START_TEST(group_command)
     for (int g = 0; g < 8; g++) ck_assert_int_eq(cJSON_GetArrayItem(sizes, g)->valueint, per_group[g]);
     ck_assert_double_gt(cJSON_GetObjectItem(root, "duplication_ratio")->valuedouble, 0.0);
     free(seen);
-    free(js_text);
     cJSON_Delete(root);
     /* render reads the memberships back, duplicates included */
     char *rargv[] = {"splatref", "render", "--model", "builtin:torus", "--points", "3000", "--groups-file", (char *)out,

@@ -232,18 +232,13 @@ START_TEST(check_gl_image_tiers)
     printf("check: one pixel +1 LSB, --lsb 1: exit %d\n%s", rc, out);
     ck_assert_msg(rc == 0 && strstr(out, "verdict: PASS (Tier B)") && strstr(out, "max 1 LSB"), "%s", out);
     /* the report names it */
-    char *text = NULL;
-    size_t len;
-    ck_assert(spr__read_file(in_dir("rep/report.json"), &text, &len, &err) == SPR_OK);
-    cJSON *rep = cJSON_Parse(text);
-    ck_assert_ptr_nonnull(rep);
+    cJSON *rep = tu_read_json(in_dir("rep/report.json"));
     cJSON *first = cJSON_GetObjectItem(rep, "first_differing");
     ck_assert_ptr_nonnull(first);
     ck_assert_int_eq(cJSON_GetObjectItem(first, "x")->valueint, px);
     ck_assert_int_eq(cJSON_GetObjectItem(first, "y")->valueint, py);
     ck_assert_str_eq(cJSON_GetObjectItem(rep, "verdict")->valuestring, "pass");
     cJSON_Delete(rep);
-    free(text);
     /* the whole image one pixel to the right */
     free(im);
     im = read_img(in_dir("gl.png"), &w, &h, &ch);
@@ -524,12 +519,7 @@ START_TEST(check_every_view_of_a_cameras_json)
                       strstr(out, "verdict: PASS (all 9 views)") && !strstr(out, "hint"),
                   "rc %d: %s", rc, out);
     {
-        char *text = NULL;
-        size_t tl = 0;
-        spr_error je = {0};
-        ck_assert_int_eq(spr__read_file(in_dir("report-train/report.json"), &text, &tl, &je), SPR_OK);
-        cJSON *rj = cJSON_Parse(text);
-        free(text);
+        cJSON *rj = tu_read_json(in_dir("report-train/report.json"));
         const cJSON *verdict = cJSON_GetObjectItem(rj, "verdict"), *views = cJSON_GetObjectItem(rj, "views");
         ck_assert_msg(cJSON_IsString(verdict) && !strcmp(verdict->valuestring, "pass") && cJSON_GetArraySize(views) == 9,
                       "report.json of --views 3..: verdict %s, %d views", cJSON_IsString(verdict) ? verdict->valuestring : "?", cJSON_GetArraySize(views));
@@ -556,13 +546,7 @@ START_TEST(check_every_view_of_a_cameras_json)
     /* views of different sizes (training sets resized per image): the first three entries, the second at 80 × 60;
      * each view is rendered and checked at its own size, and an image of another view's size fails that view alone */
     {
-        char *text = NULL;
-        size_t tl = 0;
-        spr_error je = {0};
-        ck_assert_int_eq(spr__read_file(cams, &text, &tl, &je), SPR_OK);
-        cJSON *all = cJSON_Parse(text), *three = cJSON_CreateArray();
-        free(text);
-        ck_assert_ptr_nonnull(all);
+        cJSON *all = tu_read_json(cams), *three = cJSON_CreateArray();
         for (int k = 0; k < 3; k++) cJSON_AddItemToArray(three, cJSON_Duplicate(cJSON_GetArrayItem(all, k), 1));
         cJSON_Delete(all);
         cJSON *e1 = cJSON_GetArrayItem(three, 1);

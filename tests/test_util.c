@@ -1,5 +1,6 @@
 /* test_util.c — helpers for the suites. */
 #include "test_util.h"
+#include <cjson/cJSON.h>
 
 #include <stdio.h>
 #include <sys/wait.h>
@@ -184,6 +185,18 @@ void tu_tmpdir(char dir[64], const char *tag)
 {
     snprintf(dir, 64, "/tmp/spr_%s_XXXXXX", tag);
     ck_assert_ptr_nonnull(mkdtemp(dir));
+}
+
+struct cJSON *tu_read_json(const char *path)
+{
+    char *text = NULL;
+    size_t len = 0;
+    spr_error err = {0};
+    ck_assert_msg(spr__read_file(path, &text, &len, &err) == SPR_OK, "%s", err.msg);
+    cJSON *o = cJSON_Parse(text);
+    free(text);
+    ck_assert_msg(o != NULL, "%s: not JSON", path);
+    return o;
 }
 
 const char *tu_in(const char *dir, const char *name)

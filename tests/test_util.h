@@ -59,6 +59,8 @@ void tu_bunny_free(tu_bunny *s);
 void tu_tmpdir(char dir[64], const char *tag);
 /* dir/name, in one of 16 rotating buffers. */
 const char *tu_in(const char *dir, const char *name);
+/* The JSON file at path, parsed (the test fails when it cannot be read or parsed); cJSON_Delete it. */
+struct cJSON *tu_read_json(const char *path);
 int tu_run(const char *prog, const char *env, int out_too, char *const argv[], char *err, size_t cap);
 /* 1 when files a and b hold the same bytes (both must open). */
 int tu_same_file(const char *a, const char *b);
