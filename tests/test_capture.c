@@ -597,6 +597,146 @@ START_TEST(sog_reads_as_playcanvas_reads_it)
 }
 END_TEST
 
+/* Issue 42: a 3DGS PLY's vertex records are decoded in blocks, each into its view of the cloud (spr_cloud_view).  The
+ * values every Gaussian i of these files holds, and what SPEC §10.1 and FORMATS.md make of them: the quaternion (w x y z,
+ * written unnormalised) normalised in double and rounded once, σ = exp(log scale), α = sigmoid(logit), the colour
+ * 0.5 + C0·f_dc clamped to [0, 1], the SH coefficients as written (f_rest channel-major in the file). */
+#define BLK_REST 3 /* degree 1 */
+static void blk_values(size_t i, float v[17 + 3 * BLK_REST])
+{
+    const double t = (double)(i % 1000003);
+    const float val[17] = {(float)(t * 0.001), (float)(0.5 - t * 0.002), (float)(0.25 + t * 1e-4), 0, 0, 0,
+                           (float)(0.01 * (double)(i % 97)), (float)(-0.02 * (double)(i % 89)), 0.03f, /* f_dc */
+                           (float)(0.1 * (double)(i % 61) - 3.0),                                     /* opacity logit */
+                           (float)(-3.0 + 0.01 * (double)(i % 53)), -3.5f, (float)(-4.0 - 0.01 * (double)(i % 47)),
+                           (float)(1.0 + 0.1 * (double)(i % 7)), 0.2f, -0.3f, (float)(0.1 * (double)(i % 11))}; /* rot w x y z */
+    for (int k = 0; k < 9; k++) v[k] = val[k];
+    for (int k = 0; k < 3 * BLK_REST; k++) v[9 + k] = (float)(0.001 * (k + 1) + 1e-4 * (double)(i % 13)); /* f_rest_k */
+    for (int k = 9; k < 17; k++) v[9 + 3 * BLK_REST + k - 9] = val[k];
+}
+
+/* Gaussian i's record with `rest` f_rest per channel (≤ BLK_REST: the first ones kept). */
+static void blk_record(size_t i, int rest, float v[17 + 3 * BLK_REST])
+{
+    blk_values(i, v);
+    if (rest < BLK_REST) memmove(v + 9 + 3 * rest, v + 9 + 3 * BLK_REST, 8 * sizeof(float));
+}
+
+/* Gaussian i of c against blk_values(i) (rest: the file's f_rest count per channel, kept ones compared); 0 or a message. */
+static const char *blk_check(const spr_cloud *c, size_t i, int rest, char *msg, size_t cap)
+{
+    float v[17 + 3 * BLK_REST];
+    blk_record(i, rest, v);
+    const float *fdc = v + 6, *frest = v + 9, *tail = v + 9 + 3 * rest; /* tail: opacity, 3 log scales, 4 rot */
+    const double w = tail[4], x = tail[5], y = tail[6], z = tail[7], l = sqrt(w * w + x * x + y * y + z * z);
+    const float G[7] = {(float)(w / l), (float)(x / l), (float)(y / l), (float)(z / l), (float)exp(tail[1]), (float)exp(tail[2]), (float)exp(tail[3])};
+    const double a = 1.0 / (1.0 + exp(-(double)tail[0]));
+    for (int k = 0; k < 7; k++)
+        if (memcmp(&c->gauss[SPR_GAUSS_FLOATS * i + (size_t)k], &G[k], sizeof(float)))
+            return snprintf(msg, cap, "Gaussian %zu: %s %d is %.9g, written as %.9g", i, k < 4 ? "quaternion" : "sigma", k < 4 ? k : k - 4,
+                            c->gauss[SPR_GAUSS_FLOATS * i + (size_t)k], G[k]), msg;
+    for (int k = 0; k < 3; k++) {
+        const double col = 0.5 + 0.28209479177387814 * fdc[k];
+        if (c->pos[3 * i + (size_t)k] != v[k] || c->color[3 * i + (size_t)k] != (float)(col < 0 ? 0 : col > 1 ? 1 : col) ||
+            c->sh[(size_t)c->sh_k * 3 * i + (size_t)k] != fdc[k])
+            return snprintf(msg, cap, "Gaussian %zu: position, colour or DC %d is not as written", i, k), msg;
+        for (int j = 1; j < c->sh_k; j++)
+            if (c->sh[(size_t)c->sh_k * 3 * i + 3 * (size_t)j + (size_t)k] != frest[k * rest + j - 1])
+                return snprintf(msg, cap, "Gaussian %zu: SH coefficient %d of channel %d is not as written", i, j, k), msg;
+    }
+    if (c->alpha[i] != (float)a) return snprintf(msg, cap, "Gaussian %zu: opacity %.9g, written as %.9g", i, c->alpha[i], (float)a), msg;
+    return NULL;
+}
+
+/* A binary 3DGS PLY of n Gaussians (blk_values, `rest` f_rest per channel) in memory, its length in *len. */
+static char *blk_ply(size_t n, int rest, size_t *len)
+{
+    char head[4096];
+    int h = snprintf(head, sizeof head, "ply\nformat binary_little_endian 1.0\nelement vertex %zu\nproperty float x\nproperty float y\n"
+                                        "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+                                        "property float f_dc_0\nproperty float f_dc_1\nproperty float f_dc_2\n", n);
+    for (int k = 0; k < 3 * rest; k++) h += snprintf(head + h, sizeof head - (size_t)h, "property float f_rest_%d\n", k);
+    h += snprintf(head + h, sizeof head - (size_t)h, "property float opacity\nproperty float scale_0\nproperty float scale_1\n"
+                  "property float scale_2\nproperty float rot_0\nproperty float rot_1\nproperty float rot_2\nproperty float rot_3\nend_header\n");
+    const size_t nf = 17 + 3 * (size_t)rest;
+    *len = (size_t)h + n * nf * sizeof(float);
+    char *buf = malloc(*len);
+    ck_assert_ptr_nonnull(buf);
+    memcpy(buf, head, (size_t)h);
+    for (size_t i = 0; i < n; i++) {
+        float v[17 + 3 * BLK_REST];
+        blk_record(i, rest, v);
+        memcpy(buf + h + i * nf * sizeof(float), v, nf * sizeof(float));
+    }
+    return buf;
+}
+
+START_TEST(gauss_ply_every_block)
+{
+    /* 41 Gaussians decoded 4 at a time (11 blocks, the last of one): every Gaussian of every block as written, and the
+     * cloud the same bits as one decoded whole.  Before views advanced the Gaussian array, block k's Gaussians overwrote
+     * block 0's and the rest stayed unwritten. */
+    size_t len;
+    char *buf = blk_ply(41, BLK_REST, &len);
+    spr__gauss_opts go;
+    spr__gauss_defaults(&go);
+    go.sh_degree = 1;
+    char msg[256];
+    spr_cloud whole = {0};
+    for (size_t block = 1; block <= 41; block += 3) {
+        spr_cloud c;
+        spr__mesh mesh;
+        spr_error err = {0};
+        ck_assert_msg(spr__parse_ply_blocks("blocks.ply", buf, len, &c, &mesh, NULL, NULL, &go, block, &err) == SPR_OK, "block %zu: %s",
+                      block, err.msg);
+        spr__mesh_free(&mesh);
+        ck_assert_uint_eq(c.n, 41);
+        ck_assert_int_eq(c.sh_k, 4);
+        for (size_t i = 0; i < c.n; i++) {
+            const char *bad = blk_check(&c, i, BLK_REST, msg, sizeof msg);
+            ck_assert_msg(!bad, "blocks of %zu: %s", block, bad);
+        }
+        if (block == 1) {
+            whole = c;
+            continue;
+        }
+#define SAME(a, k) ck_assert_msg(!memcmp(c.a, whole.a, c.n * (k) * sizeof(float)), "blocks of %zu: " #a " differs from blocks of 1", block);
+        SPR_CLOUD_ARRAYS(SAME, &c)
+#undef SAME
+        spr_cloud_free(&c);
+    }
+    spr_cloud_free(&whole);
+    free(buf);
+
+    /* The real block, 2^20, crossed once: 2^20 + 1 Gaussians (SH degree 0, 72 MB) written to a file, loaded as a user
+     * loads it, every Gaussian as written. */
+    const size_t n = SPR__PLY_BLOCK + 1;
+    buf = blk_ply(n, 0, &len);
+    char dir[64];
+    tu_tmpdir(dir, "blk");
+    const char *path = tu_in(dir, "boundary.ply");
+    FILE *f = fopen(path, "wb");
+    ck_assert_ptr_nonnull(f);
+    ck_assert_uint_eq(fwrite(buf, 1, len, f), len);
+    ck_assert_int_eq(fclose(f), 0);
+    free(buf);
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    spr_cloud c;
+    spr_error err = {0};
+    const spr_result r = spr_load(path, &ld, &c, &err);
+    unlink(path);
+    rmdir(dir);
+    ck_assert_msg(r == SPR_OK, "%s", err.msg);
+    ck_assert_uint_eq(c.n, n);
+    for (size_t i = 0; i < n; i++) {
+        const char *bad = blk_check(&c, i, 0, msg, sizeof msg);
+        ck_assert_msg(!bad, "%s", bad);
+    }
+    spr_cloud_free(&c);
+}
+END_TEST
+
 START_TEST(one_scan_two_formats_agree)
 {
     /* PlayCanvas's biker: a compressed PLY (SuperSplat 2.7.1) and the SPZ version 4 its commit says was converted from that
@@ -921,6 +1061,7 @@ Suite *make_capture_suite(void)
     tcase_add_test(tc, splat_transform_files_agree);
     tcase_add_test(tc, sog_reads_as_playcanvas_reads_it);
     tcase_add_test(tc, one_scan_two_formats_agree);
+    tcase_add_test(tc, gauss_ply_every_block);
     tcase_add_test(tc, bad_sogs_are_one_clear_error);
     tcase_add_test(tc, real_captures_render);
     suite_add_tcase(s, tc);

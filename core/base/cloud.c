@@ -45,16 +45,27 @@ spr_result spr_cloud_alloc_ell(spr_cloud *c)
     return SPR_OK;
 }
 
+/* A field added to spr_cloud changes its size: if it is a per-splat array, list it in
+ * SPR_CLOUD_ARRAYS (then views and frees carry it), and update this size (LP64). */
+#if UINTPTR_MAX == UINT64_MAX
+_Static_assert(sizeof(spr_cloud) == 96, "spr_cloud changed: a per-splat array belongs in SPR_CLOUD_ARRAYS (spr_cloud.h)");
+#endif
+
+spr_cloud spr_cloud_view(const spr_cloud *c, size_t first, size_t m)
+{
+    spr_cloud v = *c;
+#define SPR_ADVANCE(a, k) if (v.a) v.a += first * (k);
+    SPR_CLOUD_ARRAYS(SPR_ADVANCE, c)
+#undef SPR_ADVANCE
+    v.n = m;
+    return v;
+}
+
 void spr_cloud_free(spr_cloud *c)
 {
-    free(c->ell);
-    free(c->sh);
-    free(c->gauss);
-    free(c->pos);
-    free(c->nrm);
-    free(c->radius);
-    free(c->color);
-    free(c->alpha);
+#define SPR_FREE(a, k) free(c->a);
+    SPR_CLOUD_ARRAYS(SPR_FREE, c)
+#undef SPR_FREE
     memset(c, 0, sizeof *c);
 }
 
@@ -221,9 +232,10 @@ spr_result spr_cloud_source_scan(spr_cloud_source *src, spr_cloud *keep, const s
         if ((r = src->read(src->user, first, m, &chunk, err))) break;
         spr_bounds_add(&acc, &chunk);
         if (keep) {
-            memcpy(keep->pos + 3 * first, chunk.pos, 3 * m * sizeof(float));
-            memcpy(keep->nrm + 3 * first, chunk.nrm, 3 * m * sizeof(float));
-            memcpy(keep->radius + first, chunk.radius, m * sizeof(float));
+            const spr_cloud to = spr_cloud_view(keep, first, m);
+            memcpy(to.pos, chunk.pos, 3 * m * sizeof(float));
+            memcpy(to.nrm, chunk.nrm, 3 * m * sizeof(float));
+            memcpy(to.radius, chunk.radius, m * sizeof(float));
         }
     }
     spr_progress_report(prog, "reading", src->n, src->n);

@@ -49,6 +49,18 @@ typedef struct spr_cloud {
 /* Floats per Gaussian of spr_cloud.gauss: q (w x y z), σ (x y z). */
 #define SPR_GAUSS_FLOATS 7
 
+/* Every per-splat array of spr_cloud with its floats per splat (c the cloud): the one list that
+ * spr_cloud_view and spr_cloud_free walk.  A new per-splat array goes here; cloud.c's static
+ * assert on the struct's size fails until it does. */
+#define SPR_CLOUD_ARRAYS(X, c)                                                                     \
+    X(pos, 3) X(nrm, 3) X(radius, 1) X(color, 3) X(alpha, 1) X(ell, 4) X(sh, (size_t)(c)->sh_k * 3) \
+    X(gauss, SPR_GAUSS_FLOATS)
+
+/* Splats [first, first + m) of c as a cloud of its own that shares c's memory: every per-splat
+ * array (SPR_CLOUD_ARRAYS) advanced to splat `first`, a NULL array left NULL, the rest of c
+ * copied.  first + m ≤ c->n.  Never free a view; write through it to fill c piece by piece. */
+spr_cloud spr_cloud_view(const spr_cloud *c, size_t first, size_t m);
+
 /* Allocate n splats (normals +z, colour 0.8, alpha 1, radius 0); 0 or SPR_E_NOMEM. */
 spr_result spr_cloud_alloc(spr_cloud *c, size_t n);
 /* Give c its ellipse array, every splat a circle (u = 0, r_v = radius): 0 or SPR_E_NOMEM. */

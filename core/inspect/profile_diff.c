@@ -65,11 +65,7 @@ static local outcome(const ctx *c, const spr_gauss_profile *pf, uint32_t G)
     float g[SPR_GPRM_COUNT], rec[SPR_GREC_FLOATS];
     spr__gauss_frame(v, 0, c->rd, pf, g);
     /* the colour rule for this one Gaussian: a one-splat view of the cloud */
-    spr_cloud one = *cl;
-    one.n = 1;
-    one.pos = cl->pos + 3 * (size_t)G;
-    one.color = cl->color + 3 * (size_t)G;
-    one.sh = cl->sh ? cl->sh + (size_t)G * (size_t)cl->sh_k * 3 : NULL;
+    const spr_cloud one = spr_cloud_view(cl, G, 1);
     double eye[3];
     spr_pinhole_eye(&v->cv, eye);
     float col[3];

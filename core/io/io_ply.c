@@ -611,6 +611,13 @@ static spr_result spr__parse_compressed_ply(const char *path, const char *buf, s
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
                           const spr_warn *warn, const spr__gauss_opts *go, spr_error *err)
 {
+    return spr__parse_ply_blocks(path, buf, len, c, mesh, prog, warn, go, SPR__PLY_BLOCK, err);
+}
+
+spr_result spr__parse_ply_blocks(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
+                                 const spr_warn *warn, const spr__gauss_opts *go, size_t block, spr_error *err)
+{
+    if (!block) block = SPR__PLY_BLOCK;
     spr_result r;
     int fmt = F_ASCII, nel = 0;
     ply_elem el[16];
@@ -677,13 +684,10 @@ spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_clo
         }
         const size_t rec = e == vi ? fixed_record(fmt, V) : 0;
         if (rec && (size_t)(cu.end - cu.p) / rec >= E->count) { /* fixed-size records, all present: in blocks, each in parallel */
-            for (size_t first = 0; first < (size_t)E->count; first += (size_t)1 << 20) {
-                const size_t m = (size_t)E->count - first < ((size_t)1 << 20) ? (size_t)E->count - first : (size_t)1 << 20;
+            for (size_t first = 0; first < (size_t)E->count; first += block) {
+                const size_t m = (size_t)E->count - first < block ? (size_t)E->count - first : block;
                 spr_progress_report(prog, "reading vertices", first, (size_t)E->count);
-                spr_cloud part = *c; /* splats first … first+m−1 */
-                part.pos += 3 * first, part.nrm += 3 * first, part.color += 3 * first, part.radius += first, part.alpha += first;
-                if (part.ell) part.ell += 4 * first;
-                if (part.sh) part.sh += first * (size_t)c->sh_k * 3;
+                spr_cloud part = spr_cloud_view(c, first, m);
                 if ((r = decode_block(path, fmt, &lay, cu.p, m * rec, (size_t)(cu.p - cu.base), rec, first, m, &part, err))) goto fail;
                 cu.p += m * rec;
             }

@@ -144,6 +144,11 @@ double spr__sigmoid(double x);
 #define SPR__SH_C0 0.28209479177387814
 spr_result spr__parse_ply(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
                           const spr_warn *warn, const spr__gauss_opts *go, spr_error *err);
+/* The same with binary fixed-size vertex records decoded `block` at a time (0: SPR__PLY_BLOCK), each
+ * block into its view of the cloud (spr_cloud_view): a test crosses many block boundaries with a small file. */
+#define SPR__PLY_BLOCK ((size_t)1 << 20)
+spr_result spr__parse_ply_blocks(const char *path, const char *buf, size_t len, spr_cloud *c, spr__mesh *mesh, const spr_progress *prog,
+                                 const spr_warn *warn, const spr__gauss_opts *go, size_t block, spr_error *err);
 /* cameras.json over its bytes (spr_cameras_json reads the file and calls it; the fuzz harness drives it). */
 spr_result spr__parse_cameras_json(const char *path, const char *text, size_t len, long id, spr_pinhole *p, int *width, int *height,
                                    spr_error *err);
