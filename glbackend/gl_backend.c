@@ -17,7 +17,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-void spr_gl_defaults(spr_gl_desc *d) { d->device = -1, d->driver = SPR_GL_DRIVER_DEFAULT, d->probe = 0; }
+void spr_gl_defaults(spr_gl_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->device = -1, d->driver = SPR_GL_DRIVER_DEFAULT;
+}
 
 const char *spr_gl_renderer(const spr_backend *b) { return ((const gl_context *)b)->renderer; }
 
@@ -553,6 +557,8 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     c->list_target = -1;
     c->ctx = EGL_NO_CONTEXT;
     c->probe_programs = d->probe;
+    c->gauss_batch = d->gauss_batch;
+    c->max_texels = d->max_texels;
     spr_backend *b = &c->base;
     b->name = "gl";
     b->set_view = gl_set_view;
@@ -565,6 +571,7 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     b->gauss_preprocess = gl__gauss_preprocess;
     b->gauss_raster = gl__gauss_raster;
     b->gauss_draw = gl__gauss_draw;
+    b->fits = gl__gauss_fits;
     b->read_plane = gl_read_plane;
     b->destroy = gl_destroy;
     if (gl__egl_open(c, d, err) || gl__build_programs(c, err)) {

@@ -22,31 +22,57 @@
  * 10^12-scale scene's opacity compensation, parity --random seed
  * 20261205 scene 481).
  * Records, tile ranges and lists reach the programs through buffer
- * textures (the reason: gl_prelude.glsl).  Programs are linked on first use.
+ * textures (the reason: gl_prelude.glsl), records and lists four values a
+ * texel; the preprocessing's storage blocks are bound a batch of Gaussians
+ * at a time, each range within GL_MAX_SHADER_STORAGE_BLOCK_SIZE.  So the
+ * one limit on a capture's size is the records' texture: 4 ×
+ * GL_MAX_TEXTURE_BUFFER_SIZE values, checked before a frame starts
+ * (gl__gauss_fits).  Programs are linked on first use.
  */
 #include "gl_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-/* `bytes` of data into buffer *buf (made or grown as needed); the shaders only read it. */
+/* `bytes` of data into buffer *buf (made or grown as needed, to whole 16-byte texels); the shaders only read it. */
 static void upload(GLuint *buf, size_t *cap, size_t bytes, const void *data)
 {
-    gl__buffer_reserve(buf, cap, bytes, GL_DYNAMIC_DRAW);
+    gl__buffer_reserve(buf, cap, (bytes + 15) & ~(size_t)15, GL_DYNAMIC_DRAW);
     if (bytes && data) glNamedBufferSubData(*buf, 0, (GLsizeiptr)bytes, data);
 }
 
-/* A buffer texture of format fmt over the first `bytes` of buf, on unit. */
-static spr_result texture_of(gl_context *c, GLuint *tex, GLenum fmt, GLuint buf, size_t bytes, GLuint unit, const char *what)
+static size_t max_texels(const gl_context *c)
 {
     GLint max = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max);
-    if (bytes / 4 > (size_t)max)
-        return spr__fail(&c->base.err, SPR_E_TOO_LARGE, "gl: %s of %zu values exceed GL_MAX_TEXTURE_BUFFER_SIZE (%d)", what, bytes / 4, max);
+    const size_t m = max > 0 ? (size_t)max : 0;
+    return c->max_texels && c->max_texels < m ? c->max_texels : m;
+}
+
+/* A buffer texture of format fmt (`per` 32-bit values a texel) over the first `values` of buf, on unit. */
+static spr_result texture_of(gl_context *c, GLuint *tex, GLenum fmt, int per, GLuint buf, size_t values, GLuint unit, const char *what)
+{
+    const size_t texels = (values + (size_t)per - 1) / (size_t)per, max = max_texels(c);
+    if (texels > max)
+        return spr__fail(&c->base.err, SPR_E_TOO_LARGE, "gl: %s of %zu values (%zu texels of %d) exceed GL_MAX_TEXTURE_BUFFER_SIZE (%zu texels)",
+                         what, values, texels, per, max);
     if (*tex) glDeleteTextures(1, tex);
     glCreateTextures(GL_TEXTURE_BUFFER, 1, tex);
-    glTextureBufferRange(*tex, fmt, buf, 0, (GLsizeiptr)(bytes > 16 ? bytes : 16));
+    glTextureBufferRange(*tex, fmt, buf, 0, (GLsizeiptr)(texels ? texels * (size_t)per * 4 : 16));
     glBindTextureUnit(unit, *tex);
+    return SPR_OK;
+}
+
+spr_result gl__gauss_fits(spr_backend *b, const spr_fit_desc *d)
+{
+    gl_context *c = gl_ctx(b);
+    if (!d->gauss) return SPR_OK;
+    gl__make_current(c);
+    const size_t max = max_texels(c), most = 4 * max / SPR_GREC_FLOATS;
+    if (d->splats > most)
+        return spr__fail(&b->err, SPR_E_TOO_LARGE,
+                         "gl: %zu Gaussians exceed what this driver takes, %zu: their records (%d floats each, 4 a texel) must fit one "
+                         "buffer texture of GL_MAX_TEXTURE_BUFFER_SIZE (%zu texels)", d->splats, most, SPR_GREC_FLOATS, max);
     return SPR_OK;
 }
 
@@ -89,17 +115,30 @@ spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *
     const GLuint p = c->gprog[GL_GPROG_PRE];
     glUseProgram(p);
     glUniform1fv(glGetUniformLocation(p, "u_g"), SPR_GPRM_COUNT, d->prm);
-    glUniform1ui(glGetUniformLocation(p, "u_n"), (GLuint)d->n);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->gbuf[GL_GBUF_IN]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->gbuf[GL_GBUF_REC]);
-    GLint maxw = 0, maxh = 0;
+    GLint maxw = 0, maxh = 0, align = 0;
+    GLint64 maxblock = 0;
     glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &maxw);
     glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &maxh);
-    const size_t width = maxw < 4096 ? (size_t)maxw : 4096, rows = (size_t)maxh; /* Gaussian base + y·width + x */
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxblock);
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+    const size_t width = maxw < 4096 ? (size_t)maxw : 4096; /* Gaussian base + y·width + x */
+    /* a batch: whole rows, its two ranges (14 and SPR_GREC_FLOATS floats a Gaussian) within the block size and at
+     * offsets of the alignment (a batch of width·2^k Gaussians starts at a multiple of 4096·4 bytes) */
+    size_t batch = width * (size_t)maxh;
+    if (c->gauss_batch) batch = c->gauss_batch < batch ? (c->gauss_batch + 1) & ~(size_t)1 : batch;
+    while (batch > width && (batch * SPR_GREC_FLOATS * sizeof(float) > (size_t)maxblock || batch * 14 * sizeof(float) > (size_t)maxblock)) batch /= 2;
+    if (batch * SPR_GREC_FLOATS * sizeof(float) > (size_t)maxblock ||
+        (align > 0 && ((batch * 14 * sizeof(float)) % (size_t)align || (batch * SPR_GREC_FLOATS * sizeof(float)) % (size_t)align)))
+        return spr__fail(&b->err, SPR_E_BACKEND, "gl: GL_MAX_SHADER_STORAGE_BLOCK_SIZE %lld (alignment %d) takes no batch of %zu Gaussians",
+                         (long long)maxblock, align, width);
     glUniform1ui(glGetUniformLocation(p, "u_width"), (GLuint)width);
-    for (size_t base = 0; base < d->n; base += width * rows) {
-        const size_t m = d->n - base < width * rows ? d->n - base : width * rows;
-        glUniform1ui(glGetUniformLocation(p, "u_base"), (GLuint)base);
+    glUniform1ui(glGetUniformLocation(p, "u_base"), 0u); /* each batch's ranges start at its first Gaussian */
+    for (size_t base = 0; base < d->n; base += batch) {
+        const size_t m = d->n - base < batch ? d->n - base : batch;
+        glUniform1ui(glGetUniformLocation(p, "u_n"), (GLuint)m);
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, c->gbuf[GL_GBUF_IN], (GLintptr)(base * 14 * sizeof(float)), (GLsizeiptr)(m * 14 * sizeof(float)));
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 4, c->gbuf[GL_GBUF_REC], (GLintptr)(base * SPR_GREC_FLOATS * sizeof(float)),
+                          (GLsizeiptr)(m * SPR_GREC_FLOATS * sizeof(float)));
         draw_bare(c, (int)(m < width ? m : width), (int)((m + width - 1) / width));
     }
     gl__buffer_read(c->gbuf[GL_GBUF_REC], 0, rbytes, rec);
@@ -122,9 +161,9 @@ spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
     if (!counts) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu tiles", tiles);
     gl__buffer_reserve(&c->gbuf[GL_GBUF_COUNT], &c->gcap[GL_GBUF_COUNT], 2 * tiles * sizeof *counts, GL_DYNAMIC_DRAW);
     gl__buffer_fill(c->gbuf[GL_GBUF_COUNT], 0, 2 * tiles * sizeof *counts, 0);
-    if ((r = texture_of(c, &c->gtex[0], GL_R32F, c->gbuf[GL_GBUF_RECTEX], d->n * SPR_GREC_FLOATS * sizeof(float), 10, "Gaussian records")) ||
-        (r = texture_of(c, &c->gtex[1], GL_R32UI, c->gbuf[GL_GBUF_RANGE], (tiles + 1) * sizeof(uint32_t), 11, "tile ranges")) ||
-        (r = texture_of(c, &c->gtex[2], GL_R32UI, c->gbuf[GL_GBUF_LIST], entries * sizeof(uint32_t), 12, "tile lists"))) {
+    if ((r = texture_of(c, &c->gtex[0], GL_RGBA32F, 4, c->gbuf[GL_GBUF_RECTEX], d->n * SPR_GREC_FLOATS, 10, "Gaussian records")) ||
+        (r = texture_of(c, &c->gtex[1], GL_R32UI, 1, c->gbuf[GL_GBUF_RANGE], tiles + 1, 11, "tile ranges")) ||
+        (r = texture_of(c, &c->gtex[2], GL_RGBA32UI, 4, c->gbuf[GL_GBUF_LIST], entries, 12, "tile lists"))) {
         free(counts);
         return r;
     }

@@ -90,6 +90,7 @@ typedef struct gl_context {
     GLuint gtex[3];     /* records, tile ranges, tile lists as buffer textures (units 10, 11, 12) */
     GLuint gfbo;        /* the Gaussian programs' attachment-less framebuffer (its size set per draw) */
     int probe_programs; /* programs built with SPR_PROBE (spr_gl_desc.probe) */
+    size_t gauss_batch, max_texels; /* spr_gl_desc's */
     GLuint probe_buf;   /* their records (gl_prelude.glsl) */
 } gl_context;
 
@@ -142,6 +143,8 @@ spr_result gl__probe_end(gl_context *c, int keep);
 /* gl_gauss.c; the program of GL_GPROG_* (gl_shaders.c) */
 spr_result gl__gauss_program(gl_context *c, int which, spr_error *err);
 spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec);
+/* The Gaussian records of d->splats fit the driver's buffer textures (SPR_E_TOO_LARGE naming the limit). */
+spr_result gl__gauss_fits(spr_backend *b, const spr_fit_desc *d);
 spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
 spr_result gl__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
 void gl__gauss_free(gl_context *c);

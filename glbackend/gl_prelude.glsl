@@ -49,10 +49,12 @@ layout(binding = 8) uniform usamplerBuffer u_list_head;  /* first node per pixel
 layout(binding = 9) uniform usamplerBuffer u_nbr;        /* neighbour bits */
 uniform int u_list_width;
 uniform int u_nbr_words;
-/* Gaussian records and tile lists (SPEC 10), through buffer textures for the same reason */
-layout(binding = 10) uniform samplerBuffer u_grec;     /* SPR_GREC_FLOATS per Gaussian */
+/* Gaussian records and tile lists (SPEC 10), through buffer textures for the same reason.  Records and
+ * lists are four values a texel (RGBA32F, RGBA32UI): GL_MAX_TEXTURE_BUFFER_SIZE counts texels (2^27 on
+ * llvmpipe and zink), so one texture holds 2^29 values, the records of 15.8M Gaussians (gl_gauss.c). */
+layout(binding = 10) uniform samplerBuffer u_grec;     /* SPR_GREC_FLOATS per Gaussian, packed */
 layout(binding = 11) uniform usamplerBuffer u_granges; /* first list entry per tile, GX·GY + 1 */
-layout(binding = 12) uniform usamplerBuffer u_glist;   /* the tiles' sorted lists */
+layout(binding = 12) uniform usamplerBuffer u_glist;   /* the tiles' sorted lists, packed */
 
 #ifdef SPR_PROBE
 /* The pixel probe (pixel history, SPEC §8): the debug variant of every
@@ -109,8 +111,12 @@ int spr_px_x(ivec2 px) { return px.x; }
 int spr_px_y(ivec2 px) { return px.y; }
 int spr_gtile_first(ivec2 px, int tile) { return int(texelFetch(u_granges, tile).r); }
 int spr_gtile_end(ivec2 px, int tile) { return int(texelFetch(u_granges, tile + 1).r); }
-int spr_glist(ivec2 px, int e) { return int(texelFetch(u_glist, e).r); }
-float spr_grec(ivec2 px, int G, int f) { return texelFetch(u_grec, G * SPR_GREC_FLOATS + f).r; }
+int spr_glist(ivec2 px, int e) { return int(texelFetch(u_glist, e >> 2)[e & 3]); }
+float spr_grec(ivec2 px, int G, int f)
+{
+    uint i = uint(G) * uint(SPR_GREC_FLOATS) + uint(f); /* < 2^29 (gl__gauss_fits) */
+    return texelFetch(u_grec, int(i >> 2u))[i & 3u];
+}
 float spr_in_env(ivec2 px, int face, int i, int j, int ch) { return texelFetch(u_env, ivec3(i, j, face), 0)[ch]; }
 float spr_in_texel(ivec2 px, int k, int ch) { return spr_texels[k][ch]; }
 /* A list node: meta (t bits, rectangle, next, 0) and its colour; next 0xffffffff ends the list. */

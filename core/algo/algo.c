@@ -322,6 +322,8 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     if (src && src->n != cloud->n) return spr__fail(err, SPR_E_ARG, "render: the stream has %zu splats, the cloud %zu", src->n, cloud->n);
     spr_result r;
     if (src && (r = spr_stream_check(desc->algo, cloud->n, err))) return r;
+    const spr_fit_desc fit = {cloud->n, (ai->uses & SPR_USES_GAUSS) != 0};
+    if ((r = spr_backend_fits(b, &fit))) return spr__fail(err, r, "%s backend: %s", b->name, b->err.msg);
     /* the frame's host work (view-dependent colours, orders, tile lists) on
      * the backend's host thread count: OpenMP's default for regions that do
      * not name one, restored on the way out */

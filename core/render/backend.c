@@ -355,6 +355,11 @@ spr_result spr_backend_gauss_draw(spr_backend *b, int target, const spr_gauss_dr
     return b->gauss_draw(b, target, d, st ? st : &dummy);
 }
 
+spr_result spr_backend_fits(spr_backend *b, const spr_fit_desc *d)
+{
+    return b->fits ? b->fits(b, d) : SPR_OK;
+}
+
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out)
 {
     if (!live(b, target)) return bad(b, "read: no target %d", target);

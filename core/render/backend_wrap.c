@@ -52,6 +52,7 @@ static spr_result w_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_
 {
     return spr__wrap_pass_on(b, spr_backend_gauss_draw(wr(b)->inner, target, d, st));
 }
+static spr_result w_fits(spr_backend *b, const spr_fit_desc *d) { return spr__wrap_pass_on(b, spr_backend_fits(wr(b)->inner, d)); }
 static spr_result w_composite(spr_backend *b, const spr_composite_desc *c) { return spr__wrap_pass_on(b, spr_backend_composite(wr(b)->inner, c)); }
 static spr_result w_read(spr_backend *b, int target, spr_plane p, void *out)
 {
@@ -74,6 +75,7 @@ void spr__wrap_init(spr__wrap *w, spr_backend *inner, void (*destroy)(spr_backen
     b->gauss_preprocess = w_gauss_preprocess;
     b->gauss_raster = w_gauss_raster;
     b->gauss_draw = w_gauss_draw;
+    b->fits = w_fits;
     b->read_plane = w_read;
     b->destroy = destroy;
 }

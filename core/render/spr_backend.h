@@ -577,6 +577,12 @@ static inline void spr_probe_add_note(spr_probe *p, int tag, int k, float a, flo
     n->tag = tag, n->k = k, n->v[0] = a, n->v[1] = b, n->v[2] = c, n->v[3] = d;
 }
 
+/* What a frame asks of a backend's fixed limits, known before anything is drawn (spr_backend_fits). */
+typedef struct spr_fit_desc {
+    size_t splats;  /* the cloud's */
+    int gauss;      /* drawn by a Gaussian algorithm (SPEC §10): one record of SPR_GREC_FLOATS per splat */
+} spr_fit_desc;
+
 typedef struct spr_backend spr_backend;
 struct spr_backend {
     const char *name;
@@ -591,6 +597,8 @@ struct spr_backend {
     spr_result (*gauss_preprocess)(spr_backend *b, const spr_gauss_desc *d, float *rec);
     spr_result (*gauss_raster)(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
     spr_result (*gauss_draw)(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
+    /* NULL, or SPR_E_TOO_LARGE (naming the limit) for a frame beyond the backend's fixed limits */
+    spr_result (*fits)(spr_backend *b, const spr_fit_desc *d);
     /* float planes into float*, id/count planes into uint32_t*; W·H·channels values,
      * row 0 = bottom. */
     spr_result (*read_plane)(spr_backend *b, int target, spr_plane p, void *out);
@@ -623,6 +631,9 @@ spr_result spr_backend_gauss_preprocess(spr_backend *b, const spr_gauss_desc *d,
 spr_result spr_backend_gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
 spr_result spr_backend_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out);
+/* 0 when a frame of d is within b's fixed limits (spr_render asks first; parity asks both backends before
+ * either renders), else the backend's error, one line naming the limit. */
+spr_result spr_backend_fits(spr_backend *b, const spr_fit_desc *d);
 /* The same, every plane as floats: id and count planes as their integer
  * values, "none" ids as −1 (what --dump, check and step show). */
 spr_result spr_backend_read_plane_f(spr_backend *b, int target, spr_plane p, float *out);
