@@ -23,8 +23,13 @@
  * 20261205 scene 481).
  * Records, tile ranges and lists reach the programs through buffer
  * textures (the reason: gl_prelude.glsl), records and lists four values a
- * texel; the preprocessing's storage blocks are bound a batch of Gaussians
- * at a time, each range within GL_MAX_SHADER_STORAGE_BLOCK_SIZE.  So the
+ * texel; the preprocessing runs a batch of Gaussians at a time, each batch
+ * with buffers of its own within GL_MAX_SHADER_STORAGE_BLOCK_SIZE, its
+ * records read back right after its draw.  Measured on Mesa 22.3.6's zink
+ * (test gauss_records_in_batches_and_the_limit): read back once after the
+ * last batch, every batch's records but the first's were wrong, whether the
+ * batches were ranges of one buffer or buffers of their own; llvmpipe was
+ * right either way.  So the
  * one limit on a capture's size is the records' texture: 4 ×
  * GL_MAX_TEXTURE_BUFFER_SIZE values, checked before a frame starts
  * (gl__gauss_fits).  Programs are linked on first use.
@@ -91,6 +96,33 @@ static void draw_bare(gl_context *c, int w, int h)
     glViewport(0, 0, c->base.view.width, c->base.view.height);
 }
 
+/* At least 2·batches preprocessing buffers (new ones 0: made on first use). */
+static spr_result pre_buffers(gl_context *c, size_t batches)
+{
+    if (2 * batches <= c->n_gpre) return SPR_OK;
+    GLuint *nb = realloc(c->gpre, 2 * batches * sizeof *nb);
+    if (nb) c->gpre = nb;
+    size_t *nc = nb ? realloc(c->gpre_cap, 2 * batches * sizeof *nc) : NULL;
+    if (!nc) return spr__fail(&c->base.err, SPR_E_NOMEM, "gl: out of memory for %zu batches", batches);
+    c->gpre_cap = nc;
+    for (size_t k = c->n_gpre; k < 2 * batches; k++) c->gpre[k] = 0, c->gpre_cap[k] = 0;
+    c->n_gpre = 2 * batches;
+    return SPR_OK;
+}
+
+/* Gaussians a preprocessing batch: whole rows of `width`, its two buffers (14 and SPR_GREC_FLOATS floats a
+ * Gaussian) within GL_MAX_SHADER_STORAGE_BLOCK_SIZE; spr_gl_desc.gauss_batch when smaller. */
+static size_t pre_batch(const gl_context *c, size_t width)
+{
+    GLint maxh = 0;
+    GLint64 maxblock = 0;
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &maxh);
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxblock);
+    size_t batch = width * (size_t)maxh;
+    while (batch > width && batch * SPR_GREC_FLOATS * sizeof(float) > (size_t)maxblock) batch /= 2;
+    return c->gauss_batch && c->gauss_batch < batch ? c->gauss_batch : batch;
+}
+
 spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec)
 {
     gl_context *c = gl_ctx(b);
@@ -98,50 +130,38 @@ spr_result gl__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *
     spr_result r = gl__gauss_program(c, GL_GPROG_PRE, &b->err);
     if (r) return r;
     if (d->n == 0) return SPR_OK;
-    float *in = malloc(d->n * 14 * sizeof *in);
+    GLint maxw = 0;
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &maxw);
+    const size_t width = maxw < 4096 ? (size_t)maxw : 4096; /* Gaussian base + y·width + x of a batch */
+    const size_t batch = pre_batch(c, width), batches = (d->n + batch - 1) / batch;
+    if ((r = pre_buffers(c, batches))) return r;
+    float *in = malloc((d->n < batch ? d->n : batch) * 14 * sizeof *in);
     if (!in) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu Gaussians", d->n);
-    for (size_t i = 0; i < d->n; i++) { /* the inputs packed: μ, q, σ, o, c (no arithmetic) */
-        float *o = in + 14 * i;
-        memcpy(o, d->mu + 3 * i, 3 * sizeof *o);
-        memcpy(o + 3, d->q + 4 * i, 4 * sizeof *o);
-        memcpy(o + 7, d->s + 3 * i, 3 * sizeof *o);
-        o[10] = d->opacity[i];
-        memcpy(o + 11, d->color + 3 * i, 3 * sizeof *o);
-    }
-    upload(&c->gbuf[GL_GBUF_IN], &c->gcap[GL_GBUF_IN], d->n * 14 * sizeof *in, in);
-    free(in);
-    const size_t rbytes = d->n * SPR_GREC_FLOATS * sizeof(float);
-    gl__buffer_reserve(&c->gbuf[GL_GBUF_REC], &c->gcap[GL_GBUF_REC], rbytes, GL_DYNAMIC_DRAW); /* written by the program */
     const GLuint p = c->gprog[GL_GPROG_PRE];
     glUseProgram(p);
     glUniform1fv(glGetUniformLocation(p, "u_g"), SPR_GPRM_COUNT, d->prm);
-    GLint maxw = 0, maxh = 0, align = 0;
-    GLint64 maxblock = 0;
-    glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &maxw);
-    glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &maxh);
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxblock);
-    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
-    const size_t width = maxw < 4096 ? (size_t)maxw : 4096; /* Gaussian base + y·width + x */
-    /* a batch: whole rows, its two ranges (14 and SPR_GREC_FLOATS floats a Gaussian) within the block size and at
-     * offsets of the alignment (a batch of width·2^k Gaussians starts at a multiple of 4096·4 bytes) */
-    size_t batch = width * (size_t)maxh;
-    if (c->gauss_batch) batch = c->gauss_batch < batch ? (c->gauss_batch + 1) & ~(size_t)1 : batch;
-    while (batch > width && (batch * SPR_GREC_FLOATS * sizeof(float) > (size_t)maxblock || batch * 14 * sizeof(float) > (size_t)maxblock)) batch /= 2;
-    if (batch * SPR_GREC_FLOATS * sizeof(float) > (size_t)maxblock ||
-        (align > 0 && ((batch * 14 * sizeof(float)) % (size_t)align || (batch * SPR_GREC_FLOATS * sizeof(float)) % (size_t)align)))
-        return spr__fail(&b->err, SPR_E_BACKEND, "gl: GL_MAX_SHADER_STORAGE_BLOCK_SIZE %lld (alignment %d) takes no batch of %zu Gaussians",
-                         (long long)maxblock, align, width);
     glUniform1ui(glGetUniformLocation(p, "u_width"), (GLuint)width);
-    glUniform1ui(glGetUniformLocation(p, "u_base"), 0u); /* each batch's ranges start at its first Gaussian */
-    for (size_t base = 0; base < d->n; base += batch) {
-        const size_t m = d->n - base < batch ? d->n - base : batch;
+    glUniform1ui(glGetUniformLocation(p, "u_base"), 0u); /* a batch's buffers start at its first Gaussian */
+    for (size_t k = 0; k < batches; k++) {
+        const size_t base = k * batch, m = d->n - base < batch ? d->n - base : batch;
+        for (size_t j = 0; j < m; j++) { /* the inputs packed: μ, q, σ, o, c (no arithmetic) */
+            const size_t i = base + j;
+            float *o = in + 14 * j;
+            memcpy(o, d->mu + 3 * i, 3 * sizeof *o);
+            memcpy(o + 3, d->q + 4 * i, 4 * sizeof *o);
+            memcpy(o + 7, d->s + 3 * i, 3 * sizeof *o);
+            o[10] = d->opacity[i];
+            memcpy(o + 11, d->color + 3 * i, 3 * sizeof *o);
+        }
+        upload(&c->gpre[2 * k], &c->gpre_cap[2 * k], m * 14 * sizeof *in, in);
+        gl__buffer_reserve(&c->gpre[2 * k + 1], &c->gpre_cap[2 * k + 1], m * SPR_GREC_FLOATS * sizeof(float), GL_DYNAMIC_DRAW); /* written */
         glUniform1ui(glGetUniformLocation(p, "u_n"), (GLuint)m);
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, c->gbuf[GL_GBUF_IN], (GLintptr)(base * 14 * sizeof(float)), (GLsizeiptr)(m * 14 * sizeof(float)));
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 4, c->gbuf[GL_GBUF_REC], (GLintptr)(base * SPR_GREC_FLOATS * sizeof(float)),
-                          (GLsizeiptr)(m * SPR_GREC_FLOATS * sizeof(float)));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->gpre[2 * k]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->gpre[2 * k + 1]);
         draw_bare(c, (int)(m < width ? m : width), (int)((m + width - 1) / width));
+        gl__buffer_read(c->gpre[2 * k + 1], 0, m * SPR_GREC_FLOATS * sizeof(float), rec + base * SPR_GREC_FLOATS);
     }
-    gl__buffer_read(c->gbuf[GL_GBUF_REC], 0, rbytes, rec);
+    free(in);
     return gl__check(b, "gauss preprocess");
 }
 
@@ -243,6 +263,10 @@ spr_result gl__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc 
 void gl__gauss_free(gl_context *c)
 {
     glDeleteBuffers(GL_GBUF__COUNT, c->gbuf);
+    if (c->n_gpre) glDeleteBuffers((GLsizei)c->n_gpre, c->gpre);
+    free(c->gpre);
+    free(c->gpre_cap);
+    c->gpre = NULL, c->gpre_cap = NULL, c->n_gpre = 0;
     glDeleteTextures(3, c->gtex);
     if (c->gfbo) glDeleteFramebuffers(1, &c->gfbo);
     c->gfbo = 0;

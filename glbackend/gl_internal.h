@@ -50,7 +50,7 @@ enum {
 
 /* The Gaussian programs (gl_gauss.c), linked on first use, and their buffers. */
 enum { GL_GPROG_PRE = 0, GL_GPROG_RASTER, GL_GPROG_BLEND, GL_GPROG__COUNT };
-enum { GL_GBUF_IN = 0, GL_GBUF_REC, GL_GBUF_RECTEX, GL_GBUF_RANGE, GL_GBUF_LIST, GL_GBUF_COUNT, GL_GBUF__COUNT };
+enum { GL_GBUF_RECTEX = 0, GL_GBUF_RANGE, GL_GBUF_LIST, GL_GBUF_COUNT, GL_GBUF__COUNT };
 /* Shader-storage binding of the draws' fragment counter (SPR_SSBO_COUNTER in
  * GLSL: gl_prelude.glsl's spr_count_fragment); 0-7 are the rectangles',
  * the lists', the Gaussian passes' and the probe's. */
@@ -87,6 +87,8 @@ typedef struct gl_context {
     GLuint gprog[GL_GPROG__COUNT];
     GLuint gbuf[GL_GBUF__COUNT];
     size_t gcap[GL_GBUF__COUNT];
+    GLuint *gpre;   /* the preprocessing's buffers, two a batch (input, records: gl_gauss.c), n_gpre of them */
+    size_t *gpre_cap, n_gpre;
     GLuint gtex[3];     /* records, tile ranges, tile lists as buffer textures (units 10, 11, 12) */
     GLuint gfbo;        /* the Gaussian programs' attachment-less framebuffer (its size set per draw) */
     int probe_programs; /* programs built with SPR_PROBE (spr_gl_desc.probe) */

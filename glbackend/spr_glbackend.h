@@ -41,7 +41,7 @@ typedef struct spr_gl_desc {
     spr_gl_driver driver; /* surfaceless only; one driver a process at a time (EGL keeps one a display) */
     int probe;    /* 1: build the debug variant of every program, which can record a pixel's
                      fragments and notes for pixel history (spr_history.h); slower */
-    size_t gauss_batch; /* Gaussians preprocessed a draw, an even number (0: as many as GL_MAX_SHADER_STORAGE_BLOCK_SIZE
+    size_t gauss_batch; /* Gaussians preprocessed a draw, with buffers of their own (0: as many as GL_MAX_SHADER_STORAGE_BLOCK_SIZE
                            takes, 524,288 on llvmpipe and zink); tests give a few to cross many batches */
     size_t max_texels;  /* 0: the driver's GL_MAX_TEXTURE_BUFFER_SIZE; smaller: that limit instead (tests of the refusal) */
 } spr_gl_desc;
