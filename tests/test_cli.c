@@ -447,6 +447,79 @@ START_TEST(no_partial_dump_directory)
 }
 END_TEST
 
+/* One line, not libpng's own (issue 42).  libpng's default handlers print "libpng error: Write Error" /
+ * "libpng warning: …" on stderr before the command's line. */
+
+/* Exactly one line on stderr, naming `path`, with what libpng said and none of libpng's own lines. */
+static void expect_libpng_line(const char *what, const char *err, const char *path)
+{
+    const size_t len = strlen(err);
+    ck_assert_msg(len > 0 && err[len - 1] == '\n' && strchr(err, '\n') == err + len - 1, "%s: not exactly one line: [%s]", what, err);
+    ck_assert_msg(!strstr(err, "libpng error") && !strstr(err, "libpng warning"), "%s: a line of libpng's own: [%s]", what, err);
+    ck_assert_msg(strstr(err, path) && strstr(err, "(libpng: "), "%s: the line lacks the file or libpng's text: [%s]", what, err);
+}
+
+/* A full disk: render's PNG under a 1 KiB RLIMIT_FSIZE with SIGXFSZ ignored (set by sh in the child only), so its
+ * writes fail with EFBIG as they do with ENOSPC on a full filesystem: exit 2, one line, no PNG, no temporary. */
+START_TEST(full_disk_is_one_line)
+{
+    setup_dir();
+    char err[4096];
+    const char *out = path_in("x.png");
+    char *argv[] = {"sh", "-c", "trap '' XFSZ; ulimit -f 2; exec \"$0\" \"$@\"", SPR_CLI, "render", "--size", "256x256", "--out", (char *)out, "--quiet", NULL};
+    int rc = tu_run("/bin/sh", NULL, 0, argv, err, sizeof err);
+    printf("cli: full disk: exit %d: %s", rc, err);
+    ck_assert_msg(rc == 2, "full disk: exit status %d: %s", rc, err);
+    expect_libpng_line("full disk", err, out);
+    ck_assert_msg(count_files() == 0, "full disk: %d files left in %s", count_files(), dir);
+}
+END_TEST
+
+/* The first chunk type `tag` in the n bytes of a PNG at b (NULL: none); memmem is not C11. */
+static const char *png_chunk(const char *b, size_t n, const char *tag)
+{
+    for (size_t i = 0; i + 4 <= n; i++)
+        if (!memcmp(b + i, tag, 4)) return b + i;
+    return NULL;
+}
+
+/* Reading PNGs (check): image data that libpng refuses is one line naming the file; a chunk libpng only warns about
+ * (an ancillary tEXt with a wrong CRC) is no line at all. */
+START_TEST(damaged_png_is_one_line)
+{
+    setup_dir();
+    char err[4096];
+    const char *png = path_in("t.png"), *scene = path_in("s.json");
+    char *render[] = {"splatref", "render", "--model", "builtin:torus", "--points", "500", "--size", "5x5", "--out", (char *)png, "--save-scene",
+                      (char *)scene, "--quiet", NULL};
+    ck_assert_int_eq(run(render, err, sizeof err), 0);
+    char *b;
+    size_t n;
+    spr_error e = {0};
+    ck_assert_int_eq(spr__read_file(png, &b, &n, &e), SPR_OK);
+    const char *idat = png_chunk(b, n, "IDAT"), *iend = png_chunk(b, n, "IEND");
+    ck_assert(idat && iend && idat + 7 < iend);
+    b[idat + 6 - b] ^= 0xff; /* the first deflate byte after the zlib header */
+    write_text("bad.png", b, n);
+    b[idat + 6 - b] ^= 0xff;
+    const size_t at = (size_t)(iend - 4 - b); /* a tEXt chunk before IEND whose CRC is 0 */
+    write_text("warn.png", b, at);
+    FILE *f = fopen(path_in("warn.png"), "ab");
+    ck_assert(f && fwrite("\0\0\0\4tEXtab\0c\0\0\0\0", 1, 16, f) == 16 && fwrite(b + at, 1, n - at, f) == n - at && !fclose(f));
+    free(b);
+    const char *bad = path_in("bad.png"), *warn = path_in("warn.png");
+    char *check[] = {"splatref", "check", "--scene", (char *)scene, "--image", (char *)bad, "--out", (char *)path_in("r1"), "--quiet", NULL};
+    int rc = run(check, err, sizeof err);
+    printf("cli: damaged PNG: exit %d: %s", rc, err);
+    ck_assert_msg(rc == 2, "damaged PNG: exit status %d: %s", rc, err);
+    expect_libpng_line("damaged PNG", err, bad);
+    check[5] = (char *)warn;
+    check[7] = (char *)path_in("r2");
+    rc = run(check, err, sizeof err);
+    ck_assert_msg(rc == 0 && !err[0], "PNG with a warning: exit status %d: [%s]", rc, err);
+}
+END_TEST
+
 START_TEST(no_gl_context)
 {
     /* No EGL vendor at all: render --backend gl fails with one line and no
@@ -665,6 +738,8 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, render_writes_outputs);
     tcase_add_test(tc, sample_then_info);
     tcase_add_test(tc, no_gl_context);
+    tcase_add_test(tc, full_disk_is_one_line);
+    tcase_add_test(tc, damaged_png_is_one_line);
     tcase_add_test(tc, group_command);
     tcase_add_test(tc, explicit_origin_target_is_used);
     tcase_add_test(tc, unused_options_are_refused);

@@ -17,12 +17,25 @@ uint8_t spr_to_u8(float v)
     return (uint8_t)lrintf(c * 255.0f);
 }
 
-typedef struct { const float *img; int w, h, ch, alpha; } img_ref;
+/* libpng's default handlers print "libpng error: …" / "libpng warning: …" on stderr themselves, a line before
+ * ours.  Every png_struct here gets these instead: the error's text is kept in the PNG_WHY-byte buffer given as
+ * error_ptr, for the one line the caller makes of it (naming the file), and control goes back to the setjmp;
+ * warnings are dropped, as they neither stop a read or a write nor change what it gives. */
+#define PNG_WHY 160
+static void png_kept_error(png_structp png, png_const_charp msg)
+{
+    snprintf(png_get_error_ptr(png), PNG_WHY, "%s", msg);
+    png_longjmp(png, 1);
+}
+static void png_dropped_warning(png_structp png, png_const_charp msg) { (void)png, (void)msg; }
+
+/* why: where png_body keeps libpng's error (PNG_WHY bytes) */
+typedef struct { const float *img; int w, h, ch, alpha; char *why; } img_ref;
 
 static int png_body(FILE *f, const void *user)
 {
     const img_ref *im = user;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, im->why, png_kept_error, png_dropped_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     const int oc = im->alpha ? 4 : 3;
     uint8_t *row = malloc((size_t)im->w * oc);
@@ -44,16 +57,27 @@ static int png_body(FILE *f, const void *user)
     return 0;
 }
 
+/* Through a temporary file; a failure is spr__write_atomic's line ("PATH: write failed: strerror") with what libpng said. */
+static spr_result write_png(const char *path, img_ref *r, spr_error *err)
+{
+    char why[PNG_WHY] = "";
+    spr_error e = {0};
+    r->why = why;
+    spr_result res = spr__write_atomic(path, png_body, r, &e);
+    if (res) spr__fail(err, res, "%s%s%s%s", e.msg, why[0] ? " (libpng: " : "", why, why[0] ? ")" : "");
+    return res;
+}
+
 spr_result spr_write_png(const char *path, const float *img, int w, int h, int channels, spr_error *err)
 {
-    img_ref r = {img, w, h, channels, 0};
-    return spr__write_atomic(path, png_body, &r, err);
+    img_ref r = {img, w, h, channels, 0, NULL};
+    return write_png(path, &r, err);
 }
 
 spr_result spr_write_png_rgba(const char *path, const float *img, int w, int h, spr_error *err)
 {
-    img_ref r = {img, w, h, 4, 1};
-    return spr__write_atomic(path, png_body, &r, err);
+    img_ref r = {img, w, h, 4, 1, NULL};
+    return write_png(path, &r, err);
 }
 
 static int pfm_body(FILE *f, const void *user)
@@ -75,7 +99,7 @@ static int pfm_body(FILE *f, const void *user)
 
 spr_result spr_write_pfm(const char *path, const float *img, int w, int h, int channels, spr_error *err)
 {
-    img_ref r = {img, w, h, channels, 0};
+    img_ref r = {img, w, h, channels, 0, NULL};
     return spr__write_atomic(path, pfm_body, &r, err);
 }
 
@@ -131,16 +155,7 @@ uint64_t spr_hash64_continue(uint64_t h, const void *data, size_t n)
 /* PNG through libpng's classic interface, so 16-bit samples keep their
  * bits (the simplified interface would treat them as linear light and
  * convert): palette and low-bit grey expanded, tRNS to alpha, grey to RGB. */
-typedef struct png_in { FILE *f; png_structp png; png_infop info; png_bytep *rows; float *img; char why[160]; } png_in;
-
-/* libpng's errors and warnings kept for our one line instead of printed on stderr */
-static void png_in_error(png_structp png, png_const_charp msg)
-{
-    png_in *s = png_get_error_ptr(png);
-    snprintf(s->why, sizeof s->why, "%s", msg);
-    png_longjmp(png, 1);
-}
-static void png_in_warning(png_structp png, png_const_charp msg) { (void)png, (void)msg; }
+typedef struct png_in { FILE *f; png_structp png; png_infop info; png_bytep *rows; float *img; char why[PNG_WHY]; } png_in;
 
 static void png_in_free(png_in *s)
 {
@@ -191,7 +206,7 @@ static spr_result read_png(const char *path, float **img, int *w, int *h, int *c
         }
     }
     if (fseek(s.f, 8, SEEK_SET)) { fclose(s.f); return spr__fail(err, SPR_E_IO, "%s: cannot read", path); }
-    s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s, png_in_error, png_in_warning);
+    s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, s.why, png_kept_error, png_dropped_warning);
     s.info = s.png ? png_create_info_struct(s.png) : NULL;
     if (!s.png || !s.info) { png_in_free(&s); return spr__fail(err, SPR_E_NOMEM, "%s: out of memory", path); }
     if (setjmp(png_jmpbuf(s.png))) {

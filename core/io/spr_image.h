@@ -14,7 +14,8 @@
  * round half to even as GL's unorm conversion (PARITY.md rule 8). */
 uint8_t spr_to_u8(float v);
 
-/* RGB(A) float image with `channels` values per pixel (first 3 used) → PNG. */
+/* RGB(A) float image with `channels` values per pixel (first 3 used) → PNG.  On failure (a full disk…) no file is
+ * left and err is one line: the path, the system's reason and libpng's own error, which is never printed. */
 spr_result spr_write_png(const char *path, const float *img, int w, int h, int channels, spr_error *err);
 /* RGBA float image → PNG with its alpha channel (texture atlases). */
 spr_result spr_write_png_rgba(const char *path, const float *img, int w, int h, spr_error *err);
