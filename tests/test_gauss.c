@@ -992,9 +992,14 @@ Suite *make_gauss_gl_suite(void)
     tcase_set_timeout(tc, 900);
     tcase_add_unchecked_fixture(tc, gl_setup, gl_teardown);
     tcase_add_test(tc, gauss_parity_captures_and_generated);
-    tcase_add_test(tc, gauss_records_in_batches_and_the_limit);
     tcase_add_test(tc, history_names_the_stop);
     tcase_add_test(tc, subnormals_flush_on_both_backends);
     suite_add_tcase(s, tc);
+    /* its own case, which CTest gl_zink_gauss_full also runs on zink (CK_RUN_CASE=full_size) */
+    TCase *full = tcase_create("full_size");
+    tcase_set_timeout(full, 900);
+    tcase_add_unchecked_fixture(full, gl_setup, gl_teardown);
+    tcase_add_test(full, gauss_records_in_batches_and_the_limit);
+    suite_add_tcase(s, full);
     return s;
 }
