@@ -440,6 +440,14 @@ static int json_int(const cJSON *o, const char *key, int dflt)
     return cJSON_IsNumber(v) && v->valuedouble >= 0 && v->valuedouble <= 2147483647.0 ? (int)v->valuedouble : cJSON_IsNumber(v) || v ? -2 : dflt;
 }
 
+/* A byte offset or length into the binary chunk, which reaches 4 GiB (its length is a uint32): past an int from 2 GiB on,
+ * where a capture of 9M Gaussians with SH degree 3 puts its last attributes.  -2 when present but not one, dflt when absent. */
+static long long json_bytes(const cJSON *o, const char *key, long long dflt)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    return cJSON_IsNumber(v) && v->valuedouble >= 0 && v->valuedouble <= 4294967295.0 ? (long long)v->valuedouble : cJSON_IsNumber(v) || v ? -2 : dflt;
+}
+
 /* Accessor `idx` of the JSON over the binary chunk, checked to lie inside it. */
 static spr_result glb_accessor(const char *path, const cJSON *root, int idx, const unsigned char *bin, size_t bin_len, const char *what,
                                int comps, glb_acc *a, spr_error *err)
@@ -453,7 +461,8 @@ static spr_result glb_accessor(const char *path, const cJSON *root, int idx, con
     a->ctype = json_int(acc, "componentType", -1);
     a->normalized = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(acc, "normalized"));
     a->comps = comps;
-    int count = json_int(acc, "count", -1), view = json_int(acc, "bufferView", -1), off = json_int(acc, "byteOffset", 0);
+    int count = json_int(acc, "count", -1), view = json_int(acc, "bufferView", -1);
+    long long off = json_bytes(acc, "byteOffset", 0);
     if (!comp_size(a->ctype) || a->ctype == 5125 || (a->ctype != 5126 && !a->normalized))
         return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: component type %d is not one KHR_gaussian_splatting allows", path, what, a->ctype);
     if (cJSON_GetObjectItemCaseSensitive(acc, "sparse"))
@@ -461,8 +470,8 @@ static spr_result glb_accessor(const char *path, const cJSON *root, int idx, con
     const cJSON *bv = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "bufferViews"), view);
     if (count < 0 || off < 0 || view < 0 || !cJSON_IsObject(bv))
         return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: accessor %d has no valid count, byteOffset or bufferView", path, what, idx);
-    int buffer = json_int(bv, "buffer", -1), voff = json_int(bv, "byteOffset", 0), vlen = json_int(bv, "byteLength", -1),
-        stride = json_int(bv, "byteStride", 0);
+    int buffer = json_int(bv, "buffer", -1), stride = json_int(bv, "byteStride", 0);
+    long long voff = json_bytes(bv, "byteOffset", 0), vlen = json_bytes(bv, "byteLength", -1);
     if (buffer != 0 || voff < 0 || vlen < 0 || stride < 0)
         return spr__fail(err, SPR_E_FORMAT, "%s: attribute %s: buffer view %d is not in the GLB binary chunk or is malformed", path, what, view);
     const size_t elem = (size_t)comps * (size_t)comp_size(a->ctype);
