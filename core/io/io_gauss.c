@@ -199,9 +199,12 @@ static spr_result inflate_all(const char *path, const char *buf, size_t len, siz
     unsigned char *o = malloc(room ? room : 1);
     spr_result r = SPR_OK;
     zs.next_in = (unsigned char *)buf;
-    zs.avail_in = (uInt)(len < UINT32_MAX ? len : UINT32_MAX);
     for (;;) {
         if (!o) { r = spr__fail(err, SPR_E_NOMEM, "%s: out of memory inflating", path); break; }
+        if (zs.avail_in == 0) { /* zlib takes at most 4 GiB at a time (uInt): a larger file is fed on */
+            const size_t left = len - (size_t)(zs.next_in - (unsigned char *)buf);
+            zs.avail_in = (uInt)(left < UINT32_MAX ? left : UINT32_MAX);
+        }
         if (size == room) {
             if (room == cap) { r = spr__fail(err, SPR_E_TOO_LARGE, "%s: inflates to more than the %zu bytes its header allows", path, cap); break; }
             size_t nr = room * 2 < cap ? room * 2 : cap;
