@@ -29,33 +29,25 @@ F32 = np.float32
 def pixel_lists(p, W, H):
     """Per pixel (front to back) the blended Gaussians' float32 alphas and colours (channel 0)."""
     out = []
-    idx_all = np.nonzero(p["kept"] & (p["rect"][:, 2] > p["rect"][:, 0]) & (p["rect"][:, 3] > p["rect"][:, 1]))[0]
-    for ty in range(p["gy"]):
-        for tx in range(p["gx"]):
-            rc = p["rect"][idx_all]
-            inside = (rc[:, 0] <= tx) & (tx < rc[:, 2]) & (rc[:, 1] <= ty) & (ty < rc[:, 3])
-            idx = idx_all[inside]
-            idx = idx[np.argsort(p["depth"][idx], kind="stable")]
-            if len(idx) == 0:
-                continue
-            js, is_ = np.meshgrid(np.arange(16 * ty, min(16 * ty + 16, H)), np.arange(16 * tx, min(16 * tx + 16, W)), indexing="ij")
-            px, py = is_.ravel().astype(float), js.ravel().astype(float)
-            pw = go.power_at(p, idx, px, py)
-            alpha = np.minimum(F32(0.99), (p["o"][idx][None, :] * np.exp(np.minimum(pw, 0.0))).astype(np.float32))
-            valid = (pw <= 0.0) & (alpha >= F32(1.0) / F32(255.0))
-            col = p["colour"][idx][:, 0].astype(np.float32)
-            for r in range(len(px)):
-                T, a_list, c_list = F32(1.0), [], []
-                for k in np.nonzero(valid[r])[0]:
-                    a = alpha[r, k]
-                    Tn = F32(T * (F32(1.0) - a))
-                    if Tn < F32(0.0001):
-                        break
-                    a_list.append(a)
-                    c_list.append(col[k])
-                    T = Tn
-                if a_list:
-                    out.append((np.array(a_list, np.float32), np.array(c_list, np.float32)))
+    for idx, _, _, px, py in go.tiles(p, W, H):
+        if len(idx) == 0:
+            continue
+        pw = go.power_at(p, idx, px, py)
+        alpha = np.minimum(F32(0.99), (p["o"][idx][None, :] * np.exp(np.minimum(pw, 0.0))).astype(np.float32))
+        valid = (pw <= 0.0) & (alpha >= F32(1.0) / F32(255.0))
+        col = p["colour"][idx][:, 0].astype(np.float32)
+        for r in range(len(px)):
+            T, a_list, c_list = F32(1.0), [], []
+            for k in np.nonzero(valid[r])[0]:
+                a = alpha[r, k]
+                Tn = F32(T * (F32(1.0) - a))
+                if Tn < F32(0.0001):
+                    break
+                a_list.append(a)
+                c_list.append(col[k])
+                T = Tn
+            if a_list:
+                out.append((np.array(a_list, np.float32), np.array(c_list, np.float32)))
     return out
 
 

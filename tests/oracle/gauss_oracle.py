@@ -121,10 +121,9 @@ def power_at(p, idx, px, py):
     return -0.5 * (A * dx * dx + C * dy * dy) - B * dx * dy
 
 
-def render_gauss3d(p, W, H, bg):
-    """SPEC 10.4, per tile: its Gaussians sorted by depth (stable: ties in file order), every pixel's loop as cumulative products."""
-    img = np.zeros((H, W, 3))
-    trans = np.ones((H, W))
+def tiles(p, W, H):
+    """Per 16x16 tile: its Gaussians sorted by depth (stable: ties in file order) and its pixels (rows js, columns is_
+    as 2-D index arrays; px, py the same flattened, as floats)."""
     idx_all = np.nonzero(p["kept"] & (p["rect"][:, 2] > p["rect"][:, 0]) & (p["rect"][:, 3] > p["rect"][:, 1]))[0]
     for ty in range(p["gy"]):
         for tx in range(p["gx"]):
@@ -133,26 +132,33 @@ def render_gauss3d(p, W, H, bg):
             idx = idx_all[inside]
             idx = idx[np.argsort(p["depth"][idx], kind="stable")]
             js, is_ = np.meshgrid(np.arange(16 * ty, min(16 * ty + 16, H)), np.arange(16 * tx, min(16 * tx + 16, W)), indexing="ij")
-            px, py = is_.ravel().astype(float), js.ravel().astype(float)
-            if len(idx) == 0:
-                img[js, is_] = bg
-                continue
-            pw = power_at(p, idx, px, py)
-            # alpha, its thresholds and T in float32, as SPEC 10.4 has them: the cap and the stop are made so that two
-            # Gaussians at the cap reach the stop exactly — (1 - 0.99f)^2 < 1e-4f in float32, not in float64
-            alpha = np.minimum(F32(0.99), (p["o"][idx][None, :] * np.exp(np.minimum(pw, 0.0))).astype(np.float32))
-            valid = (pw <= 0.0) & (alpha >= F32(1.0) / F32(255.0))
-            a = np.where(valid, alpha, F32(0.0))
-            after = np.cumprod(F32(1.0) - a, axis=1, dtype=np.float32)
-            before = np.concatenate([np.ones((len(px), 1), np.float32), after[:, :-1]], axis=1)
-            stop = valid & (after < F32(0.0001))
-            first = np.where(stop.any(axis=1), stop.argmax(axis=1), len(idx))  # the first Gaussian that would cross 1e-4
-            allowed = np.arange(len(idx))[None, :] < first[:, None]
-            wgt = np.where(allowed, a.astype(np.float64) * before, 0.0)
-            T = np.prod(np.where(allowed, F32(1.0) - a, F32(1.0)), axis=1, dtype=np.float32).astype(np.float64)
-            col = wgt @ p["colour"][idx] + T[:, None] * np.asarray(bg)[None, :]
-            img[js.ravel(), is_.ravel()] = col
-            trans[js.ravel(), is_.ravel()] = T
+            yield idx, js, is_, is_.ravel().astype(float), js.ravel().astype(float)
+
+
+def render_gauss3d(p, W, H, bg):
+    """SPEC 10.4, per tile (tiles()), every pixel's loop as cumulative products."""
+    img = np.zeros((H, W, 3))
+    trans = np.ones((H, W))
+    for idx, js, is_, px, py in tiles(p, W, H):
+        if len(idx) == 0:
+            img[js, is_] = bg
+            continue
+        pw = power_at(p, idx, px, py)
+        # alpha, its thresholds and T in float32, as SPEC 10.4 has them: the cap and the stop are made so that two
+        # Gaussians at the cap reach the stop exactly — (1 - 0.99f)^2 < 1e-4f in float32, not in float64
+        alpha = np.minimum(F32(0.99), (p["o"][idx][None, :] * np.exp(np.minimum(pw, 0.0))).astype(np.float32))
+        valid = (pw <= 0.0) & (alpha >= F32(1.0) / F32(255.0))
+        a = np.where(valid, alpha, F32(0.0))
+        after = np.cumprod(F32(1.0) - a, axis=1, dtype=np.float32)
+        before = np.concatenate([np.ones((len(px), 1), np.float32), after[:, :-1]], axis=1)
+        stop = valid & (after < F32(0.0001))
+        first = np.where(stop.any(axis=1), stop.argmax(axis=1), len(idx))  # the first Gaussian that would cross 1e-4
+        allowed = np.arange(len(idx))[None, :] < first[:, None]
+        wgt = np.where(allowed, a.astype(np.float64) * before, 0.0)
+        T = np.prod(np.where(allowed, F32(1.0) - a, F32(1.0)), axis=1, dtype=np.float32).astype(np.float64)
+        col = wgt @ p["colour"][idx] + T[:, None] * np.asarray(bg)[None, :]
+        img[js.ravel(), is_.ravel()] = col
+        trans[js.ravel(), is_.ravel()] = T
     return img, trans
 
 
