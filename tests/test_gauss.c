@@ -12,6 +12,7 @@
 #include "spr_parity.h"
 #include "spr_profile_diff.h"
 #include "spr_scene.h"
+#include "spr_trace.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -870,11 +871,18 @@ START_TEST(gauss_records_in_batches_and_the_limit)
     expect_exact_on(small, "11 Gaussians in 100 texels", &v, &c, &d);
     spr_cloud_free(&c);
     gauss_scene(KIND_MIXED, 12, 77, &c);
+    /* the reference behind a trace: refused before its frame, it is not called at all (not even set_view) */
+    FILE *calls = tmpfile();
+    ck_assert_ptr_nonnull(calls);
+    spr_backend *ref = spr_trace_create(spr_swrast_create(1, &err), calls, &err);
+    ck_assert_msg(ref, "%s", err.msg);
     spr_parity_report rep;
-    ck_assert_int_eq(spr_parity_run(cpu, small, &v, &c, &d, &d, NULL, "12", &rep, &err), SPR_E_TOO_LARGE);
+    ck_assert_int_eq(spr_parity_run(ref, small, &v, &c, &d, &d, NULL, "12", &rep, &err), SPR_E_TOO_LARGE);
     ck_assert_msg(strstr(err.msg, "12 Gaussians exceed what this driver takes, 11") && strstr(err.msg, "GL_MAX_TEXTURE_BUFFER_SIZE (100 texels)") &&
                   !strchr(err.msg, '\n'), "%s", err.msg);
-    ck_assert_int_eq(rep.passes_ref, 0); /* refused before the reference's frame */
+    ck_assert_msg(ftell(calls) == 0, "the reference was called %ld bytes of trace before the refusal", ftell(calls));
+    spr_backend_destroy(ref);
+    fclose(calls);
     spr_render_result out;
     ck_assert_int_eq(spr_render(small, &v, &c, &d, &out, &err), SPR_E_TOO_LARGE);
     ck_assert_msg(strstr(err.msg, "gl backend: gl: 12 Gaussians exceed"), "%s", err.msg);

@@ -308,6 +308,14 @@ spr_result spr_stream_check(spr_algo algo, size_t n, spr_error *err)
 static spr_result render_frame(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
                                     spr_render_result *out, spr_error *err);
 
+spr_result spr_render_fits(spr_backend *b, const spr_cloud *cloud, spr_algo algo, spr_error *err)
+{
+    const spr_algo_info *ai = spr_algo_info_of(algo);
+    const spr_fit_desc fit = {cloud->n, ai && (ai->uses & SPR_USES_GAUSS)};
+    const spr_result r = spr_backend_fits(b, &fit);
+    return r ? spr__fail(err, r, "%s backend: %s", b->name, b->err.msg) : SPR_OK;
+}
+
 spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
                       spr_render_result *out, spr_error *err)
 {
@@ -322,8 +330,7 @@ spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *clo
     if (src && src->n != cloud->n) return spr__fail(err, SPR_E_ARG, "render: the stream has %zu splats, the cloud %zu", src->n, cloud->n);
     spr_result r;
     if (src && (r = spr_stream_check(desc->algo, cloud->n, err))) return r;
-    const spr_fit_desc fit = {cloud->n, (ai->uses & SPR_USES_GAUSS) != 0};
-    if ((r = spr_backend_fits(b, &fit))) return spr__fail(err, r, "%s backend: %s", b->name, b->err.msg);
+    if ((r = spr_render_fits(b, cloud, desc->algo, err))) return r;
     /* the frame's host work (view-dependent colours, orders, tile lists) on
      * the backend's host thread count: OpenMP's default for regions that do
      * not name one, restored on the way out */

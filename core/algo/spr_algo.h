@@ -282,6 +282,10 @@ typedef struct spr_render_result {
 spr_result spr_render(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
                       spr_render_result *out, spr_error *err);
 void spr_render_result_free(spr_render_result *r);
+/* SPR_OK when a frame of desc->algo over `cloud` is within b's fixed limits (spr_backend_fits), else one line
+ * naming the backend and the limit.  spr_render asks it first; parity asks the tested backend before the
+ * reference renders, so a capture too large for it is refused at once. */
+spr_result spr_render_fits(spr_backend *b, const spr_cloud *cloud, spr_algo algo, spr_error *err);
 /* SPR_OK when `algo` can draw a streamed cloud of n splats (desc->source):
  * its passes draw the splats in file order; otherwise one line saying why
  * and what the whole cloud would take. */

@@ -180,13 +180,9 @@ spr_result spr_parity_run(spr_backend *ref, spr_backend *test, const spr_view *v
     dr.hook = spr_capture_hook;
     dr.hook_user = &cp;
     spr_render_result rr, rt;
-    /* both backends' limits before the reference's frame: a capture too large for one is refused at once */
-    const spr_algo_info *ai = spr_algo_info_of(desc_test->algo);
-    const spr_fit_desc fit = {c->n, ai && (ai->uses & SPR_USES_GAUSS)};
-    spr_result r = spr_backend_fits(test, &fit);
-    if (r) return spr__fail(err, r, "%s backend: %s", test->name, test->err.msg);
-    if ((r = spr_backend_fits(ref, &fit))) return spr__fail(err, r, "%s backend: %s", ref->name, ref->err.msg);
-    r = spr_render(ref, v, c, &dr, &rr, err);
+    /* the tested backend's limits before the reference's frame (spr_render asks the reference's itself) */
+    spr_result r = spr_render_fits(test, c, desc_test->algo, err);
+    if (!r) r = spr_render(ref, v, c, &dr, &rr, err);
     if (r) { spr_capture_free(&cp); return r; }
     if (cp.failed) {
         spr_capture_free(&cp);

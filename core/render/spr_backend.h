@@ -631,8 +631,8 @@ spr_result spr_backend_gauss_preprocess(spr_backend *b, const spr_gauss_desc *d,
 spr_result spr_backend_gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
 spr_result spr_backend_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out);
-/* 0 when a frame of d is within b's fixed limits (spr_render asks first; parity asks both backends before
- * either renders), else the backend's error, one line naming the limit. */
+/* 0 when a frame of d is within b's fixed limits, else the backend's error, one line naming the limit
+ * (spr_render_fits asks it for a frame). */
 spr_result spr_backend_fits(spr_backend *b, const spr_fit_desc *d);
 /* The same, every plane as floats: id and count planes as their integer
  * values, "none" ids as −1 (what --dump, check and step show). */
