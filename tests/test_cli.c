@@ -50,6 +50,13 @@ static int count_files(void)
     return n;
 }
 
+/* s is exactly one line: text ending in its only newline (what every failure of the command prints). */
+static int one_line(const char *s)
+{
+    const char *nl = strchr(s, '\n');
+    return nl && !nl[1];
+}
+
 static void expect_failure(const char *what, const char *model, const char *extra, const char *must_contain)
 {
     char err[4096];
@@ -60,8 +67,7 @@ static void expect_failure(const char *what, const char *model, const char *extr
     int rc = run(argv, err, sizeof err);
     printf("cli: %-22s exit %d: %s", what, rc, err);
     ck_assert_msg(rc != 0 && rc < 128, "%s: exit status %d", what, rc);
-    size_t len = strlen(err);
-    ck_assert_msg(len > 0 && err[len - 1] == '\n' && strchr(err, '\n') == err + len - 1, "%s: not exactly one line: [%s]", what, err);
+    ck_assert_msg(one_line(err), "%s: not exactly one line: [%s]", what, err);
     ck_assert_msg(strstr(err, must_contain) != NULL, "%s: message lacks \"%s\": %s", what, must_contain, err);
     ck_assert_msg(access(out, F_OK) != 0, "%s: output file was written", what);
     ck_assert_int_eq(count_files(), before); /* no temporary left behind either */
@@ -283,7 +289,7 @@ START_TEST(transparency_options)
         int rc = run_args(cases[i].argv, out, err, sizeof err);
         printf("cli: %s %s: exit %d: %s", cases[i].argv[1], cases[i].argv[2], rc, err);
         ck_assert_msg(rc != 0 && rc < 128, "%s: exit %d", cases[i].says, rc);
-        ck_assert_msg(strstr(err, cases[i].says) && strchr(err, '\n') == err + strlen(err) - 1, "%s: %s", cases[i].says, err);
+        ck_assert_msg(strstr(err, cases[i].says) && one_line(err), "%s: %s", cases[i].says, err);
         ck_assert_msg(access(out, F_OK) != 0, "%s: an image was written", cases[i].says);
     }
     /* compare: two renders of different sizes */
@@ -295,7 +301,7 @@ START_TEST(transparency_options)
     char *cmp[] = {"splatref", "compare", (char *)path_in("a.png"), (char *)path_in("b.png"), "--metric", "zp-eps", NULL};
     int rc = run(cmp, err, sizeof err);
     printf("cli: compare 16x16 16x12: exit %d: %s", rc, err);
-    ck_assert_msg(rc == 2 && strstr(err, "16x12") && strchr(err, '\n') == err + strlen(err) - 1, "compare: exit %d: %s", rc, err);
+    ck_assert_msg(rc == 2 && strstr(err, "16x12") && one_line(err), "compare: exit %d: %s", rc, err);
 }
 END_TEST
 
@@ -336,7 +342,7 @@ START_TEST(domains_command)
     ck_assert_int_ge(lines, 1500); /* the octahedron of 2000 points: 8·m² sub-triangles */
     const char *bad[] = {"domains", "--model", "builtin:octahedron", "--points", "500", "--basis-out", out, NULL};
     rc = run_args(bad, NULL, err, sizeof err);
-    ck_assert_msg(rc == 2 && strstr(err, "--level") && strchr(err, '\n') == err + strlen(err) - 1, "exit %d: %s", rc, err);
+    ck_assert_msg(rc == 2 && strstr(err, "--level") && one_line(err), "exit %d: %s", rc, err);
     /* --dump: the coloured cloud and the level's textures, 8 faces side by side in one atlas */
     const char *ply = path_in("dom.ply"), *atlas = path_in("dom-atlas.png");
     const char *dump[] = {"domains", "--model", "builtin:octahedron", "--points", "2000", "--level", "2", "--domain", "strict", "--dump", ply, NULL};
@@ -393,7 +399,7 @@ START_TEST(unused_options_are_refused)
         int rc = run_args(cases[i].argv, NULL, err, sizeof err);
         printf("cli: %s ... %s: exit %d: %s", cases[i].argv[0], cases[i].names, rc, err);
         ck_assert_msg(rc == 2, "%s %s: exit %d", cases[i].argv[0], cases[i].names, rc);
-        ck_assert_msg(strstr(err, cases[i].names) && strchr(err, '\n') == err + strlen(err) - 1, "%s: %s", cases[i].names, err);
+        ck_assert_msg(strstr(err, cases[i].names) && one_line(err), "%s: %s", cases[i].names, err);
     }
 }
 END_TEST
@@ -453,8 +459,7 @@ END_TEST
 /* Exactly one line on stderr, naming `path`, with what libpng said and none of libpng's own lines. */
 static void expect_libpng_line(const char *what, const char *err, const char *path)
 {
-    const size_t len = strlen(err);
-    ck_assert_msg(len > 0 && err[len - 1] == '\n' && strchr(err, '\n') == err + len - 1, "%s: not exactly one line: [%s]", what, err);
+    ck_assert_msg(one_line(err), "%s: not exactly one line: [%s]", what, err);
     ck_assert_msg(!strstr(err, "libpng error") && !strstr(err, "libpng warning"), "%s: a line of libpng's own: [%s]", what, err);
     ck_assert_msg(strstr(err, path) && strstr(err, "(libpng: "), "%s: the line lacks the file or libpng's text: [%s]", what, err);
 }
@@ -499,9 +504,10 @@ START_TEST(damaged_png_is_one_line)
     ck_assert_int_eq(spr__read_file(png, &b, &n, &e), SPR_OK);
     const char *idat = png_chunk(b, n, "IDAT"), *iend = png_chunk(b, n, "IEND");
     ck_assert(idat && iend && idat + 7 < iend);
-    b[idat + 6 - b] ^= 0xff; /* the first deflate byte after the zlib header */
+    const size_t deflate0 = (size_t)(idat - b) + 6; /* the first deflate byte after the zlib header */
+    b[deflate0] ^= 0xff;
     write_text("bad.png", b, n);
-    b[idat + 6 - b] ^= 0xff;
+    b[deflate0] ^= 0xff;
     const size_t at = (size_t)(iend - 4 - b); /* a tEXt chunk before IEND whose CRC is 0 */
     write_text("warn.png", b, at);
     FILE *f = fopen(path_in("warn.png"), "ab");
@@ -532,7 +538,7 @@ START_TEST(no_gl_context)
     printf("cli: no GL context: exit %d: %s", rc, err);
     ck_assert_int_eq(rc, 2);
     ck_assert_ptr_nonnull(strstr(err, "gl: "));
-    ck_assert_ptr_eq(strchr(err, '\n'), err + strlen(err) - 1);
+    ck_assert(one_line(err));
     ck_assert_int_ne(access(out, F_OK), 0);
     char *targv[] = {"splatref_tests", "gl", NULL};
     setenv("SPLATREF_REQUIRE_GL", "0", 1); /* this process runs forked: CI's setting is restored after */
@@ -646,7 +652,7 @@ START_TEST(stream_equals_whole_cloud)
         int before = count_files();
         int rc = run_args(args, path_in("bad.png"), err, sizeof err);
         printf("cli: --stream %s: exit %d: %s", bad[v][0], rc, err);
-        ck_assert_msg(rc == 2 && strstr(err, must) && strchr(err, '\n') == err + strlen(err) - 1, "%s: %s", bad[v][0], err);
+        ck_assert_msg(rc == 2 && strstr(err, must) && one_line(err), "%s: %s", bad[v][0], err);
         ck_assert_int_eq(count_files(), before);
     }
     /* a NaN at splat 2500 (in the 26th chunk): found while reading, before any output, by position */
@@ -687,7 +693,7 @@ START_TEST(stream_equals_whole_cloud)
         const char *args[] = {"render", "--model", path_in(files[v][0]), "--algo", "pbr2p1", files[v][1], NULL};
         int rc = run_args(args, path_in("bad.png"), err, sizeof err);
         printf("cli: %s %s: exit %d: %s", files[v][0], files[v][1], rc, err);
-        ck_assert_msg(rc == 2 && strstr(err, files[v][2]) && strchr(err, '\n') == err + strlen(err) - 1, "%s", err);
+        ck_assert_msg(rc == 2 && strstr(err, files[v][2]) && one_line(err), "%s", err);
         ck_assert_int_ne(access(path_in("bad.png"), F_OK), 0);
     }
     spr_cloud_free(&c);
@@ -703,7 +709,7 @@ START_TEST(gauss_profile_options)
     char err[4096];
     char *unknown[] = {"splatref", "render", "--model", model, "--gauss-profile", "unity", "--out", (char *)path_in("o.png"), NULL};
     ck_assert_int_eq(run(unknown, err, sizeof err), 2);
-    ck_assert_msg(strstr(err, "--gauss-profile: 'unity' is not a profile (inria, gsplat") && strchr(err, '\n') == err + strlen(err) - 1, "%s", err);
+    ck_assert_msg(strstr(err, "--gauss-profile: 'unity' is not a profile (inria, gsplat") && one_line(err), "%s", err);
     char *two[] = {"splatref", "render", "--model", model, "--gauss-profile", "spark", "--algo", "gauss3d", "--out", (char *)path_in("o.png"), NULL};
     ck_assert_int_eq(run(two, err, sizeof err), 2);
     ck_assert_msg(strstr(err, "--gauss-profile spark belongs to --algo gauss-blend, not gauss3d"), "%s", err);
