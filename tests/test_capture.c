@@ -8,6 +8,7 @@
 #include "test_util.h"
 #include "spr_arith_c.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -765,10 +766,8 @@ START_TEST(glb_past_2gib)
     while (jl % 4) json[jl++] = ' ';
     const size_t len = 12 + 8 + (size_t)jl + 8 + bin_len;
     char *buf = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
-    if (buf == MAP_FAILED) { /* no address space for it (a 32-bit host, or a strict overcommit policy): nothing to check */
-        fprintf(stderr, "glb_past_2gib: no %zu-byte mapping, skipped\n", len);
-        return;
-    }
+    /* a test that passed unchecked would hide the reader's 2 GiB limit: no mapping (a 32-bit host) fails it */
+    ck_assert_msg(buf != MAP_FAILED, "glb_past_2gib: no %zu-byte mapping: %s", len, strerror(errno));
     const uint32_t head[5] = {0x46546C67u, 2, (uint32_t)len, (uint32_t)jl, 0x4E4F534Au}, bin_head[2] = {(uint32_t)bin_len, 0x004E4942u};
     memcpy(buf, head, 20);
     memcpy(buf + 20, json, (size_t)jl);
