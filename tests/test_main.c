@@ -27,6 +27,7 @@ Suite *make_capture_suite(void);
 Suite *make_capture_gl_suite(void);
 Suite *make_gauss_suite(void);
 Suite *make_gauss_gl_suite(void);
+Suite *make_npy_suite(void);
 
 static const struct { const char *name; Suite *(*make)(void); int gl; } suites[] = {
     {"kernel", make_kernel_suite, 0}, {"camera", make_camera_suite, 0}, {"raster", make_raster_suite, 0},
@@ -41,6 +42,7 @@ static const struct { const char *name; Suite *(*make)(void); int gl; } suites[]
     {"capture_gl", make_capture_gl_suite, 1},
     {"gauss", make_gauss_suite, 0},
     {"gauss_gl", make_gauss_gl_suite, 1},
+    {"npy", make_npy_suite, 0},
     {"gl", make_gl_suite, 1},
 };
 
