@@ -1,6 +1,6 @@
 #!/bin/sh
 # fuzz.sh — run the libFuzzer harnesses of tests/fuzz/ for as long as you ask.
-#   sh tools/fuzz.sh [SECONDS_EACH] [ply|off|xyz|groups|splat|spz|glb|sog|cameras|image|scene ...]   (default 600 s, all)
+#   sh tools/fuzz.sh [SECONDS_EACH] [ply|off|xyz|groups|splat|spz|glb|sog|cameras|image|scene|npy ...]   (default 600 s, all)
 # Builds them first (clang; the installer provides it) into build/.  New
 # inputs that grow coverage go to build/fuzz-corpus-<reader>/; a crash, leak,
 # timeout or out-of-memory input is written as build/fuzz-<reader>-crash-*:
@@ -10,7 +10,7 @@ set -eu
 cd "$(dirname "$0")/.."
 secs=${1:-600}
 [ $# -gt 0 ] && shift
-readers=${*:-ply off xyz groups splat spz glb sog cameras image scene}
+readers=${*:-ply off xyz groups splat spz glb sog cameras image scene npy}
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build --target fuzz_harnesses >/dev/null
 for r in $readers; do

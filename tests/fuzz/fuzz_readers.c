@@ -4,7 +4,7 @@
  * -DSPR_FUZZ_PLY / _OFF / _XYZ / _GROUPS / _SPLAT / _SPZ / _GLB / _CAMERAS (issue 15:
  * the Gaussian-splat readers) / _SOG (issue 36: PlayCanvas SOG, zipped or its files) / _IMAGE (issue 25: the PNG and PFM readers of check;
  * the Gaussian-splat readers; their first input byte picks the options) / _SCENE (issue 25:
- * scene files, read and checked).  The readers run over the input
+ * scene files, read and checked) / _NPY (issue 43: NumPy .npy and .npz).  The readers run over the input
  * as it is, in memory (spr__parse_*; the groups reader through a memfd):
  * any crash, leak, hang or out-of-memory libFuzzer or the sanitizers find
  * is a bug, and every such input goes into corpus/<reader>/ as a
@@ -20,6 +20,7 @@
 #include "spr_group.h"
 #include "spr_image.h"
 #include "spr_io.h"
+#include "spr_npy.h"
 #ifdef SPR_FUZZ_SCENE
 #include <errno.h>
 #include <sys/stat.h>
@@ -136,6 +137,32 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (!(c.alpha[i] >= 0.0f && c.alpha[i] <= 1.0f) || !(c.radius[i] > 0.0f)) abort(); /* an accepted Gaussian is a Gaussian */
         spr_cloud_free(&c);
     }
+#elif defined(SPR_FUZZ_NPY)
+    /* NumPy arrays: the first byte's bit 0 picks a lone .npy (0) or an .npz (1), the rest is the file.  An accepted
+     * array holds spr_npy.h's invariants and every value is read (ASan sees the whole allocation). */
+    if (size < 1) return 0;
+    spr_npy one, *v = &one;
+    int n = 1;
+    const char *name = data[0] & 1 ? "fuzz.npz" : "fuzz.npy";
+    spr_result r = data[0] & 1 ? spr__parse_npz(name, data + 1, size - 1, &v, &n, &err) : spr__parse_npy(name, data + 1, size - 1, NULL, &one, &err);
+    check_message(r, &err, name);
+    if (r && (data[0] & 1) && (v || n)) abort(); /* nothing handed out on failure */
+    if (r && !(data[0] & 1) && one.data) abort();
+    for (int k = 0; !r && k < n; k++) {
+        const spr_npy *a = &v[k];
+        if (a->ndim < 0 || a->ndim > SPR_NPY_MAX_DIMS || (a->type != SPR_NPY_F4 && a->type != SPR_NPY_I4) || !a->data ||
+            spr_npy_count(a) > SPR_NPY_MAX_ELEMS || !memchr(a->name, 0, sizeof a->name) || ((data[0] & 1) ? !a->name[0] : a->name[0] != 0))
+            abort();
+        for (int j = 0; j < k; j++)
+            if (!strcmp(v[j].name, a->name)) abort(); /* npz members are distinct */
+        volatile uint32_t sum = 0;
+        for (size_t i = 0; i < spr_npy_count(a); i++) sum += ((const uint32_t *)a->data)[i];
+    }
+    if (!r) {
+        if (data[0] & 1) spr_npz_free(v, n);
+        else spr_npy_free(&one);
+    }
+    (void)c;
 #elif defined(SPR_FUZZ_XYZ)
     spr_result r = spr__parse_xyz("fuzz.xyz", (const char *)data, size, NULL, &c, &err);
     check_message(r, &err, "fuzz.xyz");
@@ -232,7 +259,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     spr__scene_forget(&a); /* the option phase holds nothing else */
     (void)c;
 #else
-#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB, SPR_FUZZ_SOG, SPR_FUZZ_CAMERAS, SPR_FUZZ_IMAGE, SPR_FUZZ_SCENE"
+#error "define one of SPR_FUZZ_PLY, SPR_FUZZ_OFF, SPR_FUZZ_XYZ, SPR_FUZZ_GROUPS, SPR_FUZZ_SPLAT, SPR_FUZZ_SPZ, SPR_FUZZ_GLB, SPR_FUZZ_SOG, SPR_FUZZ_CAMERAS, SPR_FUZZ_IMAGE, SPR_FUZZ_SCENE, SPR_FUZZ_NPY"
 #endif
     return 0;
 }
