@@ -177,33 +177,30 @@ SPR_FN float spr_absf(float x)
     return x;
 }
 
-/* SPEC §10.3 steps 1–8 for the 3D Gaussian (μ, q, s, o) of colour c (step 9,
- * on the host): the record of gauss3d and gauss-blend. */
-SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_CARR q[4], SPR_CARR s[3], float o,
-                                   SPR_CARR c[3], SPR_OARR rec[SPR_GREC_FLOATS])
+/* SPEC §10.3 steps 1–4 of the 3D Gaussian (μ, q, s): t = R·μ + T, L = Rq·S,
+ * Σ = L·Lᵀ, the Jacobian J (2×3, row-major) with the profile's tangent clamp,
+ * T = J·W, A = T·Σ and Σ' = A·Tᵀ (P, 2×2).  Returns SPR_GCULL_NONE, or why
+ * the Gaussian is culled before step 5 (near plane, clip box: then only t
+ * is set).  The forward pass (spr_gauss_preprocess3d) and its backward
+ * (spr_gauss_preprocess3d_bwd) both start here. */
+SPR_FN float spr_gauss_project3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_CARR q[4], SPR_CARR s[3], SPR_OARR t[3], SPR_OARR Rq[9],
+                                 SPR_OARR L[9], SPR_OARR S[9], SPR_OARR J[6], SPR_OARR T[6], SPR_OARR A[6], SPR_OARR P[4])
 {
-    float t[3];
     spr_gauss_to_camera(g, mu, t);
-    for (int f = 0; f < SPR_GREC_FLOATS; f++) rec[f] = 0.0f;
     if (g[SPR_GPRM_NEAR_LT] != 0.0f) { /* gsplat: culled below the near plane */
         if (t[2] < g[SPR_GPRM_NEAR]) {
-            spr_gauss_cull(SPR_GCULL_NEAR, rec);
-            return;
+            return SPR_GCULL_NEAR;
         }
     } else if (!(t[2] > g[SPR_GPRM_NEAR])) { /* the training code: culled at or below it */
-        spr_gauss_cull(SPR_GCULL_NEAR, rec);
-        return;
+        return SPR_GCULL_NEAR;
     }
     /* step 2: Σ = (Rq·S)(Rq·S)ᵀ, L = Rq·S */
-    float Rq[9];
     spr_quat_matrix(q, Rq);
-    float L[9];
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++) {
             SPR_PRECISE float v = Rq[3 * i + k] * s[k];
             L[3 * i + k] = v;
         }
-    float S[9];
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
             float v = spr_sum3(L[3 * i], L[3 * j], L[3 * i + 1], L[3 * j + 1], L[3 * i + 2], L[3 * j + 2]);
@@ -220,8 +217,7 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
         float ax = spr_absf(nx);
         float ay = spr_absf(ny);
         if (ax > g[SPR_GPRM_CLIP_K] || ay > g[SPR_GPRM_CLIP_K]) {
-            spr_gauss_cull(SPR_GCULL_CLIP, rec);
-            return;
+            return SPR_GCULL_CLIP;
         }
     }
     SPR_PRECISE float cx = txz;
@@ -243,7 +239,6 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     SPR_PRECISE float fv = g[SPR_GPRM_FY] * v;
     SPR_PRECISE float qu = fu / zz;
     SPR_PRECISE float qv = fv / zz;
-    float J[6];
     SPR_PRECISE float j00 = g[SPR_GPRM_FX] / t[2];
     SPR_PRECISE float j02 = -qu;
     SPR_PRECISE float j11 = g[SPR_GPRM_FY] / t[2];
@@ -255,24 +250,43 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     J[4] = j11;
     J[5] = j12;
     /* step 4: Σ' = (J·W)·Σ·(J·W)ᵀ, every product an explicit sum over k left to right */
-    float T[6];
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 3; j++) {
             float x = spr_sum3(J[3 * i], g[SPR_GPRM_R + j], J[3 * i + 1], g[SPR_GPRM_R + 3 + j], J[3 * i + 2], g[SPR_GPRM_R + 6 + j]);
             T[3 * i + j] = x;
         }
-    float A[6];
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 3; j++) {
             float x = spr_sum3(T[3 * i], S[j], T[3 * i + 1], S[3 + j], T[3 * i + 2], S[6 + j]);
             A[3 * i + j] = x;
         }
-    float P[4];
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++) {
             float x = spr_sum3(A[3 * i], T[3 * j], A[3 * i + 1], T[3 * j + 1], A[3 * i + 2], T[3 * j + 2]);
             P[2 * i + j] = x;
         }
+    return SPR_GCULL_NONE;
+}
+
+/* SPEC §10.3 steps 1–8 for the 3D Gaussian (μ, q, s, o) of colour c (step 9,
+ * on the host): the record of gauss3d and gauss-blend. */
+SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_CARR q[4], SPR_CARR s[3], float o,
+                                   SPR_CARR c[3], SPR_OARR rec[SPR_GREC_FLOATS])
+{
+    float t[3];
+    float Rq[9];
+    float L[9];
+    float S[9];
+    float J[6];
+    float T[6];
+    float A[6];
+    float P[4];
+    float why = spr_gauss_project3d(g, mu, q, s, t, Rq, L, S, J, T, A, P);
+    for (int f = 0; f < SPR_GREC_FLOATS; f++) rec[f] = 0.0f;
+    if (why != SPR_GCULL_NONE) {
+        spr_gauss_cull(why, rec);
+        return;
+    }
     /* step 5: the dilation, the conic and (--gauss-aa) the opacity's compensation */
     SPR_PRECISE float a = P[0] + g[SPR_GPRM_EPS2D];
     float b = P[1];
@@ -405,6 +419,8 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
         ry = r;
     }
     /* step 7: the centre in pixel-index coordinates */
+    SPR_PRECISE float txz = t[0] / t[2];
+    SPR_PRECISE float tyz = t[1] / t[2];
     SPR_PRECISE float fx = g[SPR_GPRM_FX] * txz;
     SPR_PRECISE float fy = g[SPR_GPRM_FY] * tyz;
     SPR_PRECISE float mx = fx + g[SPR_GPRM_CX];
