@@ -92,6 +92,13 @@ static void add_constants(strbuf *b)
 #define GL__GREC(name, n) sb_add(b, "#define SPR_GREC_%s %d\n", #name, SPR_GREC_##name);
     SPR_GREC_LIST(GL__GREC)
 #undef GL__GREC
+#define GL__GPART(name, n) sb_add(b, "#define SPR_GPART_%s %d\n", #name, SPR_GPART_##name);
+    SPR_GPART_LIST(GL__GPART)
+#undef GL__GPART
+#define GL__GOUT(name, n) sb_add(b, "#define SPR_GOUT_%s %d\n", #name, SPR_GOUT_##name);
+    SPR_GOUT_LIST(GL__GOUT)
+#undef GL__GOUT
+    sb_add(b, "#define SPR_GPART_FLOATS %d\n#define SPR_GOUT_FLOATS %d\n", SPR_GPART_FLOATS, SPR_GOUT_FLOATS);
     sb_add(b, "const float spr_exp_coef[%d] = float[](", SPR_EXP_COEFS);
     for (int i = 0; i < SPR_EXP_COEFS; i++) {
         uint32_t u;

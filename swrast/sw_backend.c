@@ -253,6 +253,7 @@ spr_backend *spr_swrast_create(int threads, spr_error *err)
     b->gauss_preprocess = sw__gauss_preprocess;
     b->gauss_raster = sw__gauss_raster;
     b->gauss_draw = sw__gauss_draw;
+    b->gauss_backward = sw__gauss_backward;
     b->read_plane = sw_read_plane;
     b->destroy = sw_destroy;
     return b;

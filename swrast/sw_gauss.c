@@ -218,3 +218,64 @@ done:
     st->passed = passed;
     return r;
 }
+
+/* gauss3d's backward (SPEC 10.10): tiles in batches whose entries' partials
+ * fit `batch` (spr_gauss_bwd_desc; 2^21 entries, 128 MiB, by default); in a
+ * batch, each tile one walk over its pixels in row-major order from the top
+ * row (spr_gauss_pixel_bwd), tiles in parallel (disjoint entries); then each
+ * Gaussian adds its entries' partials of the batch in order to its sums
+ * (spr_gauss_gather), Gaussians in parallel; after the last batch, each
+ * Gaussian's chain (spr_gauss_preprocess3d_bwd).  Nothing depends on the
+ * thread count: every sum has one order. */
+spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out)
+{
+    sw_context *c = sw_ctx(b);
+    const int W = b->view.width, H = b->view.height;
+    const int gx = (int)d->prm[SPR_GPRM_GX], nt = gx * (int)d->prm[SPR_GPRM_GY];
+    const size_t cap = d->batch ? d->batch : (size_t)1 << 21, n = d->n;
+    memset(sums, 0, n * SPR_GPART_FLOATS * sizeof *sums);
+    size_t most = 0; /* the largest batch: tiles are whole, so at least the longest tile list */
+    for (int t0 = 0, t1; t0 < nt; t0 = t1) {
+        for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
+        if (d->range[t1] - d->range[t0] > most) most = d->range[t1] - d->range[t0];
+    }
+    float *part = spr__big_alloc((most ? most : 1) * SPR_GPART_FLOATS * sizeof *part);
+    if (!part) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for the partials of %zu list entries", most);
+    for (int t0 = 0, t1; t0 < nt; t0 = t1) {
+        for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
+        const uint32_t base = d->range[t0], end = d->range[t1];
+        memset(part, 0, (size_t)(end - base) * SPR_GPART_FLOATS * sizeof *part);
+#pragma omp parallel num_threads(c->threads)
+        {
+            unsigned fp = sw_fp_enter();
+#pragma omp for schedule(dynamic, 1)
+            for (int t = t0; t < t1; t++) {
+                const int i0 = (t % gx) * 16, j0 = (t / gx) * 16;
+                for (int j = j0; j < j0 + 16 && j < H; j++)
+                    for (int i = i0; i < i0 + 16 && i < W; i++) {
+                        const int y = H - 1 - j;
+                        spr_pixel_in px = {.grec = d->rec, .granges = d->range, .glist = d->list, .gup = d->up, .gpart = part,
+                                           .gpart_base = base, .i = (size_t)y * W + (size_t)i, .x = i, .y = y};
+                        spr_gauss_pixel_bwd(&px, d->prm, d->background);
+                    }
+            }
+#pragma omp for schedule(static)
+            for (long G = 0; G < (long)n; G++) {
+                spr_pixel_in px = {.gpart = part, .gpart_base = base, .gcsr = d->csr};
+                spr_gauss_gather(&px, (int)d->csr_start[G], (int)d->csr_start[G + 1], (int)base, (int)end, sums + (size_t)G * SPR_GPART_FLOATS);
+            }
+            sw_fp_leave(fp);
+        }
+    }
+    free(part);
+#pragma omp parallel num_threads(c->threads)
+    {
+        unsigned fp = sw_fp_enter();
+#pragma omp for schedule(static)
+        for (long G = 0; G < (long)n; G++)
+            spr_gauss_preprocess3d_bwd(d->prm, d->mu + 3 * G, d->q + 4 * G, d->s + 3 * G, sums + (size_t)G * SPR_GPART_FLOATS,
+                                       out + (size_t)G * SPR_GOUT_FLOATS);
+        sw_fp_leave(fp);
+    }
+    return SPR_OK;
+}

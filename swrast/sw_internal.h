@@ -146,5 +146,6 @@ void sw__lists_free(spr_frag_lists *l);
 spr_result sw__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec);
 spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
 spr_result sw__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
+spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out);
 
 #endif

@@ -739,6 +739,7 @@ static void gauss_scene(int kind, size_t n, uint64_t seed, spr_cloud *c)
         double q[4], l = 0.0;
         for (int k = 0; k < 4; k++) q[k] = tu_uniform(&s) - 0.5, l += q[k] * q[k];
         for (int k = 0; k < 4; k++) G[k] = (float)(q[k] / sqrt(l));
+        G[7] = 1.0f; /* given as a unit quaternion */
         for (int k = 0; k < 3; k++) {
             c->pos[3 * i + k] = (float)(2.0 * tu_uniform(&s) - 1.0);
             G[4 + k] = (float)(0.02 + 0.2 * tu_uniform(&s));

@@ -1,5 +1,6 @@
 /* splatref.c — entry point of the `splatref` command: subcommand dispatch. */
 #include "cli.h"
+#include "cli_grad.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -14,6 +15,7 @@ static const struct { const char *name; int (*fn)(int, char **); const char *hel
     {"explain", cmd_explain, "pixel history: every fragment that reached a pixel, pass by pass, cpu and gl side by side (SPEC 8)"},
     {"step", cmd_step, "a step-by-step walk-through of one frame as a web page: every pass, plane, equation, pixel (no network)"},
     {"compare", cmd_compare, "two images under PARITY.md's tiers, with [ZP]'s eps and covered-pixel means; verdict, report, heat map"},
+    {"grad", cmd_grad, "the backward pass of gauss3d (SPEC 10.10): every Gaussian's gradient for a loss or dL/dimage, as one .npz of gsplat's arrays"},
     {"parity", cmd_parity, "compare the CPU reference and the GL backend, every plane of every pass"},
     {"reference", cmd_reference, "check (or --update) the reference images of reference_images/"},
     {"domains", cmd_domains, "multi-scale soft decomposition, domains and support rectangles of a model ([R], SPEC 7)"},

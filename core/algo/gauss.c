@@ -87,6 +87,8 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
     g[SPR_GPRM_T_MIN] = pf->stop.t_min; /* rule 6 */
     g[SPR_GPRM_STOP_LE] = (float)pf->stop.le;
     g[SPR_GPRM_MODE] = mode == 1 ? SPR_GMODE_2D : SPR_GMODE_3D;
+    g[SPR_GPRM_GATE] = (float)pf->grad.gate; /* rule 10: the backward's */
+    g[SPR_GPRM_TCLAMP_BWD] = (float)pf->grad.tclamp;
 }
 
 spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s)
@@ -253,78 +255,97 @@ spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double e
 
 /* ---- the passes ---- */
 
-spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
+spr_result spr__gauss_prepare(spr__run *run, int mode, spr__gauss_frame_st *f)
 {
     const spr_cloud *c = run->cloud;
     const spr_view *v = &run->b->view;
     const char *name = spr_algo_name(run->desc->algo);
+    memset(f, 0, sizeof *f);
     if (v->ortho)
         return spr__fail(run->err, SPR_E_ARG, "%s: orthographic cameras are refused (SPEC 10.2): the training code's camera is a pinhole", name);
     const size_t n = c->n;
-    const spr_gauss_profile *pf = spr_gauss_profile_of(run->desc->algo, run->desc->gauss_profile);
+    const spr_gauss_profile *pf = f->pf = spr_gauss_profile_of(run->desc->algo, run->desc->gauss_profile);
     if (!spr_gauss_profile_fits(pf, run->desc->algo))
         return spr__fail(run->err, SPR_E_ARG, "%s: profile %s belongs to %s (SPEC 10.9)", name, pf->name, spr_algo_name(pf->skeleton));
-    spr_gauss_desc gd = {.n = n, .mu = c->pos, .opacity = c->alpha};
-    spr__gauss_frame(v, mode, run->desc, pf, gd.prm);
-    float *q = spr__big_alloc(n * 4 * sizeof *q), *s = spr__big_alloc(n * 3 * sizeof *s), *col = spr__big_alloc(n * 3 * sizeof *col);
+    spr_gauss_desc *gd = &f->gd;
+    *gd = (spr_gauss_desc){.n = n, .mu = c->pos, .opacity = c->alpha};
+    spr__gauss_frame(v, mode, run->desc, pf, gd->prm);
+    f->q = spr__big_alloc(n * 4 * sizeof *f->q), f->s = spr__big_alloc(n * 3 * sizeof *f->s), f->col = spr__big_alloc(n * 3 * sizeof *f->col);
     const int stores = spr_gauss_profile_stores(pf); /* rule 9: the renderer's own storage of centres and opacities */
-    float *mu = stores ? spr__big_alloc(n * 3 * sizeof *mu) : NULL, *op = stores ? spr__big_alloc(n * sizeof *op) : NULL;
-    float *rec = spr__big_alloc(n * SPR_GREC_FLOATS * sizeof *rec);
-    uint32_t *range = NULL, *list = NULL, *order = NULL;
-    int target = -1;
-    spr_result r = q && s && col && rec && (!stores || (mu && op)) ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
+    f->mu = stores ? spr__big_alloc(n * 3 * sizeof *f->mu) : NULL, f->op = stores ? spr__big_alloc(n * sizeof *f->op) : NULL;
+    f->rec = spr__big_alloc(n * SPR_GREC_FLOATS * sizeof *f->rec);
+    spr_result r = f->q && f->s && f->col && f->rec && (!stores || (f->mu && f->op)) ? SPR_OK : spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu Gaussians", name, n);
     double eye[3];
     spr_pinhole_eye(&v->cv, eye);
     if (!r) {
-        spr__gauss_of_cloud(c, q, s);
+        spr__gauss_of_cloud(c, f->q, f->s);
         /* SPEC 10.3 step 9 under the profile's colour rule: on the host, in double, rounded once */
-        spr_cloud_gauss_colors_as(c, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, col);
+        spr_cloud_gauss_colors_as(c, eye, pf->colour.sh_max, pf->colour.dc8, pf->colour.post8, pf->colour.clamp_hi, f->col);
         if (stores) {
 #pragma omp parallel for schedule(static)
-            for (long i = 0; i < (long)n; i++) spr_gauss_profile_store(pf, c, (size_t)i, eye, s + 3 * i, mu + 3 * i, op + i);
-            gd.mu = mu, gd.opacity = op;
+            for (long i = 0; i < (long)n; i++) spr_gauss_profile_store(pf, c, (size_t)i, eye, f->s + 3 * i, f->mu + 3 * i, f->op + i);
+            gd->mu = f->mu, gd->opacity = f->op;
         }
-        gd.q = q, gd.s = s, gd.color = col;
-        r = spr__run_gauss_preprocess(run, &gd, rec);
+        gd->q = f->q, gd->s = f->s, gd->color = f->col;
+        r = spr__run_gauss_preprocess(run, gd, f->rec);
     }
     const int threads = run->b->host_threads; /* the lists do not depend on it */
     double t0 = spr_now_ms();
-    if (!r && mode != 2) r = spr__gauss_tiles(rec, n, (int)gd.prm[SPR_GPRM_GX], (int)gd.prm[SPR_GPRM_GY], threads, &range, &list, run->err);
-    size_t count = 0;
+    if (!r && mode != 2) r = spr__gauss_tiles(f->rec, n, (int)gd->prm[SPR_GPRM_GX], (int)gd->prm[SPR_GPRM_GY], threads, &f->range, &f->list, run->err);
     if (!r && mode == 2) {
         const double zrow[3] = {v->PV[8], v->PV[9], v->PV[10]}; /* clip z = row 2 of P·V (GL's convention) */
-        r = spr__gauss_order(rec, c, eye, zrow, pf->order.key, pf->order.bits, &order, &count, run->err);
+        r = spr__gauss_order(f->rec, c, eye, zrow, pf->order.key, pf->order.bits, &f->order, &f->count, run->err);
     }
     if (!r) {
-        const size_t tiles = (size_t)gd.prm[SPR_GPRM_GX] * (size_t)gd.prm[SPR_GPRM_GY];
-        spr_draw_stats st = {n, mode == 2 ? count : range[tiles], 0};
+        const size_t tiles = (size_t)gd->prm[SPR_GPRM_GX] * (size_t)gd->prm[SPR_GPRM_GY];
+        spr_draw_stats st = {n, mode == 2 ? f->count : f->range[tiles], 0};
         r = spr__run_host_pass(run, "sort", &st, spr_now_ms() - t0);
     }
-    if (!r && mode != 2) {
-        if (!(r = spr__run_target(run, mode == 1 ? SPR_PLANES_GAUSS2D : SPR_PLANES_GAUSS3D, &target))) {
-            spr_gauss_raster_desc rd = {rec, n, range, list, {0, 0, 0}, {0}};
-            memcpy(rd.background, run->desc->background, sizeof rd.background);
-            memcpy(rd.prm, gd.prm, sizeof rd.prm);
-            r = spr__run_gauss_raster(run, "raster", target, &rd);
-        }
-    } else if (!r) {
+    if (r) spr__gauss_frame_free(f);
+    return r;
+}
+
+void spr__gauss_frame_free(spr__gauss_frame_st *f)
+{
+    free(f->q), free(f->s), free(f->col), free(f->mu), free(f->op), free(f->rec), free(f->range), free(f->list), free(f->order);
+    memset(f, 0, sizeof *f);
+}
+
+spr_result spr__gauss_raster_frame(spr__run *run, int mode, const spr__gauss_frame_st *f, int *target)
+{
+    spr_result r = spr__run_target(run, mode == 1 ? SPR_PLANES_GAUSS2D : SPR_PLANES_GAUSS3D, target);
+    if (r) return r;
+    spr_gauss_raster_desc rd = {f->rec, f->gd.n, f->range, f->list, {0, 0, 0}, {0}};
+    memcpy(rd.background, run->desc->background, sizeof rd.background);
+    memcpy(rd.prm, f->gd.prm, sizeof rd.prm);
+    return spr__run_gauss_raster(run, "raster", *target, &rd);
+}
+
+spr_result spr__gauss_run(spr__run *run, int mode, int *final_target)
+{
+    spr__gauss_frame_st f;
+    spr_result r = spr__gauss_prepare(run, mode, &f);
+    if (r) return r;
+    int target = -1;
+    if (mode != 2) r = spr__gauss_raster_frame(run, mode, &f, &target);
+    else {
         if (!(r = spr__run_target(run, SPR_PLANE_BIT(SPR_PLANE_COLOR), &target))) {
             const float *bg = run->desc->background;
             const float clear[4] = {bg[0], bg[1], bg[2], 0.0f};
             if ((r = spr_backend_clear(run->b, target, clear))) r = spr__fail(run->err, r, "%s backend: %s", run->b->name, run->b->err.msg);
         }
         if (!r) {
-            spr_gauss_draw_desc dd = {rec, n, order, count, {0}, {0}};
+            spr_gauss_draw_desc dd = {f.rec, f.gd.n, f.order, f.count, {0}, {0}};
             spr_pass_state_defaults(&dd.state);
             dd.state.depth_func = SPR_FUNC_ALWAYS;
             spr_pass_state_blend(&dd.state, SPR_BLEND_PREMUL); /* rule 8: premultiplied over */
-            if (pf->blend == SPR_GBLEND_STRAIGHT) dd.state.blend = SPR_BLEND_OVER; /* straight: rgb (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) */
+            if (f.pf->blend == SPR_GBLEND_STRAIGHT) dd.state.blend = SPR_BLEND_OVER; /* straight: rgb (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) */
             dd.state.write_mask = SPR_WRITE_COLOR;
-            memcpy(dd.prm, gd.prm, sizeof dd.prm);
+            memcpy(dd.prm, f.gd.prm, sizeof dd.prm);
             r = spr__run_gauss_draw(run, "blend", target, &dd);
         }
     }
-    free(q), free(s), free(col), free(mu), free(op), free(rec), free(range), free(list), free(order);
+    spr__gauss_frame_free(&f);
     if (!r) *final_target = target;
     return r;
 }

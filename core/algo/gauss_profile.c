@@ -31,6 +31,7 @@ static const spr_gauss_profile rows[] = {
         .order = {SPR_GKEY_TILE_DEPTH, 32},
         .blend = SPR_GBLEND_UNDER,
         .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
+        .grad = {1, 0, 1},
     },
     {
         .name = "gsplat",
@@ -47,6 +48,7 @@ static const spr_gauss_profile rows[] = {
         .order = {SPR_GKEY_TILE_DEPTH, 32},
         .blend = SPR_GBLEND_UNDER,
         .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
+        .grad = {1, 1, 0},
     },
     {
         .name = "gsplat-1.5",
@@ -63,6 +65,7 @@ static const spr_gauss_profile rows[] = {
         .order = {SPR_GKEY_TILE_DEPTH, 32},
         .blend = SPR_GBLEND_UNDER,
         .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
+        .grad = {1, 1, 0},
     },
     {
         .name = "brush",
@@ -80,6 +83,7 @@ static const spr_gauss_profile rows[] = {
         .order = {SPR_GKEY_TILE_DEPTH, 32},
         .blend = SPR_GBLEND_UNDER,
         .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
+        .grad = {1, 1, 0},
     },
     {
         .name = "khr",

@@ -152,6 +152,10 @@ typedef struct spr_gauss_profile {
      *    colour after the sum (SPR_Q8_* of spr_cloud.h: none, round, floor); clamp_hi: the colour clamped to [0, 1]
      *    after the sum (always ≥ 0); scale8: σ stored in a log 8-bit code (SPR_GSCALE8_*); pos16: the centre stored
      *    as half floats, absolute then relative to the eye (Spark: μ' = eye + h(h(μ) − eye), h the nearest half) */
+    struct { int trains; int gate; int tclamp; } grad;
+    /* 10. the backward pass (SPEC 10.10), read at the renderer's backward: trains: it has one (the viewers do not);
+     *     gate: no gradient through a capped α (else as if uncapped); tclamp: 0 the clamped tangent's exact
+     *     derivative, 1 inria's (the clamped u held constant: J's t.z term twice the exact one) */
 } spr_gauss_profile;
 
 /* The table: count, row i, the row named name (NULL: none), the names joined by sep. */
@@ -334,6 +338,20 @@ spr_result spr__transparent_geometry(spr__run *run, const int *O, int mask);
  * backend's records, recorded with them), "sort" (host: the tiles' lists,
  * or gauss-blend's order), then the rasterization. */
 spr_result spr__gauss_run(spr__run *run, int mode, int *final_target);
+/* What a Gaussian frame holds between its passes: the preprocessing's inputs (gd, with the arrays it points to), the
+ * records, gauss3d's and gauss2d's tile lists or gauss-blend's order, the profile.  spr__gauss_prepare runs
+ * "preprocess" and "sort" (freeing everything when it fails), spr__gauss_raster_frame the rasterization into a new
+ * target; spr__gauss_run the whole frame; the backward pass (gauss_grad.c) starts from the same frame. */
+typedef struct spr__gauss_frame_st {
+    spr_gauss_desc gd;
+    float *q, *s, *col, *mu, *op, *rec;
+    uint32_t *range, *list, *order;
+    size_t count;
+    const spr_gauss_profile *pf;
+} spr__gauss_frame_st;
+spr_result spr__gauss_prepare(spr__run *run, int mode, spr__gauss_frame_st *f);
+spr_result spr__gauss_raster_frame(spr__run *run, int mode, const spr__gauss_frame_st *f, int *target);
+void spr__gauss_frame_free(spr__gauss_frame_st *f);
 /* mode: 0 gauss3d, 1 gauss2d, 2 gauss-blend.  The cloud's Gaussians (its own, or each surfel flat with σ a third of
  * its radii), n·4 quaternions and n·3 scales; the tiles' sorted lists (range GX·GY + 1, list); gauss-blend's order. */
 spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s);

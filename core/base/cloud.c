@@ -314,6 +314,36 @@ static void sh_basis(double x, double y, double z, double Y[16])
     Y[15] = -0.5900435899266435 * x * (xx - 3.0 * yy);
 }
 
+/* The basis of sh_basis and its derivative in the direction's components (taken as independent: the caller
+ * projects onto the sphere's tangent), dY[k][a] = ∂Y_k/∂(x, y, z)_a, each Y_k = c_k·(its polynomial). */
+static void sh_basis_grad(double x, double y, double z, double Y[16], double dY[16][3])
+{
+    sh_basis(x, y, z, Y);
+    const double xx = x * x, yy = y * y, zz = z * z;
+    const double c1 = -0.4886025119029199, c2 = 0.4886025119029199, c4 = 1.0925484305920792, c5 = -1.0925484305920792,
+                 c6 = 0.31539156525252005, c8 = 0.5462742152960396, c9 = -0.5900435899266435, c10 = 2.890611442640554,
+                 c11 = -0.4570457994644658, c12 = 0.3731763325901154, c14 = 1.445305721320277;
+    const double d[16][3] = {
+        {0, 0, 0},
+        {0, c1, 0},
+        {0, 0, c2},
+        {c1, 0, 0},
+        {c4 * y, c4 * x, 0},
+        {0, c5 * z, c5 * y},
+        {-2.0 * c6 * x, -2.0 * c6 * y, 4.0 * c6 * z},
+        {c5 * z, 0, c5 * x},
+        {2.0 * c8 * x, -2.0 * c8 * y, 0},
+        {6.0 * c9 * x * y, c9 * (3.0 * xx - 3.0 * yy), 0},
+        {c10 * y * z, c10 * x * z, c10 * x * y},
+        {-2.0 * c11 * x * y, c11 * (4.0 * zz - xx - 3.0 * yy), 8.0 * c11 * y * z},
+        {-6.0 * c12 * x * z, -6.0 * c12 * y * z, c12 * (6.0 * zz - 3.0 * xx - 3.0 * yy)},
+        {c11 * (4.0 * zz - 3.0 * xx - yy), -2.0 * c11 * x * y, 8.0 * c11 * x * z},
+        {2.0 * c14 * x * z, -2.0 * c14 * y * z, c14 * (xx - yy)},
+        {c9 * (3.0 * xx - 3.0 * yy), -6.0 * c9 * x * y, 0},
+    };
+    memcpy(dY, d, sizeof d);
+}
+
 double spr_unorm8(double x, int mode)
 {
     if (!mode) return x;
@@ -372,6 +402,38 @@ void spr_cloud_gauss_colors_as(const spr_cloud *c, const double eye[3], int sh_m
         return;
     }
     sh_eval(c, eye, NULL, clamp_hi ? 1.0 : -1.0, (sh_max + 1) * (sh_max + 1), dc8, post8, color);
+}
+
+void spr_cloud_gauss_colors_bwd(const spr_cloud *c, const double eye[3], int sh_max, size_t i, const float vc[3], double *vsh, double vmu[3])
+{
+    const int K = c->sh_k > (sh_max + 1) * (sh_max + 1) ? (sh_max + 1) * (sh_max + 1) : c->sh_k;
+    for (int k = 0; k < 3 * K; k++) vsh[k] = 0.0;
+    vmu[0] = vmu[1] = vmu[2] = 0.0;
+    if (!c->sh || K < 1) return;
+    double p[3], l = 0.0, Y[16], dY[16][3], d[3];
+    for (int a = 0; a < 3; a++) {
+        p[a] = (double)c->pos[3 * i + a] - eye[a];
+        l += p[a] * p[a];
+    }
+    l = sqrt(l);
+    const int at_eye = !(l > 0.0);
+    if (at_eye) l = 1.0, p[0] = p[1] = 0.0, p[2] = 1.0; /* as sh_eval: any direction, which does not move with μ */
+    for (int a = 0; a < 3; a++) d[a] = p[a] / l;
+    sh_basis_grad(d[0], d[1], d[2], Y, dY);
+    const float *s = c->sh + i * (size_t)c->sh_k * 3;
+    double vd[3] = {0.0, 0.0, 0.0};
+    for (int ch = 0; ch < 3; ch++) {
+        double v = 0.5;
+        for (int k = 0; k < K; k++) v += Y[k] * s[3 * k + ch];
+        if (v < 0.0) continue; /* max(0, ·): no gradient where it clamps */
+        for (int k = 0; k < K; k++) {
+            vsh[3 * k + ch] = Y[k] * vc[ch];
+            for (int a = 0; a < 3; a++) vd[a] += vc[ch] * s[3 * k + ch] * dY[k][a];
+        }
+    }
+    if (at_eye) return;
+    const double dot = vd[0] * d[0] + vd[1] * d[1] + vd[2] * d[2];
+    for (int a = 0; a < 3; a++) vmu[a] = (vd[a] - dot * d[a]) / l;
 }
 
 void spr__surfel_frame(const spr_cloud *c, size_t i, double q[4], double *ru, double *rv)

@@ -39,15 +39,17 @@ typedef struct spr_cloud {
                      * least its DC term (sh_k ≥ 1), the colour of SPEC §10.3 step 9 before any clamp */
     float *gauss;   /* SPR_GAUSS_FLOATS·n or NULL: a Gaussian capture's own Gaussians (SPEC §10.1), beside the
                      * surfel view above — the unit quaternion w x y z (normalised in double, rounded once),
-                     * then σ along the local x, y, z axes (linear; a 2D Gaussian's third σ is 0) */
+                     * then σ along the local x, y, z axes (linear; a 2D Gaussian's third σ is 0), then the
+                     * quaternion's norm as the file gave it (the backward's ∂L/∂q is for the quaternion as
+                     * given, SPEC 10.10; 0: unknown, taken as 1) */
     int gauss_aa;   /* the file says its Gaussians were trained antialiased (.spz flag; --gauss-aa) */
     float gauss_cut; /* > 0: a Gaussian-splat capture, its radii gauss_cut × σ (--gauss-cut): the gauss
                       * kernel then weighs by the file's σ (spr_draw_kernel_scale); 0: not a capture */
     unsigned flags; /* spr_source_flags */
 } spr_cloud;
 
-/* Floats per Gaussian of spr_cloud.gauss: q (w x y z), σ (x y z). */
-#define SPR_GAUSS_FLOATS 7
+/* Floats per Gaussian of spr_cloud.gauss: q (w x y z), σ (x y z), |q| as given. */
+#define SPR_GAUSS_FLOATS 8
 
 /* Every per-splat array of spr_cloud with its floats per splat (c the cloud): the one list that
  * spr_cloud_view and spr_cloud_free walk.  A new per-splat array goes here; cloud.c's static
@@ -80,6 +82,11 @@ void spr_cloud_gauss_colors(const spr_cloud *c, const double eye[3], float *colo
  * (0.5 + Y_0·sh_0) stored in 8 bits before the rest is added; post8: the final colour stored in 8 bits; clamp_hi:
  * the sum clamped to 1 as well as to 0.  dc8 and post8 are SPR_Q8_* modes. */
 void spr_cloud_gauss_colors_as(const spr_cloud *c, const double eye[3], int sh_max, int dc8, int post8, int clamp_hi, float *color);
+/* The backward of spr_cloud_gauss_colors_as for Gaussian i (SPEC 10.10; a training profile: no 8-bit storage, no
+ * clamp above): given vc = ∂L/∂colour, vsh (3 per coefficient, K = min(sh_k, (sh_max + 1)²)) = Y_k(dir)·vc where
+ * the colour's max(0, ·) does not clamp, and vmu = ∂L/∂μ through the view direction, dir = (μ − eye)/|μ − eye|.
+ * In double. */
+void spr_cloud_gauss_colors_bwd(const spr_cloud *c, const double eye[3], int sh_max, size_t i, const float vc[3], double *vsh, double vmu[3]);
 /* A viewer's 8-bit storage of x in [0, 1] (clamped): SPR_Q8_NONE x itself, SPR_Q8_ROUND the nearest k/255,
  * SPR_Q8_FLOOR floor(x·255)/255, SPR_Q8_HALVED Spark's opacity: k = round(255x), then stored as round(k/2) (halves to
  * even) and read back doubled, 2·round(k/2)/255, at most 1 (in double). */

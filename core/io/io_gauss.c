@@ -96,7 +96,7 @@ spr_result spr__gauss_put(const spr__gauss *g, const spr__gauss_opts *o, spr_clo
     }
     if (c->gauss) { /* the whole Gaussian (SPEC §10.1), beside the surfel below */
         float *G = c->gauss + SPR_GAUSS_FLOATS * s;
-        G[0] = (float)w, G[1] = (float)x, G[2] = (float)y, G[3] = (float)z;
+        G[0] = (float)w, G[1] = (float)x, G[2] = (float)y, G[3] = (float)z, G[7] = (float)l;
         for (int k = 0; k < 3; k++) {
             const double sg = k < ns ? g->sigma[k] : 0.0;
             G[4 + k] = (float)sg;

@@ -355,6 +355,28 @@ spr_result spr_backend_gauss_draw(spr_backend *b, int target, const spr_gauss_dr
     return b->gauss_draw(b, target, d, st ? st : &dummy);
 }
 
+spr_result spr_backend_gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out)
+{
+    if (!b->gauss_backward) return spr__fail(&b->err, SPR_E_BACKEND, "gauss: backend %s has no backward pass", b->name);
+    spr_result r = gauss_prm_check(b, "gauss backward", d->prm);
+    if (r) return r;
+    if (d->prm[SPR_GPRM_MODE] != SPR_GMODE_3D) return bad(b, "gauss backward: gauss3d only (mode %d)", (int)d->prm[SPR_GPRM_MODE]);
+    const size_t tiles = (size_t)d->prm[SPR_GPRM_GX] * (size_t)d->prm[SPR_GPRM_GY], entries = d->range ? d->range[tiles] : 0;
+    if (!d->range || d->range[0] != 0 || (entries && (!d->list || !d->rec)) || !d->up || !d->csr_start || (entries && !d->csr))
+        return bad(b, "gauss backward: no tile lists or upstream gradient (%d)", 0);
+    if (d->n && (!d->mu || !d->q || !d->s || !sums || !out)) return bad(b, "gauss backward: without its arrays (%d)", 0);
+    for (size_t t = 0; t < tiles; t++)
+        if (d->range[t + 1] < d->range[t]) return bad(b, "gauss backward: tile %d's range runs backwards", (int)t);
+    for (uint32_t e = 0; e < entries; e++)
+        if (d->list[e] >= d->n) return bad(b, "gauss backward: list entry names Gaussian %d beyond the records", (int)d->list[e]);
+    if (d->csr_start[0] != 0 || d->csr_start[d->n] != entries) return bad(b, "gauss backward: the entries of the Gaussians are not the list's (%d)", 0);
+    for (size_t G = 0; G < d->n; G++)
+        for (uint32_t k = d->csr_start[G]; k < d->csr_start[G + 1]; k++)
+            if (k < d->csr_start[G] || d->csr[k] >= entries || d->list[d->csr[k]] != G || (k > d->csr_start[G] && d->csr[k] <= d->csr[k - 1]))
+                return bad(b, "gauss backward: Gaussian %d's entries are not its own, ascending", (int)G);
+    return b->gauss_backward(b, d, sums, out);
+}
+
 spr_result spr_backend_fits(spr_backend *b, const spr_fit_desc *d)
 {
     return b->fits ? b->fits(b, d) : SPR_OK;

@@ -52,6 +52,10 @@ static spr_result w_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_
 {
     return spr__wrap_pass_on(b, spr_backend_gauss_draw(wr(b)->inner, target, d, st));
 }
+static spr_result w_gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out)
+{
+    return spr__wrap_pass_on(b, spr_backend_gauss_backward(wr(b)->inner, d, sums, out));
+}
 static spr_result w_fits(spr_backend *b, const spr_fit_desc *d) { return spr__wrap_pass_on(b, spr_backend_fits(wr(b)->inner, d)); }
 static spr_result w_composite(spr_backend *b, const spr_composite_desc *c) { return spr__wrap_pass_on(b, spr_backend_composite(wr(b)->inner, c)); }
 static spr_result w_read(spr_backend *b, int target, spr_plane p, void *out)
@@ -75,6 +79,7 @@ void spr__wrap_init(spr__wrap *w, spr_backend *inner, void (*destroy)(spr_backen
     b->gauss_preprocess = w_gauss_preprocess;
     b->gauss_raster = w_gauss_raster;
     b->gauss_draw = w_gauss_draw;
+    b->gauss_backward = w_gauss_backward;
     b->fits = w_fits;
     b->read_plane = w_read;
     b->destroy = destroy;

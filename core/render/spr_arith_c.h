@@ -56,6 +56,10 @@ typedef struct spr_pixel_in {
     const float *grec;         /* Gaussian records, SPR_GREC_FLOATS each (SPEC 10) */
     const uint32_t *granges;   /* first list entry of each tile, GX·GY + 1 */
     const uint32_t *glist;     /* the tiles' sorted lists */
+    const float *gup;          /* gauss3d's backward: the upstream gradient, 5 per pixel (∂L/∂C, ∂L/∂A, ∂L/∂D) */
+    float *gpart;              /* its list entries' partials, SPR_GPART_FLOATS each, from entry gpart_base */
+    size_t gpart_base;
+    const uint32_t *gcsr;      /* each Gaussian's list entries, ascending */
     size_t i;
     int x, y;                  /* the pixel: i = y·W + x */
     spr_probe *probe;          /* set at the probed pixel only (pixel history) */
@@ -76,6 +80,10 @@ static inline int spr_gtile_first(const spr_pixel_in *px, int tile) { return (in
 static inline int spr_gtile_end(const spr_pixel_in *px, int tile) { return (int)px->granges[tile + 1]; }
 static inline int spr_glist(const spr_pixel_in *px, int e) { return (int)px->glist[e]; }
 static inline float spr_grec(const spr_pixel_in *px, int G, int f) { return px->grec[(size_t)G * SPR_GREC_FLOATS + (size_t)f]; }
+static inline float spr_in_grad(const spr_pixel_in *px, int k) { return px->gup[5 * px->i + (size_t)k]; }
+static inline float spr_gpart(const spr_pixel_in *px, int e, int f) { return px->gpart[((size_t)e - px->gpart_base) * SPR_GPART_FLOATS + (size_t)f]; }
+static inline void spr_gpart_set(const spr_pixel_in *px, int e, int f, float v) { px->gpart[((size_t)e - px->gpart_base) * SPR_GPART_FLOATS + (size_t)f] = v; }
+static inline int spr_gcsr(const spr_pixel_in *px, int k) { return (int)px->gcsr[k]; }
 static inline float spr_px_cy(const spr_pixel_in *px) { return (float)px->y + 0.5f; }
 static inline float spr_in_env(const spr_pixel_in *px, int face, int i, int j, int ch)
 {

@@ -435,7 +435,9 @@ int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int
     X(POWER_MIN, 1)          /* power below which o·exp(power) < ALPHA_MIN for every o ≤ 1: skipped without exp */ \
     X(T_MIN, 1)              /* rule 6: stop when T·(1 − α) falls below, 1e-4 (0: no stop) */                   \
     X(STOP_LE, 1)            /* 1: stop at T·(1 − α) ≤ T_MIN too (gsplat) */                                    \
-    X(MODE, 1)               /* SPR_GMODE_3D (gauss3d, gauss-blend) or SPR_GMODE_2D (gauss2d) */
+    X(MODE, 1)               /* SPR_GMODE_3D (gauss3d, gauss-blend) or SPR_GMODE_2D (gauss2d) */              \
+    X(GATE, 1)               /* backward (SPEC 10.10): 1 no gradient through a capped α (gsplat); 0 as uncapped (inria) */ \
+    X(TCLAMP_BWD, 1)         /* backward: 0 the clamped tangent's exact derivative; 1 inria's (u held, J's t.z term ×2) */
 enum {
 #define SPR__GPRM_OFF(name, n) SPR_GPRM_##name, SPR_GPRM__END_##name = SPR_GPRM_##name + (n) - 1,
     SPR_GPRM_LIST(SPR__GPRM_OFF)
@@ -461,6 +463,34 @@ enum {
 #undef SPR__GREC_OFF
     SPR_GREC_FLOATS
 };
+/* The backward pass of gauss3d (SPEC 10.10): the gradient terms a list entry
+ * (a Gaussian in a tile) gathers from its tile's pixels (16 floats, the last
+ * three zero: GL reads them four a texel, and a texel must not straddle two
+ * tiles' entries), and the per-Gaussian values the chain of
+ * spr_gauss_preprocess3d_bwd gives from their sums. */
+#define SPR_GPART_LIST(X)                                                                                         \
+    X(COLOR, 3)      /* ∂L/∂c, the record's colour */                                                           \
+    X(INVZ, 1)       /* ∂L/∂(1/t.z), from ∂L/∂D */                                                              \
+    X(OPACITY, 1)    /* ∂L/∂o, the record's opacity */                                                          \
+    X(CONIC, 3)      /* ∂L/∂(A, B, C) */                                                                         \
+    X(M, 2)          /* ∂L/∂m, the centre in pixels */                                                          \
+    X(ABS, 2)        /* Σ |∂L/∂m| per axis over pixels (absgrad) */                                             \
+    X(COUNT, 1)      /* pixels that blended it */                                                               \
+    X(PAD, 3)
+enum {
+#define SPR__GPART_OFF(name, n) SPR_GPART_##name, SPR_GPART__END_##name = SPR_GPART_##name + (n) - 1,
+    SPR_GPART_LIST(SPR__GPART_OFF)
+#undef SPR__GPART_OFF
+    SPR_GPART_FLOATS
+};
+#define SPR_GOUT_LIST(X) X(MEANS, 3) X(QUATS, 4) X(SCALES, 3) X(OPACITY, 1)
+enum {
+#define SPR__GOUT_OFF(name, n) SPR_GOUT_##name, SPR_GOUT__END_##name = SPR_GOUT_##name + (n) - 1,
+    SPR_GOUT_LIST(SPR__GOUT_OFF)
+#undef SPR__GOUT_OFF
+    SPR_GOUT_FLOATS
+};
+
 /* Why a record was culled, and the modes (floats: compared with record and parameter values). */
 #define SPR_GCULL_NONE 0.0f
 #define SPR_GCULL_NEAR 1.0f   /* t.z at or before the near plane */
@@ -508,6 +538,28 @@ typedef struct spr_gauss_draw_desc {
     spr_pass_state state;
     float prm[SPR_GPRM_COUNT];
 } spr_gauss_draw_desc;
+
+/* gauss3d's backward pass (SPEC 10.10): the forward's records and tile lists;
+ * csr[csr_start[G] … csr_start[G + 1]) each Gaussian's list entries,
+ * ascending (tile order); up the upstream gradient, 5 values a pixel
+ * (∂L/∂C rgb, ∂L/∂A, ∂L/∂D; pixel i = y·W + x, row 0 the bottom, as the
+ * planes); mu, q, s the preprocessing's inputs.  The backend gives each
+ * Gaussian's sums (SPR_GPART_FLOATS: its entries' partials, each summed
+ * over its tile's pixels in row-major order from the top row, then added in
+ * tile order) and what spr_gauss_preprocess3d_bwd makes of them
+ * (SPR_GOUT_FLOATS).  batch > 0: at most that many list entries' partials
+ * held at once (tests; 0: the backend's own limit). */
+typedef struct spr_gauss_bwd_desc {
+    const float *rec;
+    size_t n;
+    const uint32_t *range, *list;
+    const uint32_t *csr_start, *csr;
+    const float *up;
+    const float *mu, *q, *s;
+    float background[3];
+    float prm[SPR_GPRM_COUNT];
+    size_t batch;
+} spr_gauss_bwd_desc;
 
 /* The tiles [r0, r2) × [r1, r3) item k touches (empty: r2 ≤ r0 or r3 ≤ r1). */
 typedef void (*spr__gauss_rect_fn)(const void *user, size_t k, int r[4]);
@@ -597,6 +649,8 @@ struct spr_backend {
     spr_result (*gauss_preprocess)(spr_backend *b, const spr_gauss_desc *d, float *rec);
     spr_result (*gauss_raster)(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
     spr_result (*gauss_draw)(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
+    /* SPEC 10.10: d->n Gaussians' sums (SPR_GPART_FLOATS each) and chain values (SPR_GOUT_FLOATS each) */
+    spr_result (*gauss_backward)(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out);
     /* NULL, or SPR_E_TOO_LARGE (naming the limit) for a frame beyond the backend's fixed limits */
     spr_result (*fits)(spr_backend *b, const spr_fit_desc *d);
     /* float planes into float*, id/count planes into uint32_t*; W·H·channels values,
@@ -630,6 +684,7 @@ spr_result spr_backend_draw_rects(spr_backend *b, int target, const spr_rect_dra
 spr_result spr_backend_gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *rec);
 spr_result spr_backend_gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st);
 spr_result spr_backend_gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc *d, spr_draw_stats *st);
+spr_result spr_backend_gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out);
 spr_result spr_backend_read_plane(spr_backend *b, int target, spr_plane p, void *out);
 /* 0 when a frame of d is within b's fixed limits, else the backend's error, one line naming the limit
  * (spr_render_fits asks it for a frame). */

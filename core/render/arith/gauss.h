@@ -442,6 +442,255 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     spr_gauss_rects(g, mx, my, rx, ry, rec);
 }
 
+/* Σ_k a[k]·b[k] over 8 terms, left to right from 0 (the quaternion's backward). */
+SPR_FN float spr_dot8(SPR_CARR a[8], SPR_CARR b[8])
+{
+    SPR_PRECISE float s = 0.0f;
+    for (int k = 0; k < 8; k++) {
+        SPR_PRECISE float p = a[k] * b[k];
+        s = s + p;
+    }
+    return s;
+}
+
+/* The backward of spr_quat_matrix: ∂L/∂q from ∂L/∂M (row-major), for the
+ * unit quaternion q = (w, x, y, z); each component 2·Σ (∂M_ij/∂q_k / 2)·∂L/∂M_ij. */
+SPR_FN void spr_quat_matrix_bwd(SPR_CARR q[4], SPR_CARR dM[9], SPR_OARR dq[4])
+{
+    SPR_PRECISE float x2 = 2.0f * q[1];
+    SPR_PRECISE float y2 = 2.0f * q[2];
+    SPR_PRECISE float z2 = 2.0f * q[3];
+    SPR_PRECISE float nw = -q[0];
+    SPR_PRECISE float nx = -q[1];
+    SPR_PRECISE float ny = -q[2];
+    SPR_PRECISE float nz = -q[3];
+    SPR_PRECISE float nx2 = -x2;
+    SPR_PRECISE float ny2 = -y2;
+    SPR_PRECISE float nz2 = -z2;
+    float a[8];
+    float b[8];
+    /* w: M01 −2z, M02 2y, M10 2z, M12 −2x, M20 −2y, M21 2x */
+    a[0] = nz; b[0] = dM[1]; a[1] = q[2]; b[1] = dM[2]; a[2] = q[3]; b[2] = dM[3]; a[3] = nx; b[3] = dM[5];
+    a[4] = ny; b[4] = dM[6]; a[5] = q[1]; b[5] = dM[7]; a[6] = 0.0f; b[6] = 0.0f; a[7] = 0.0f; b[7] = 0.0f;
+    float sw = spr_dot8(a, b);
+    /* x: M01 2y, M02 2z, M10 2y, M11 −4x, M12 −2w, M20 2z, M21 2w, M22 −4x */
+    a[0] = q[2]; b[0] = dM[1]; a[1] = q[3]; b[1] = dM[2]; a[2] = q[2]; b[2] = dM[3]; a[3] = nx2; b[3] = dM[4];
+    a[4] = nw; b[4] = dM[5]; a[5] = q[3]; b[5] = dM[6]; a[6] = q[0]; b[6] = dM[7]; a[7] = nx2; b[7] = dM[8];
+    float sx = spr_dot8(a, b);
+    /* y: M00 −4y, M01 2x, M02 2w, M10 2x, M12 2z, M20 −2w, M21 2z, M22 −4y */
+    a[0] = ny2; b[0] = dM[0]; a[1] = q[1]; b[1] = dM[1]; a[2] = q[0]; b[2] = dM[2]; a[3] = q[1]; b[3] = dM[3];
+    a[4] = q[3]; b[4] = dM[5]; a[5] = nw; b[5] = dM[6]; a[6] = q[3]; b[6] = dM[7]; a[7] = ny2; b[7] = dM[8];
+    float sy = spr_dot8(a, b);
+    /* z: M00 −4z, M01 −2w, M02 2x, M10 2w, M11 −4z, M12 2y, M20 2x, M21 2y */
+    a[0] = nz2; b[0] = dM[0]; a[1] = nw; b[1] = dM[1]; a[2] = q[1]; b[2] = dM[2]; a[3] = q[0]; b[3] = dM[3];
+    a[4] = nz2; b[4] = dM[4]; a[5] = q[2]; b[5] = dM[5]; a[6] = q[1]; b[6] = dM[6]; a[7] = q[2]; b[7] = dM[7];
+    float sz = spr_dot8(a, b);
+    SPR_PRECISE float dw = 2.0f * sw;
+    SPR_PRECISE float dx = 2.0f * sx;
+    SPR_PRECISE float dy = 2.0f * sy;
+    SPR_PRECISE float dz = 2.0f * sz;
+    dq[0] = dw;
+    dq[1] = dx;
+    dq[2] = dy;
+    dq[3] = dz;
+}
+
+/* p0·q0 + p1·q1, left to right. */
+SPR_FN float spr_sum2(float p0, float q0, float p1, float q1)
+{
+    SPR_PRECISE float a = p0 * q0;
+    SPR_PRECISE float b = p1 * q1;
+    SPR_PRECISE float v = a + b;
+    return v;
+}
+
+/* The backward of spr_gauss_preprocess3d (SPEC 10.10 item 5; docs/gradients.md
+ * "per Gaussian", operation by operation): from a Gaussian's gradient sums
+ * (SPR_GPART_*: its record's conic, centre, opacity and 1/t.z) to out
+ * (SPR_GOUT_*: ∂L/∂μ without the colour's view direction, ∂L/∂q, ∂L/∂σ,
+ * ∂L/∂o).  It recomputes steps 1–5 (spr_gauss_project3d); a culled Gaussian
+ * gets zeros.  The tangent clamp follows the profile: TCLAMP_BWD 0 the
+ * exact derivative (a clamped tangent's u = c·t.z moves with t.z), 1
+ * inria's (a clamped u held constant, which doubles J's t.z term). */
+SPR_FN void spr_gauss_preprocess3d_bwd(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_CARR q[4], SPR_CARR s[3],
+                                       SPR_CARR sum[SPR_GPART_FLOATS], SPR_OARR out[SPR_GOUT_FLOATS])
+{
+    for (int f = 0; f < SPR_GOUT_FLOATS; f++) out[f] = 0.0f;
+    float t[3];
+    float Rq[9];
+    float L[9];
+    float S[9];
+    float J[6];
+    float T[6];
+    float A[6];
+    float P[4];
+    float why = spr_gauss_project3d(g, mu, q, s, t, Rq, L, S, J, T, A, P);
+    if (why != SPR_GCULL_NONE) return;
+    SPR_PRECISE float a = P[0] + g[SPR_GPRM_EPS2D];
+    float b = P[1];
+    SPR_PRECISE float cc = P[3] + g[SPR_GPRM_EPS2D];
+    SPR_PRECISE float ac = a * cc;
+    SPR_PRECISE float bb = b * b;
+    SPR_PRECISE float det = ac - bb;
+    if (g[SPR_GPRM_DET_LE] != 0.0f) {
+        if (!(det > 0.0f)) return;
+    } else if (det == 0.0f) {
+        return;
+    }
+    SPR_PRECISE float k = 1.0f / det;
+    SPR_PRECISE float nb = -b;
+    SPR_PRECISE float cA = cc * k;
+    SPR_PRECISE float cB = nb * k;
+    SPR_PRECISE float cC = a * k;
+    /* the conic (cc, −b, a)/det: with s = ⟨∂L/∂conic, conic⟩,
+     * ∂L/∂a = vC·k − s·cA, ∂L/∂cc = vA·k − s·cC, ∂L/∂b = −vB·k − 2·s·cB */
+    float vA = sum[SPR_GPART_CONIC];
+    float vB = sum[SPR_GPART_CONIC + 1];
+    float vC = sum[SPR_GPART_CONIC + 2];
+    float sc = spr_sum3(vA, cA, vB, cB, vC, cC);
+    SPR_PRECISE float ka = vC * k;
+    SPR_PRECISE float sa = sc * cA;
+    SPR_PRECISE float va = ka - sa;
+    SPR_PRECISE float kc = vA * k;
+    SPR_PRECISE float scc = sc * cC;
+    SPR_PRECISE float vcc = kc - scc;
+    SPR_PRECISE float kb = vB * k;
+    SPR_PRECISE float sb = sc * cB;
+    SPR_PRECISE float sb2 = 2.0f * sb;
+    SPR_PRECISE float nkb = -kb;
+    SPR_PRECISE float vb = nkb - sb2;
+    SPR_PRECISE float hb = 0.5f * vb;
+    /* V = ∂L/∂Σ' as a symmetric matrix [[va, hb], [hb, vcc]] (the dilation adds a constant);
+     * Σ' = T·Σ·Tᵀ gives ∂L/∂T = 2·V·A (A = T·Σ) and ∂L/∂Σ = Tᵀ·V·T */
+    float V[4];
+    V[0] = va;
+    V[1] = hb;
+    V[2] = hb;
+    V[3] = vcc;
+    float VT[6];
+    float dT[6];
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 3; j++) {
+            float x = spr_sum2(V[2 * i], T[j], V[2 * i + 1], T[3 + j]);
+            VT[3 * i + j] = x;
+            float y = spr_sum2(V[2 * i], A[j], V[2 * i + 1], A[3 + j]);
+            SPR_PRECISE float y2 = 2.0f * y;
+            dT[3 * i + j] = y2;
+        }
+    float dS[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            float x = spr_sum2(T[i], VT[j], T[3 + i], VT[3 + j]);
+            dS[3 * i + j] = x;
+        }
+    /* T = J·W: ∂L/∂J = ∂L/∂T·Wᵀ (only J00, J02, J11, J12 vary) */
+    float dJ[6];
+    for (int i = 0; i < 2; i++)
+        for (int kk = 0; kk < 3; kk++) {
+            float x = spr_sum3(dT[3 * i], g[SPR_GPRM_R + 3 * kk], dT[3 * i + 1], g[SPR_GPRM_R + 3 * kk + 1], dT[3 * i + 2], g[SPR_GPRM_R + 3 * kk + 2]);
+            dJ[3 * i + kk] = x;
+        }
+    /* J(t): J00 = fx/t.z, J02 = −fx·u/t.z², u = c·t.z with c = t.x/t.z clamped (J11, J12 likewise) */
+    float fx = g[SPR_GPRM_FX];
+    float fy = g[SPR_GPRM_FY];
+    SPR_PRECISE float iz = 1.0f / t[2];
+    SPR_PRECISE float iz2 = iz * iz;
+    SPR_PRECISE float iz3 = iz2 * iz;
+    SPR_PRECISE float txz = t[0] / t[2];
+    SPR_PRECISE float tyz = t[1] / t[2];
+    SPR_PRECISE float cx = txz;
+    SPR_PRECISE float cy = tyz;
+    int clx = 0;
+    int cly = 0;
+    if (g[SPR_GPRM_TCLAMP] != 0.0f) {
+        SPR_PRECISE float nlx = -g[SPR_GPRM_LXN];
+        SPR_PRECISE float nly = -g[SPR_GPRM_LYN];
+        if (cx < nlx) { cx = nlx; clx = 1; }
+        if (cx > g[SPR_GPRM_LX]) { cx = g[SPR_GPRM_LX]; clx = 1; }
+        if (cy < nly) { cy = nly; cly = 1; }
+        if (cy > g[SPR_GPRM_LY]) { cy = g[SPR_GPRM_LY]; cly = 1; }
+    }
+    SPR_PRECISE float u = cx * t[2];
+    SPR_PRECISE float v = cy * t[2];
+    SPR_PRECISE float fxi = fx * iz2;
+    SPR_PRECISE float fyi = fy * iz2;
+    SPR_PRECISE float z00 = fxi * dJ[0];
+    SPR_PRECISE float z11 = fyi * dJ[4];
+    SPR_PRECISE float fu = fx * u;
+    SPR_PRECISE float fu2 = 2.0f * fu;
+    SPR_PRECISE float fu3 = fu2 * iz3;
+    SPR_PRECISE float z02 = fu3 * dJ[2];
+    SPR_PRECISE float fv = fy * v;
+    SPR_PRECISE float fv2 = 2.0f * fv;
+    SPR_PRECISE float fv3 = fv2 * iz3;
+    SPR_PRECISE float z12 = fv3 * dJ[5];
+    SPR_PRECISE float s0 = z02 - z00;
+    SPR_PRECISE float s1 = s0 - z11;
+    SPR_PRECISE float vt2 = s1 + z12;
+    SPR_PRECISE float du0 = fxi * dJ[2];
+    SPR_PRECISE float du = -du0;
+    SPR_PRECISE float dv0 = fyi * dJ[5];
+    SPR_PRECISE float dv = -dv0;
+    SPR_PRECISE float vt0 = 0.0f;
+    SPR_PRECISE float vt1 = 0.0f;
+    if (clx == 0) vt0 = du;
+    else if (g[SPR_GPRM_TCLAMP_BWD] == 0.0f) {
+        SPR_PRECISE float ucx = du * cx;
+        vt2 = vt2 + ucx;
+    }
+    if (cly == 0) vt1 = dv;
+    else if (g[SPR_GPRM_TCLAMP_BWD] == 0.0f) {
+        SPR_PRECISE float vcy = dv * cy;
+        vt2 = vt2 + vcy;
+    }
+    /* the centre m = (fx·t.x/t.z + cx, fy·t.y/t.z + cy) and 1/t.z */
+    SPR_PRECISE float vtx = fx * sum[SPR_GPART_M];
+    SPR_PRECISE float vty = fy * sum[SPR_GPART_M + 1];
+    SPR_PRECISE float mx0 = vtx * iz;
+    SPR_PRECISE float my0 = vty * iz;
+    vt0 = vt0 + mx0;
+    vt1 = vt1 + my0;
+    float mz0 = spr_sum2(vtx, txz, vty, tyz);
+    SPR_PRECISE float mz = mz0 * iz;
+    vt2 = vt2 - mz;
+    SPR_PRECISE float iv = sum[SPR_GPART_INVZ] * iz2;
+    vt2 = vt2 - iv;
+    /* t = R·μ + T: ∂L/∂μ = Rᵀ·∂L/∂t */
+    for (int j = 0; j < 3; j++) {
+        float x = spr_sum3(g[SPR_GPRM_R + j], vt0, g[SPR_GPRM_R + 3 + j], vt1, g[SPR_GPRM_R + 6 + j], vt2);
+        out[SPR_GOUT_MEANS + j] = x;
+    }
+    /* Σ = L·Lᵀ: ∂L/∂L = 2·∂L/∂Σ·L; L = Rq·diag(σ): ∂L/∂σ_k = Σ_i ∂L/∂L_ik·Rq_ik, ∂L/∂Rq_ik = ∂L/∂L_ik·σ_k */
+    float dL[9];
+    for (int i = 0; i < 3; i++)
+        for (int kk = 0; kk < 3; kk++) {
+            float x = spr_sum3(dS[3 * i], L[kk], dS[3 * i + 1], L[3 + kk], dS[3 * i + 2], L[6 + kk]);
+            SPR_PRECISE float x2 = 2.0f * x;
+            dL[3 * i + kk] = x2;
+        }
+    float dR[9];
+    for (int kk = 0; kk < 3; kk++) {
+        float x = spr_sum3(dL[kk], Rq[kk], dL[3 + kk], Rq[3 + kk], dL[6 + kk], Rq[6 + kk]);
+        out[SPR_GOUT_SCALES + kk] = x;
+        for (int i = 0; i < 3; i++) {
+            SPR_PRECISE float y = dL[3 * i + kk] * s[kk];
+            dR[3 * i + kk] = y;
+        }
+    }
+    /* the quaternion as given (unit): ∂L/∂q̂ projected onto the tangent, v − (v·q)·q */
+    float dq[4];
+    spr_quat_matrix_bwd(q, dR, dq);
+    float d01 = spr_sum2(dq[0], q[0], dq[1], q[1]);
+    float d23 = spr_sum2(dq[2], q[2], dq[3], q[3]);
+    SPR_PRECISE float dd = d01 + d23;
+    for (int i = 0; i < 4; i++) {
+        SPR_PRECISE float p = dd * q[i];
+        SPR_PRECISE float x = dq[i] - p;
+        out[SPR_GOUT_QUATS + i] = x;
+    }
+    out[SPR_GOUT_OPACITY] = sum[SPR_GPART_OPACITY];
+}
+
 /* SPEC §10.5 for a planar Gaussian (docs/gaussians.md, "gauss2d, operation
  * by operation"): the two axes of the largest σ (in axis order; a 2D
  * Gaussian's third σ is 0) span the disk, the third is its normal.  The
@@ -608,6 +857,36 @@ SPR_FN float spr_gauss_power(float mx, float my, float A, float B, float C, floa
     return p;
 }
 
+/* The backward of spr_gauss_power: v = ∂L/∂power gives d = (∂L/∂A, ∂L/∂B,
+ * ∂L/∂C, ∂L/∂m.x, ∂L/∂m.y) = (dx²·(−½v), (dx·dy)·(−v), dy²·(−½v),
+ * (A·dx + B·dy)·(−v), (B·dx + C·dy)·(−v)), d = m − (i, j). */
+SPR_FN void spr_gauss_power_bwd(float mx, float my, float A, float B, float C, float fi, float fj, float v, SPR_OARR d[5])
+{
+    SPR_PRECISE float dx = mx - fi;
+    SPR_PRECISE float dy = my - fj;
+    SPR_PRECISE float xx = dx * dx;
+    SPR_PRECISE float xy = dx * dy;
+    SPR_PRECISE float yy = dy * dy;
+    SPR_PRECISE float hv = -0.5f * v;
+    SPR_PRECISE float nv = -v;
+    SPR_PRECISE float dA = xx * hv;
+    SPR_PRECISE float dB = xy * nv;
+    SPR_PRECISE float dC = yy * hv;
+    SPR_PRECISE float ax = A * dx;
+    SPR_PRECISE float by = B * dy;
+    SPR_PRECISE float sx = ax + by;
+    SPR_PRECISE float bx = B * dx;
+    SPR_PRECISE float cy = C * dy;
+    SPR_PRECISE float sy = bx + cy;
+    SPR_PRECISE float dmx = sx * nv;
+    SPR_PRECISE float dmy = sy * nv;
+    d[0] = dA;
+    d[1] = dB;
+    d[2] = dC;
+    d[3] = dmx;
+    d[4] = dmy;
+}
+
 /* α = min(cap, o·e^power) (SPEC §10.4). */
 SPR_FN float spr_gauss_alpha(SPR_CARR g[SPR_GPRM_COUNT], float o, float power)
 {
@@ -615,6 +894,51 @@ SPR_FN float spr_gauss_alpha(SPR_CARR g[SPR_GPRM_COUNT], float o, float power)
     SPR_PRECISE float a = o * ex;
     if (a > g[SPR_GPRM_CAP]) a = g[SPR_GPRM_CAP];
     return a;
+}
+
+/* The backward of spr_gauss_alpha (SPEC 10.10; docs/gradients.md): v = ∂L/∂α
+ * gives ∂L/∂o = e^power·v and ∂L/∂power = (o·e^power)·v.  Where the cap holds
+ * (o·e^power > CAP), a profile with GATE passes neither (the derivative of the
+ * capped forward: gsplat, brush); one without passes both as if uncapped
+ * (inria, OpenSplat). */
+SPR_FN void spr_gauss_alpha_bwd(SPR_CARR g[SPR_GPRM_COUNT], float o, float power, float v, SPR_OUT do_out, SPR_OUT dp_out)
+{
+    float ex = spr_exp(power);
+    SPR_PRECISE float a = o * ex;
+    SPR_PRECISE float dov = ex * v;
+    SPR_PRECISE float dpv = a * v;
+    if (a > g[SPR_GPRM_CAP] && g[SPR_GPRM_GATE] != 0.0f) {
+        dov = 0.0f;
+        dpv = 0.0f;
+    }
+    SPR_SET(do_out) = dov;
+    SPR_SET(dp_out) = dpv;
+}
+
+/* One Gaussian's visit of the front-to-back loop (SPEC §10.4) at a pixel of
+ * transmittance T, given its power and opacity og: 0 blended (α and
+ * Tn = T·(1 − α) set), 1 skipped for power > 0, 2 skipped as faint (α below
+ * ALPHA_MIN, or the power below POWER_MIN, decided without the exponential:
+ * α then 0), 3 the loop stops here (α and Tn set, not blended).  The forward
+ * loop (spr_gauss_pixel) and its backward (spr_gauss_pixel_bwd) both visit
+ * through it, so the backward's α and T are the forward's bits. */
+SPR_FN int spr_gauss_visit(SPR_CARR g[SPR_GPRM_COUNT], float og, float power, float T, SPR_OUT alpha_out, SPR_OUT tn_out)
+{
+    SPR_SET(alpha_out) = 0.0f;
+    SPR_SET(tn_out) = T;
+    if (power > 0.0f) return 1;
+    if (power < g[SPR_GPRM_POWER_MIN] && og <= 1.0f) return 2;
+    float alpha = spr_gauss_alpha(g, og, power);
+    SPR_SET(alpha_out) = alpha;
+    if (alpha < g[SPR_GPRM_ALPHA_MIN]) return 2;
+    SPR_PRECISE float oma = 1.0f - alpha;
+    SPR_PRECISE float Tn = T * oma;
+    SPR_SET(tn_out) = Tn;
+    int stop = 0;
+    if (Tn < g[SPR_GPRM_T_MIN]) stop = 1;
+    if (g[SPR_GPRM_STOP_LE] != 0.0f && Tn == g[SPR_GPRM_T_MIN]) stop = 1;
+    if (stop != 0) return 3;
+    return 0;
 }
 
 /* gauss2d at pixel (fi, fj) of the surfel of record G (SPEC §10.5): the
@@ -725,28 +1049,20 @@ SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg
             power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
                                     spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
         }
-        if (power > 0.0f) {
+        float og = spr_grec(px, G, SPR_GREC_OPACITY);
+        float alpha = 0.0f;
+        float Tn = T;
+        int visit = spr_gauss_visit(g, og, power, T, SPR_REF(alpha), SPR_REF(Tn));
+        if (visit == 1) {
             SPR_NOTE(px, SPR_NOTE_GAUSS_POWER, G, power, 0.0f, T, T);
             continue;
         }
-        float og = spr_grec(px, G, SPR_GREC_OPACITY);
-        /* the same skip without the exponential where its outcome is certain (SPR_GPRM_POWER_MIN); the
-         * note computes α as below, only at a probed pixel */
-        if (power < g[SPR_GPRM_POWER_MIN] && og <= 1.0f) {
+        /* faint: the note computes α (the skip below POWER_MIN did not), only at a probed pixel */
+        if (visit == 2) {
             SPR_NOTE(px, SPR_NOTE_GAUSS_FAINT, G, power, spr_gauss_alpha(g, og, power), T, T);
             continue;
         }
-        float alpha = spr_gauss_alpha(g, og, power);
-        if (alpha < g[SPR_GPRM_ALPHA_MIN]) {
-            SPR_NOTE(px, SPR_NOTE_GAUSS_FAINT, G, power, alpha, T, T);
-            continue;
-        }
-        SPR_PRECISE float oma = 1.0f - alpha;
-        SPR_PRECISE float Tn = T * oma;
-        int stop = 0;
-        if (Tn < g[SPR_GPRM_T_MIN]) stop = 1;
-        if (g[SPR_GPRM_STOP_LE] != 0.0f && Tn == g[SPR_GPRM_T_MIN]) stop = 1;
-        if (stop != 0) {
+        if (visit == 3) {
             SPR_NOTE(px, SPR_NOTE_GAUSS_STOP, G, power, alpha, T, Tn);
             break;
         }
@@ -791,6 +1107,172 @@ SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg
     aux[3] = SPR_FLOAT(blended);
     SPR_NOTE(px, SPR_NOTE_GAUSS_END, last, T, D, SPR_FLOAT(k), SPR_FLOAT(blended));
     return k;
+}
+
+/* A gradient term v added to partial f of list entry e (SPR_GPART_*): one
+ * tile's walk owns its entries' partials, so the adds follow its order. */
+SPR_FN void spr_gpart_add(SPR_PIXEL px, int e, int f, float v)
+{
+    SPR_PRECISE float s = spr_gpart(px, e, f) + v;
+    spr_gpart_set(px, e, f, s);
+}
+
+/* The backward of one blend step of gauss3d (C += c·α·T, D += (1/t.z)·α·T,
+ * T' = T·(1 − α); SPEC 10.10, docs/gradients.md "per pixel") for the
+ * Gaussian at list entry e, blended with α at transmittance T, walking back
+ * to front.  acc holds inria's recurrence, the colour and inverse depth
+ * behind per unit of T' (4 values); behind the Gaussian walked before this one
+ * (colour, 1/t.z, α; zero at first).  up is the pixel's upstream gradient
+ * (∂L/∂C, ∂L/∂A, ∂L/∂D), bt = ⟨bg, ∂L/∂C⟩ − ∂L/∂A, Tf the final T.  Adds to
+ * entry e's partials:
+ *   ∂L/∂c = (α·T)·∂L/∂C,  ∂L/∂(1/t.z) = (α·T)·∂L/∂D,
+ *   ∂L/∂α = T·Σ_ch (c − acc)·up − (Tf/(1 − α))·bt,
+ * then through α (spr_gauss_alpha_bwd: the profile's cap gate) to the
+ * opacity and the power, and through the power (spr_gauss_power_bwd) to the
+ * conic and the centre; |∂L/∂m| per axis and a count of 1. */
+SPR_FN void spr_gauss_blend_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], float fi, float fj, int e, float alpha, float T, float Tf,
+                                SPR_CARR up[5], float bt, SPR_IOARR acc[4], SPR_IOARR behind[5])
+{
+    int G = spr_glist(px, e);
+    float c[4];
+    for (int ch = 0; ch < 3; ch++) c[ch] = spr_grec(px, G, SPR_GREC_COLOR + ch);
+    c[3] = spr_grec(px, G, SPR_GREC_INVZ);
+    float gk[4];
+    for (int ch = 0; ch < 3; ch++) gk[ch] = up[ch];
+    gk[3] = up[4];
+    /* acc past the Gaussian behind: α'·c' + (1 − α')·acc */
+    SPR_PRECISE float ob = 1.0f - behind[4];
+    for (int ch = 0; ch < 4; ch++) {
+        SPR_PRECISE float x = behind[4] * behind[ch];
+        SPR_PRECISE float y = ob * acc[ch];
+        SPR_PRECISE float z = x + y;
+        acc[ch] = z;
+    }
+    SPR_PRECISE float w = alpha * T;
+    SPR_PRECISE float d = 0.0f;
+    for (int ch = 0; ch < 4; ch++) {
+        SPR_PRECISE float vc = w * gk[ch];
+        spr_gpart_add(px, e, SPR_GPART_COLOR + ch, vc);
+        SPR_PRECISE float df = c[ch] - acc[ch];
+        SPR_PRECISE float dg = df * gk[ch];
+        d = d + dg;
+    }
+    SPR_PRECISE float td = T * d;
+    SPR_PRECISE float oma = 1.0f - alpha;
+    SPR_PRECISE float tf = Tf / oma;
+    SPR_PRECISE float tb = tf * bt;
+    SPR_PRECISE float va = td - tb;
+    float og = spr_grec(px, G, SPR_GREC_OPACITY);
+    float mx = spr_grec(px, G, SPR_GREC_M);
+    float my = spr_grec(px, G, SPR_GREC_M + 1);
+    float cA = spr_grec(px, G, SPR_GREC_CONIC);
+    float cB = spr_grec(px, G, SPR_GREC_CONIC + 1);
+    float cC = spr_grec(px, G, SPR_GREC_CONIC + 2);
+    float power = spr_gauss_power(mx, my, cA, cB, cC, fi, fj);
+    float vo = 0.0f;
+    float vp = 0.0f;
+    spr_gauss_alpha_bwd(g, og, power, va, SPR_REF(vo), SPR_REF(vp));
+    spr_gpart_add(px, e, SPR_GPART_OPACITY, vo);
+    float dp[5];
+    spr_gauss_power_bwd(mx, my, cA, cB, cC, fi, fj, vp, dp);
+    for (int k = 0; k < 3; k++) spr_gpart_add(px, e, SPR_GPART_CONIC + k, dp[k]);
+    for (int k = 0; k < 2; k++) {
+        spr_gpart_add(px, e, SPR_GPART_M + k, dp[3 + k]);
+        float ab = spr_absf(dp[3 + k]);
+        spr_gpart_add(px, e, SPR_GPART_ABS + k, ab);
+    }
+    spr_gpart_add(px, e, SPR_GPART_COUNT, 1.0f);
+    for (int ch = 0; ch < 4; ch++) behind[ch] = c[ch];
+    behind[4] = alpha;
+}
+
+/* The backward of gauss3d at pixel px (SPEC 10.10; docs/gradients.md "per
+ * pixel"): the forward loop's blended Gaussians walked back to front, each
+ * through spr_gauss_blend_bwd, with the forward's own α and T: a first walk
+ * gives T_f and the count n of blended Gaussians; then, for the last 32 not
+ * yet walked back, a replay from the list's start (spr_gauss_visit, the
+ * forward's operations) keeps their entries, α and T, and they are walked
+ * back; and so on to the first.  Returns n. */
+SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3])
+{
+    int x = spr_px_x(px);
+    int y = spr_px_y(px);
+    int jrow = SPR_INT(g[SPR_GPRM_H]) - 1 - y;
+    float fi = SPR_FLOAT(x);
+    float fj = SPR_FLOAT(jrow);
+    int tile = (jrow / 16) * SPR_INT(g[SPR_GPRM_GX]) + x / 16;
+    int first = spr_gtile_first(px, tile);
+    int end = spr_gtile_end(px, tile);
+    float up[5];
+    for (int k = 0; k < 5; k++) up[k] = spr_in_grad(px, k);
+    SPR_PRECISE float T = 1.0f;
+    int n = 0;
+    for (int e = first; e < end; e++) {
+        int G = spr_glist(px, e);
+        float power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
+                                      spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
+        float alpha = 0.0f;
+        float Tn = T;
+        int visit = spr_gauss_visit(g, spr_grec(px, G, SPR_GREC_OPACITY), power, T, SPR_REF(alpha), SPR_REF(Tn));
+        if (visit == 3) break;
+        if (visit == 0) {
+            T = Tn;
+            n = n + 1;
+        }
+    }
+    float Tf = T;
+    float bgg = spr_sum3(bg[0], up[0], bg[1], up[1], bg[2], up[2]);
+    SPR_PRECISE float bt = bgg - up[3];
+    float acc[4];
+    float behind[5];
+    for (int k = 0; k < 4; k++) acc[k] = 0.0f;
+    for (int k = 0; k < 5; k++) behind[k] = 0.0f;
+    int hi = n;
+    while (hi > 0) {
+        int lo = hi - 32;
+        if (lo < 0) lo = 0;
+        int se[32];
+        float sa[32];
+        float sT[32];
+        T = 1.0f;
+        int b = 0;
+        for (int e = first; e < end && b < hi; e++) {
+            int G = spr_glist(px, e);
+            float power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
+                                          spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
+            float alpha = 0.0f;
+            float Tn = T;
+            int visit = spr_gauss_visit(g, spr_grec(px, G, SPR_GREC_OPACITY), power, T, SPR_REF(alpha), SPR_REF(Tn));
+            if (visit == 3) break;
+            if (visit == 0) {
+                if (b >= lo) {
+                    se[b - lo] = e;
+                    sa[b - lo] = alpha;
+                    sT[b - lo] = T;
+                }
+                T = Tn;
+                b = b + 1;
+            }
+        }
+        for (int k = hi - lo - 1; k >= 0; k--) spr_gauss_blend_bwd(px, g, fi, fj, se[k], sa[k], sT[k], Tf, up, bt, acc, behind);
+        hi = lo;
+    }
+    return n;
+}
+
+/* A Gaussian's gradient sums (SPEC 10.10 item 4): the partials of its list
+ * entries spr_gcsr(k0 … k1 − 1) (ascending: tile order), those in [base, end)
+ * (a batch of tiles) added to sum in that order. */
+SPR_FN void spr_gauss_gather(SPR_PIXEL px, int k0, int k1, int base, int end, SPR_IOARR sum[SPR_GPART_FLOATS])
+{
+    for (int k = k0; k < k1; k++) {
+        int e = spr_gcsr(px, k);
+        if (e >= base && e < end)
+            for (int f = 0; f < SPR_GPART_FLOATS; f++) {
+                SPR_PRECISE float v = sum[f] + spr_gpart(px, e, f);
+                sum[f] = v;
+            }
+    }
 }
 
 /* gauss-blend (SPEC §10.7, the profile's rules 4, 5, 8): what the Gaussian
