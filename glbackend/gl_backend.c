@@ -571,6 +571,7 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     b->gauss_preprocess = gl__gauss_preprocess;
     b->gauss_raster = gl__gauss_raster;
     b->gauss_draw = gl__gauss_draw;
+    b->gauss_backward = gl__gauss_backward;
     b->fits = gl__gauss_fits;
     b->read_plane = gl_read_plane;
     b->destroy = gl_destroy;

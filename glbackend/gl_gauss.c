@@ -260,6 +260,120 @@ spr_result gl__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc 
     return gl__check(b, "gauss draw");
 }
 
+/* gauss3d's backward (SPEC 10.10; sw__gauss_backward is the same on the CPU): the tiles in batches whose list
+ * entries' partials fit one buffer texture and spr_gauss_bwd_desc.batch; per batch the partials zeroed, 256 draws of
+ * one fragment per tile, draw p running each tile's pixel p (gl_gauss_bwd_tile.frag: a tile's pixels in the CPU's
+ * order), then one fragment per Gaussian adds its entries' partials of
+ * the batch to its sums in entry order (gl_gauss_bwd_gauss.frag, stage 0); after the last batch the chain, one
+ * fragment per Gaussian in the preprocessing's batches, each batch's values read back right after its draw (the zink
+ * finding of gl__gauss_preprocess).  Partials and sums are images of four floats a texel, SPR_GPART_FLOATS (16) a
+ * list entry or Gaussian: no texel holds two tiles' entries, so no two fragments write one texel. */
+spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out)
+{
+    gl_context *c = gl_ctx(b);
+    gl__make_current(c);
+    spr_result r;
+    if ((r = gl__gauss_program(c, GL_GPROG_BWD_TILE, &b->err)) || (r = gl__gauss_program(c, GL_GPROG_BWD_GAUSS, &b->err))) return r;
+    const int gx = (int)d->prm[SPR_GPRM_GX], nt = gx * (int)d->prm[SPR_GPRM_GY], W = b->view.width, H = b->view.height;
+    const size_t n = d->n, entries = d->range[nt], per = SPR_GPART_FLOATS / 4;
+    size_t cap = max_texels(c) / per;
+    if (d->batch && d->batch < cap) cap = d->batch;
+    upload(&c->gbuf[GL_GBUF_RECTEX], &c->gcap[GL_GBUF_RECTEX], n * SPR_GREC_FLOATS * sizeof(float), d->rec);
+    upload(&c->gbuf[GL_GBUF_RANGE], &c->gcap[GL_GBUF_RANGE], ((size_t)nt + 1) * sizeof(uint32_t), d->range);
+    upload(&c->gbuf[GL_GBUF_LIST], &c->gcap[GL_GBUF_LIST], entries * sizeof(uint32_t), d->list);
+    upload(&c->gbuf[GL_GBUF_UP], &c->gcap[GL_GBUF_UP], (size_t)W * H * 5 * sizeof(float), d->up);
+    upload(&c->gbuf[GL_GBUF_CSR], &c->gcap[GL_GBUF_CSR], entries * sizeof(uint32_t), d->csr);
+    upload(&c->gbuf[GL_GBUF_CSR_START], &c->gcap[GL_GBUF_CSR_START], (n + 1) * sizeof(uint32_t), d->csr_start);
+    size_t most = 0;
+    for (int t0 = 0, t1; t0 < nt; t0 = t1) {
+        for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
+        if (d->range[t1] - d->range[t0] > most) most = d->range[t1] - d->range[t0];
+    }
+    gl__buffer_reserve(&c->gbuf[GL_GBUF_PART], &c->gcap[GL_GBUF_PART], (most ? most : 1) * SPR_GPART_FLOATS * sizeof(float), GL_DYNAMIC_DRAW);
+    gl__buffer_reserve(&c->gbuf[GL_GBUF_SUMS], &c->gcap[GL_GBUF_SUMS], (n ? n : 1) * SPR_GPART_FLOATS * sizeof(float), GL_DYNAMIC_DRAW);
+    gl__buffer_fill(c->gbuf[GL_GBUF_SUMS], 0, (n ? n : 1) * SPR_GPART_FLOATS * sizeof(float), 0);
+    if ((r = texture_of(c, &c->gtex[0], GL_RGBA32F, 4, c->gbuf[GL_GBUF_RECTEX], n * SPR_GREC_FLOATS, 10, "Gaussian records")) ||
+        (r = texture_of(c, &c->gtex[1], GL_R32UI, 1, c->gbuf[GL_GBUF_RANGE], (size_t)nt + 1, 11, "tile ranges")) ||
+        (r = texture_of(c, &c->gtex[2], GL_RGBA32UI, 4, c->gbuf[GL_GBUF_LIST], entries, 12, "tile lists")) ||
+        (r = texture_of(c, &c->gtex[3], GL_R32F, 1, c->gbuf[GL_GBUF_UP], (size_t)W * H * 5, 13, "the upstream gradient")) ||
+        (r = texture_of(c, &c->gtex[4], GL_R32UI, 1, c->gbuf[GL_GBUF_CSR], entries, 14, "the Gaussians' list entries")) ||
+        (r = texture_of(c, &c->gtex[5], GL_R32UI, 1, c->gbuf[GL_GBUF_CSR_START], n + 1, 15, "the Gaussians' first entries")) ||
+        (r = texture_of(c, &c->gtex[6], GL_RGBA32F, 4, c->gbuf[GL_GBUF_PART], (most ? most : 1) * SPR_GPART_FLOATS, 16, "the entries' partials")) ||
+        (r = texture_of(c, &c->gtex[7], GL_RGBA32F, 4, c->gbuf[GL_GBUF_SUMS], (n ? n : 1) * SPR_GPART_FLOATS, 17, "the Gaussians' sums")))
+        return r;
+    glBindImageTexture(5, c->gtex[6], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(6, c->gtex[7], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    GLint maxw = 0;
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &maxw);
+    const size_t width = maxw < 4096 ? (size_t)maxw : 4096;
+    const GLuint pt = c->gprog[GL_GPROG_BWD_TILE], pg = c->gprog[GL_GPROG_BWD_GAUSS];
+    glUseProgram(pt);
+    glUniform1fv(glGetUniformLocation(pt, "u_g"), SPR_GPRM_COUNT, d->prm);
+    glUniform1fv(glGetUniformLocation(pt, "u_bg"), 3, d->background);
+    glUniform1i(glGetUniformLocation(pt, "u_width"), (GLint)width);
+    glUniform1i(glGetUniformLocation(pt, "u_gup_width"), W);
+    glUseProgram(pg);
+    glUniform1fv(glGetUniformLocation(pg, "u_g"), SPR_GPRM_COUNT, d->prm);
+    glUniform1ui(glGetUniformLocation(pg, "u_n"), (GLuint)n);
+    glUniform1ui(glGetUniformLocation(pg, "u_base"), 0u);
+    glUniform1ui(glGetUniformLocation(pg, "u_width"), (GLuint)width);
+    glUniform1i(glGetUniformLocation(pg, "u_stage"), 0);
+    for (int t0 = 0, t1; t0 < nt && n; t0 = t1) {
+        for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
+        const uint32_t base = d->range[t0], end = d->range[t1];
+        if (end == base) continue;
+        gl__buffer_fill(c->gbuf[GL_GBUF_PART], 0, (size_t)(end - base) * SPR_GPART_FLOATS * sizeof(float), 0);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        const size_t m = (size_t)(t1 - t0);
+        glUseProgram(pt);
+        glUniform1i(glGetUniformLocation(pt, "u_t0"), t0);
+        glUniform1i(glGetUniformLocation(pt, "u_t1"), t1);
+        glUniform1i(glGetUniformLocation(pt, "u_gpart_base"), (GLint)base);
+        for (int pix = 0; pix < 256; pix++) { /* a tile's pixels in row-major order from the top row, one draw each */
+            glUniform1i(glGetUniformLocation(pt, "u_pix"), pix);
+            draw_bare(c, (int)(m < width ? m : width), (int)((m + width - 1) / width));
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
+        glUseProgram(pg);
+        glUniform1i(glGetUniformLocation(pg, "u_gpart_base"), (GLint)base);
+        glUniform1i(glGetUniformLocation(pg, "u_ebase"), (GLint)base);
+        glUniform1i(glGetUniformLocation(pg, "u_eend"), (GLint)end);
+        draw_bare(c, (int)(n < width ? n : width), (int)((n + width - 1) / width));
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    }
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    gl__buffer_read(c->gbuf[GL_GBUF_SUMS], 0, n * SPR_GPART_FLOATS * sizeof(float), sums);
+    /* the chain, in the preprocessing's batches */
+    const size_t batch = pre_batch(c, width);
+    float *in = malloc((n < batch ? (n ? n : 1) : batch) * 14 * sizeof *in);
+    if (!in) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu Gaussians", n);
+    glUseProgram(pg);
+    glUniform1i(glGetUniformLocation(pg, "u_stage"), 1);
+    for (size_t base = 0; base < n; base += batch) {
+        const size_t m = n - base < batch ? n - base : batch;
+        for (size_t j = 0; j < m; j++) { /* μ, q, σ packed as the preprocessing's (no arithmetic) */
+            const size_t i = base + j;
+            float *o = in + 14 * j;
+            memset(o, 0, 14 * sizeof *o);
+            memcpy(o, d->mu + 3 * i, 3 * sizeof *o);
+            memcpy(o + 3, d->q + 4 * i, 4 * sizeof *o);
+            memcpy(o + 7, d->s + 3 * i, 3 * sizeof *o);
+        }
+        upload(&c->gbuf[GL_GBUF_GIN], &c->gcap[GL_GBUF_GIN], m * 14 * sizeof *in, in);
+        gl__buffer_reserve(&c->gbuf[GL_GBUF_GOUT], &c->gcap[GL_GBUF_GOUT], m * SPR_GOUT_FLOATS * sizeof(float), GL_DYNAMIC_DRAW);
+        glUniform1ui(glGetUniformLocation(pg, "u_base"), (GLuint)base);
+        glUniform1ui(glGetUniformLocation(pg, "u_n"), (GLuint)(base + m));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->gbuf[GL_GBUF_GIN]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->gbuf[GL_GBUF_GOUT]);
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        draw_bare(c, (int)(m < width ? m : width), (int)((m + width - 1) / width));
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        gl__buffer_read(c->gbuf[GL_GBUF_GOUT], 0, m * SPR_GOUT_FLOATS * sizeof(float), out + base * SPR_GOUT_FLOATS);
+    }
+    free(in);
+    return gl__check(b, "gauss backward");
+}
+
 void gl__gauss_free(gl_context *c)
 {
     glDeleteBuffers(GL_GBUF__COUNT, c->gbuf);
@@ -267,7 +381,7 @@ void gl__gauss_free(gl_context *c)
     free(c->gpre);
     free(c->gpre_cap);
     c->gpre = NULL, c->gpre_cap = NULL, c->n_gpre = 0;
-    glDeleteTextures(3, c->gtex);
+    glDeleteTextures(8, c->gtex);
     if (c->gfbo) glDeleteFramebuffers(1, &c->gfbo);
     c->gfbo = 0;
     for (int k = 0; k < GL_GPROG__COUNT; k++)

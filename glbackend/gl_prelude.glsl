@@ -117,6 +117,24 @@ float spr_grec(ivec2 px, int G, int f)
     uint i = uint(G) * uint(SPR_GREC_FLOATS) + uint(f); /* < 2^29 (gl__gauss_fits) */
     return texelFetch(u_grec, int(i >> 2u))[i & 3u];
 }
+/* gauss3d's backward (SPEC 10.10, gl_gauss.c): the upstream gradient (5 values a pixel, pixel y·W + x), the list
+ * entries' partials of a batch (SPR_GPART_FLOATS a entry, four a texel, from entry u_gpart_base: one tile's
+ * fragment owns its entries' texels), each Gaussian's entries (ascending). */
+layout(binding = 13) uniform samplerBuffer u_gup;
+layout(binding = 14) uniform usamplerBuffer u_gcsr;
+layout(rgba32f, binding = 5) uniform coherent imageBuffer u_gpart;
+uniform int u_gpart_base;
+uniform int u_gup_width;
+float spr_in_grad(ivec2 px, int k) { return texelFetch(u_gup, (px.y * u_gup_width + px.x) * 5 + k).r; }
+int spr__gpart_texel(int e, int f) { return (e - u_gpart_base) * (SPR_GPART_FLOATS / 4) + f / 4; }
+float spr_gpart(ivec2 px, int e, int f) { return imageLoad(u_gpart, spr__gpart_texel(e, f))[f & 3]; }
+void spr_gpart_set(ivec2 px, int e, int f, float v)
+{
+    vec4 t = imageLoad(u_gpart, spr__gpart_texel(e, f));
+    t[f & 3] = v;
+    imageStore(u_gpart, spr__gpart_texel(e, f), t);
+}
+int spr_gcsr(ivec2 px, int k) { return int(texelFetch(u_gcsr, k).r); }
 float spr_in_env(ivec2 px, int face, int i, int j, int ch) { return texelFetch(u_env, ivec3(i, j, face), 0)[ch]; }
 float spr_in_texel(ivec2 px, int k, int ch) { return spr_texels[k][ch]; }
 /* A list node: meta (t bits, rectangle, next, 0) and its colour; next 0xffffffff ends the list. */

@@ -26,6 +26,7 @@
 /* The embedded files (generated gl_sources.c). */
 extern const char *const spr__src_arith_parts[]; /* core/render/arith/, in ORDER (generated gl_arith_parts.c) */
 extern const char spr__src_gauss_pre_frag[], spr__src_gauss_raster_frag[], spr__src_gauss_blend_frag[];
+extern const char spr__src_gauss_bwd_tile_frag[], spr__src_gauss_bwd_gauss_frag[];
 extern const char spr__src_prelude[], spr__src_splat_vert[], spr__src_splat_frag[],
     spr__src_full_vert[], spr__src_composite_frag[], spr__src_rect_frag[];
 
@@ -246,13 +247,16 @@ spr_result gl__build_programs(gl_context *c, spr_error *err)
 spr_result gl__gauss_program(gl_context *c, int which, spr_error *err)
 {
     if (c->gprog[which]) return SPR_OK;
-    static const char *const names[GL_GPROG__COUNT] = {"gauss preprocess", "gauss raster", "gauss blend"};
-    static const char *const need[GL_GPROG__COUNT][5] = {{"u_g", "u_n", "u_base", "u_width", NULL}, {"u_g", "u_bg", "u_layer", "u_has", NULL},
-                                                          {"u_g", "u_size", NULL}};
-    /* fragment programs all three: llvmpipe flushes denormals in fragments, not in compute invocations (PARITY.md rule 6) */
-    GLuint p = which == GL_GPROG_PRE      ? link(spr__src_full_vert, spr__src_gauss_pre_frag, -1, 0, names[which], err)
-               : which == GL_GPROG_RASTER ? link(spr__src_full_vert, spr__src_gauss_raster_frag, -1, c->probe_programs, names[which], err)
-                                          : link(spr__src_splat_vert, spr__src_gauss_blend_frag, -1, c->probe_programs, names[which], err);
+    static const char *const names[GL_GPROG__COUNT] = {"gauss preprocess", "gauss raster", "gauss blend", "gauss backward tiles", "gauss backward Gaussians"};
+    static const char *const need[GL_GPROG__COUNT][9] = {{"u_g", "u_n", "u_base", "u_width", NULL}, {"u_g", "u_bg", "u_layer", "u_has", NULL},
+                                                          {"u_g", "u_size", NULL}, {"u_g", "u_bg", "u_t0", "u_t1", "u_width", "u_pix", "u_gpart_base", NULL},
+                                                          {"u_g", "u_n", "u_base", "u_width", "u_stage", "u_ebase", "u_eend", NULL}};
+    /* fragment programs all: llvmpipe flushes denormals in fragments, not in compute invocations (PARITY.md rule 6) */
+    GLuint p = which == GL_GPROG_PRE        ? link(spr__src_full_vert, spr__src_gauss_pre_frag, -1, 0, names[which], err)
+               : which == GL_GPROG_RASTER   ? link(spr__src_full_vert, spr__src_gauss_raster_frag, -1, c->probe_programs, names[which], err)
+               : which == GL_GPROG_BLEND    ? link(spr__src_splat_vert, spr__src_gauss_blend_frag, -1, c->probe_programs, names[which], err)
+               : which == GL_GPROG_BWD_TILE ? link(spr__src_full_vert, spr__src_gauss_bwd_tile_frag, -1, 0, names[which], err)
+                                            : link(spr__src_full_vert, spr__src_gauss_bwd_gauss_frag, -1, 0, names[which], err);
     if (!p) return err->code;
     for (int k = 0; need[which][k]; k++)
         if (glGetUniformLocation(p, need[which][k]) < 0) {
@@ -280,7 +284,8 @@ char *spr_gl_program_source(spr_backend *b, const char *program)
     spr_error err = {0};
     if (!strcmp(program, "composite") && gl__comp_program(c, (spr_composite_op)0, &err)) return NULL;
     for (int k = 0; k < GL_GPROG__COUNT; k++) {
-        static const char *const gname[GL_GPROG__COUNT] = {"gauss-preprocess", "gauss-raster", "gauss-blend"};
+        static const char *const gname[GL_GPROG__COUNT] = {"gauss-preprocess", "gauss-raster", "gauss-blend", "gauss-backward-tiles",
+                                                           "gauss-backward-gaussians"};
         if (!strcmp(program, gname[k]) && gl__gauss_program(c, k, &err)) return NULL;
     }
     GLuint p = !strcmp(program, "splat") ? c->prog_splat : !strcmp(program, "composite") ? c->prog_comp[0] : !strcmp(program, "rect") ? c->prog_rect

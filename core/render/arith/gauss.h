@@ -506,16 +506,16 @@ SPR_FN float spr_sum2(float p0, float q0, float p1, float q1)
 
 /* The backward of spr_gauss_preprocess3d (SPEC 10.10 item 5; docs/gradients.md
  * "per Gaussian", operation by operation): from a Gaussian's gradient sums
- * (SPR_GPART_*: its record's conic, centre, opacity and 1/t.z) to out
- * (SPR_GOUT_*: ∂L/∂μ without the colour's view direction, ∂L/∂q, ∂L/∂σ,
+ * (SPR_GPART_*: its record's conic, centre, opacity and 1/t.z) to gout
+ * (gout, SPR_GOUT_*: ∂L/∂μ without the colour's view direction, ∂L/∂q, ∂L/∂σ,
  * ∂L/∂o).  It recomputes steps 1–5 (spr_gauss_project3d); a culled Gaussian
  * gets zeros.  The tangent clamp follows the profile: TCLAMP_BWD 0 the
  * exact derivative (a clamped tangent's u = c·t.z moves with t.z), 1
  * inria's (a clamped u held constant, which doubles J's t.z term). */
 SPR_FN void spr_gauss_preprocess3d_bwd(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], SPR_CARR q[4], SPR_CARR s[3],
-                                       SPR_CARR sum[SPR_GPART_FLOATS], SPR_OARR out[SPR_GOUT_FLOATS])
+                                       SPR_CARR sum[SPR_GPART_FLOATS], SPR_OARR gout[SPR_GOUT_FLOATS])
 {
-    for (int f = 0; f < SPR_GOUT_FLOATS; f++) out[f] = 0.0f;
+    for (int f = 0; f < SPR_GOUT_FLOATS; f++) gout[f] = 0.0f;
     float t[3];
     float Rq[9];
     float L[9];
@@ -658,7 +658,7 @@ SPR_FN void spr_gauss_preprocess3d_bwd(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3
     /* t = R·μ + T: ∂L/∂μ = Rᵀ·∂L/∂t */
     for (int j = 0; j < 3; j++) {
         float x = spr_sum3(g[SPR_GPRM_R + j], vt0, g[SPR_GPRM_R + 3 + j], vt1, g[SPR_GPRM_R + 6 + j], vt2);
-        out[SPR_GOUT_MEANS + j] = x;
+        gout[SPR_GOUT_MEANS + j] = x;
     }
     /* Σ = L·Lᵀ: ∂L/∂L = 2·∂L/∂Σ·L; L = Rq·diag(σ): ∂L/∂σ_k = Σ_i ∂L/∂L_ik·Rq_ik, ∂L/∂Rq_ik = ∂L/∂L_ik·σ_k */
     float dL[9];
@@ -671,7 +671,7 @@ SPR_FN void spr_gauss_preprocess3d_bwd(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3
     float dR[9];
     for (int kk = 0; kk < 3; kk++) {
         float x = spr_sum3(dL[kk], Rq[kk], dL[3 + kk], Rq[3 + kk], dL[6 + kk], Rq[6 + kk]);
-        out[SPR_GOUT_SCALES + kk] = x;
+        gout[SPR_GOUT_SCALES + kk] = x;
         for (int i = 0; i < 3; i++) {
             SPR_PRECISE float y = dL[3 * i + kk] * s[kk];
             dR[3 * i + kk] = y;
@@ -686,9 +686,13 @@ SPR_FN void spr_gauss_preprocess3d_bwd(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3
     for (int i = 0; i < 4; i++) {
         SPR_PRECISE float p = dd * q[i];
         SPR_PRECISE float x = dq[i] - p;
-        out[SPR_GOUT_QUATS + i] = x;
+        gout[SPR_GOUT_QUATS + i] = x;
     }
-    out[SPR_GOUT_OPACITY] = sum[SPR_GPART_OPACITY];
+    gout[SPR_GOUT_OPACITY] = sum[SPR_GPART_OPACITY];
+    /* a zero as +0: the two backends disagreed on the sign of a zero gradient (measured on the donut: 333 zeros of
+     * quats and scales, Gaussians no pixel reached, −0 on llvmpipe and zink, +0 in C); a comparison, not arithmetic */
+    for (int f = 0; f < SPR_GOUT_FLOATS; f++)
+        if (gout[f] == 0.0f) gout[f] = 0.0f;
 }
 
 /* SPEC §10.5 for a planar Gaussian (docs/gaussians.md, "gauss2d, operation
@@ -1188,11 +1192,17 @@ SPR_FN void spr_gauss_blend_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], float 
 
 /* The backward of gauss3d at pixel px (SPEC 10.10; docs/gradients.md "per
  * pixel"): the forward loop's blended Gaussians walked back to front, each
- * through spr_gauss_blend_bwd, with the forward's own α and T: a first walk
- * gives T_f and the count n of blended Gaussians; then, for the last 32 not
- * yet walked back, a replay from the list's start (spr_gauss_visit, the
- * forward's operations) keeps their entries, α and T, and they are walked
- * back; and so on to the first.  Returns n. */
+ * through spr_gauss_blend_bwd, with the forward's own α and T.  A first walk
+ * (spr_gauss_visit, the forward's operations) gives T_f, the count n of
+ * blended Gaussians and, every 32 blended, a checkpoint: the list entry and
+ * the T there.  Then, segment by segment from the last, a replay from the
+ * segment's checkpoint keeps its entries, α and T, and they are walked back.
+ * 128 checkpoints hold 4,096 blended Gaussians, more than any list blends
+ * before T falls below the stop (α ≥ 1/255: (254/255)^2,345 < 1e-4); a
+ * longer run (a profile without the stop) replays from the last checkpoint.
+ * Each pixel costs about two walks of its list: GL runs one pixel a fragment,
+ * within llvmpipe's 65,535 loop iterations a fragment (gl_gauss.c).
+ * Returns n. */
 SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3])
 {
     int x = spr_px_x(px);
@@ -1205,6 +1215,8 @@ SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
     int end = spr_gtile_end(px, tile);
     float up[5];
     for (int k = 0; k < 5; k++) up[k] = spr_in_grad(px, k);
+    int ce[128];
+    float cT[128];
     SPR_PRECISE float T = 1.0f;
     int n = 0;
     for (int e = first; e < end; e++) {
@@ -1216,6 +1228,10 @@ SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
         int visit = spr_gauss_visit(g, spr_grec(px, G, SPR_GREC_OPACITY), power, T, SPR_REF(alpha), SPR_REF(Tn));
         if (visit == 3) break;
         if (visit == 0) {
+            if (n % 32 == 0 && n / 32 < 128) {
+                ce[n / 32] = e;
+                cT[n / 32] = T;
+            }
             T = Tn;
             n = n + 1;
         }
@@ -1229,14 +1245,16 @@ SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
     for (int k = 0; k < 5; k++) behind[k] = 0.0f;
     int hi = n;
     while (hi > 0) {
-        int lo = hi - 32;
-        if (lo < 0) lo = 0;
+        int lo = ((hi - 1) / 32) * 32;
+        int cp = lo / 32;
+        if (cp > 127) cp = 127;
         int se[32];
         float sa[32];
         float sT[32];
-        T = 1.0f;
-        int b = 0;
-        for (int e = first; e < end && b < hi; e++) {
+        T = cT[cp];
+        int b = cp * 32;
+        if (hi - lo > 32) lo = hi - 32;
+        for (int e = ce[cp]; e < end && b < hi; e++) {
             int G = spr_glist(px, e);
             float power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
                                           spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
@@ -1268,9 +1286,15 @@ SPR_FN void spr_gauss_gather(SPR_PIXEL px, int k0, int k1, int base, int end, SP
     for (int k = k0; k < k1; k++) {
         int e = spr_gcsr(px, k);
         if (e >= base && e < end)
-            for (int f = 0; f < SPR_GPART_FLOATS; f++) {
-                SPR_PRECISE float v = sum[f] + spr_gpart(px, e, f);
-                sum[f] = v;
+            for (int f = 0; f < SPR_GPART_FLOATS; f += 4) { /* four a pass: GL's loop iterations (spr_gauss_pixel_bwd) */
+                SPR_PRECISE float v0 = sum[f] + spr_gpart(px, e, f);
+                SPR_PRECISE float v1 = sum[f + 1] + spr_gpart(px, e, f + 1);
+                SPR_PRECISE float v2 = sum[f + 2] + spr_gpart(px, e, f + 2);
+                SPR_PRECISE float v3 = sum[f + 3] + spr_gpart(px, e, f + 3);
+                sum[f] = v0;
+                sum[f + 1] = v1;
+                sum[f + 2] = v2;
+                sum[f + 3] = v3;
             }
     }
 }
