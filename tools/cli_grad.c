@@ -74,8 +74,7 @@ int cli_grad_upstream(spr__args *a, int W, int H, spr_grad_desc *gd, cli_grad_in
         if (!strcmp(loss, "l1")) gd->loss = SPR_LOSS_L1;
         else if (!strcmp(loss, "l2")) gd->loss = SPR_LOSS_L2;
         else { spr__error(a, "--loss: '%s' is not l1 or l2", loss); return -1; }
-        if (!target) { spr__error(a, "--loss %s needs --target IMG (PNG or PFM, the scene's size)", loss); return -1; }
-        if (read_plane_file(a, "target", target, W, H, 3, &in->target)) return -1;
+        if (target && read_plane_file(a, "target", target, W, H, 3, &in->target)) return -1; /* none: a black target */
         gd->target = in->target;
     } else {
         if (target) { spr__error(a, "--target goes with --loss"); return -1; }
@@ -177,4 +176,28 @@ done:
     if (b) spr_backend_destroy(b);
     spr_scene_free(&s);
     return rc;
+}
+
+int cli_grad_parity(FILE *f, spr_backend *cpu, spr_backend *gl, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *rd,
+                    const spr_grad_desc *gd, spr_error *err)
+{
+    spr_gauss_grads a, b;
+    if (spr_gauss_grad(cpu, view, cloud, rd, gd, &a, err)) return -1;
+    if (spr_gauss_grad(gl, view, cloud, rd, gd, &b, err)) {
+        spr_gauss_grads_free(&a);
+        return -1;
+    }
+    spr_grad_diff d[16];
+    const int m = spr_gauss_grad_compare(&a, &b, d, 16);
+    int exact = 1;
+    for (int i = 0; i < m; i++) {
+        if (!d[i].differing) continue;
+        exact = 0;
+        fprintf(f, "  gradient %s: %zu of %zu Gaussians differ, first %ld: cpu %.9g, gl %.9g\n", d[i].name, d[i].differing, d[i].gaussians,
+                d[i].first, d[i].va[0], d[i].vb[0]);
+    }
+    if (exact) fprintf(f, "  gradients (%d arrays, %zu Gaussians): BIT-EXACT\n", m, a.n);
+    spr_gauss_grads_free(&a);
+    spr_gauss_grads_free(&b);
+    return exact;
 }

@@ -9,7 +9,7 @@
 
 #define CLI_GRAD_OPTS \
     {"loss", "l1|l2", "the loss whose gradient to take: the mean over pixels and channels of |C - target| or (C - target)^2, as trainers compute it; with --target"}, \
-    {"target", "IMG", "--loss: the target image (PNG or PFM, the scene's size)"}, \
+    {"target", "IMG", "--loss: the target image (PNG or PFM, the scene's size; default black)"}, \
     {"dl-dimage", "G.npy|G.pfm", "the upstream gradient dL/dimage instead of a loss: float32 [H, W, 3] .npy with row 0 the top row, as trainers hold images, or a PFM"}, \
     {"dl-dalpha", "A.npy|A.pfm", "also dL/dalpha for the alpha 1 - T (float32 [H, W])"}, \
     {"dl-ddepth", "D.npy|D.pfm", "also dL/d(inverse depth) (float32 [H, W])"}, \
@@ -26,4 +26,16 @@ void cli_grad_inputs_free(cli_grad_inputs *in);
  * them); the count, or −1 out of memory. */
 int cli_grad_npz(const spr_gauss_grads *g, spr_npy *arr, int cap, float **sh0, float **shN);
 int cmd_grad(int argc, char **argv);
+/* check --grads THEIRS.npz (cli_check_grads.c): the reference's gradients of the scene against THEIRS, per array;
+ * out: report.json's folder (NULL: none), junit: F.xml (NULL: none).  0 pass, 1 fail, 2 after one line. */
+int cli_check_grads(spr__args *a, const char *path, const char *out, const char *junit);
+#define CLI_CHECK_GRADS_OPTS \
+    {"grads", "THEIRS.npz", "check a training renderer's gradients of this gauss3d scene instead of an image: THEIRS.npz holds gsplat's arrays as splatref grad writes them (means, quats, scales, opacities, sh0, shN, means2d, conics, colors, absgrad, counts), for the upstream gradient given by --loss/--target or --dl-dimage; the reference's are computed on the CPU. One verdict per array"}, \
+    {"rtol", "R", "--grads: an entry passes when |theirs - ref| <= R*S_G + atol, S_G the largest |ref| of that Gaussian's row (means2d: and its absgrad row, the exact sum of |terms|). Default 2^-10: a renderer that recovers T by division, uses float32 fast-math exp and sums pixels with atomics in any order errs by ~1e-6 relative per pixel term plus n*2^-24 of the sum of |terms| (not of the value: terms cancel); 2^-10 leaves ~1000x that for cancellation, while a bug (a sign, a missing term, an ungated cap) is O(1). counts: exact"}, \
+    {"atol", "A", "--grads: the absolute floor of the tolerance (default 1e-6*max|ref| over each array: the rounding of its largest values, for Gaussians whose whole row is near 0)"}
+/* parity: the gradients of scene (view, cloud, rd) under gd on cpu and gl compared array by array, a line each into f
+ * (and the first differing Gaussian); 1 when every array is bit-identical, 0 when one differs, −1 after one line in
+ * err. */
+int cli_grad_parity(FILE *f, spr_backend *cpu, spr_backend *gl, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *rd,
+                    const spr_grad_desc *gd, spr_error *err);
 #endif

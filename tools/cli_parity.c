@@ -5,6 +5,7 @@
 #include "spr_glbackend.h"
 #include "spr_image.h"
 #include "spr_parity.h"
+#include "cli_grad.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -22,6 +23,7 @@ static const spr__opt parity_opts[] = {
     {"seed", "S", "--random: the seed of the scene generator (default 1)"},
     {"first", "I", "--random: start at scene I of the seed (scene i of a seed is always the same scene; default 0)"},
     {"junit", "F.xml", "also write a JUnit XML report (one test case per plane; --random: per scene and algorithm) for CI servers"},
+    CLI_GRAD_OPTS,
     {NULL, NULL, NULL}};
 
 void cli_parity_plane_line(FILE *f, const spr_plane_diff *d)
@@ -103,6 +105,10 @@ int cmd_parity(int argc, char **argv)
     int nrep = 0;
     cli_junit *ju = junit ? cli_junit_new("splatref parity") : NULL;
     memset(reps, 0, sizeof reps);
+    cli_grad_claim(&a);
+    cli_grad_inputs gin = {0};
+    spr_grad_desc ggd;
+    const int grad_given = spr__get(&a, "loss") || spr__get(&a, "dl-dimage");
     if (spr__scene_setup(&a, &s, &rd, 1)) goto done;
     if (dir && cli_outdir_begin(&a, "report", dir, report_tmp, sizeof report_tmp)) goto done;
     report_open = dir != NULL;
@@ -136,6 +142,18 @@ int cmd_parity(int argc, char **argv)
                            p->planes[i].differing_pixels, (unsigned long long)p->planes[i].max_ulp, p->planes[i].max_abs, p->planes[i].max_lsb);
         }
         all_exact &= spr_parity_exact(&reps[nrep]);
+        const spr_gauss_profile *gpf = spr_gauss_profile_of(d.algo, d.gauss_profile);
+        if (d.algo == SPR_ALGO_GAUSS3D && gpf->grad.trains && !d.gauss_aa && !d.source) { /* SPEC 10.10: the backward pass too */
+            if (grad_given ? cli_grad_upstream(&a, s.view.width, s.view.height, &ggd, &gin) : (memset(&ggd, 0, sizeof ggd), ggd.loss = SPR_LOSS_L2, 0)) goto done;
+            printf("gauss3d gradients under %s (%s):\n", gpf->name, grad_given ? "the upstream gradient given" : "loss l2 against a black image");
+            const int ge = cli_grad_parity(stdout, cpu, gl, &s.view, &s.cloud, &d, &ggd, &err);
+            cli_grad_inputs_free(&gin);
+            if (ge < 0) {
+                fprintf(stderr, "splatref parity: %s\n", err.msg);
+                goto done;
+            }
+            all_exact &= ge;
+        }
         rr.algo[nrep] = spr_algo_name(d.algo);
         rr.rep[nrep] = &reps[nrep];
         rr.n = ++nrep;

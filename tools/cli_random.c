@@ -18,6 +18,7 @@
  * minimal scene that still differs, written beside it.
  */
 #include "cli.h"
+#include "cli_grad.h"
 #include "spr_envmap.h"
 #include "spr_glbackend.h"
 #include "spr_parity.h"
@@ -447,6 +448,14 @@ static int subset(const rscene *s, const uint32_t *keep, size_t m, spr_cloud *c,
 
 /* Does `algo` differ between the backends on the splats keep[0..m) of s?
  * 1 differs, 0 equal, −1 failure; the report goes to rep when given. */
+/* The gradients' comparison of the last differs (its lines), and whether a frame's gradients are compared: gauss3d
+ * under a profile that trains, without --gauss-aa (its compensation has no backward yet). */
+static char grad_text[4096];
+static int grad_checked(const spr_render_desc *rd)
+{
+    return rd->algo == SPR_ALGO_GAUSS3D && spr_gauss_profile_of(rd->algo, rd->gauss_profile)->grad.trains && !rd->gauss_aa;
+}
+
 static int differs(spr_backend *cpu, spr_backend *gl, const rscene *s, const uint32_t *keep, size_t m, spr_algo algo,
                    spr_parity_report *rep_out, spr_error *err)
 {
@@ -470,7 +479,17 @@ static int differs(spr_backend *cpu, spr_backend *gl, const rscene *s, const uin
     spr_parity_report rep;
     if (!spr_groups_from_labels(lab, m, 0, &g, err) && !spr_parity_run(cpu, gl, &s->view, &c, &rd, &rd, NULL, "random", &rep, err)) {
         rc = !spr_parity_exact(&rep);
-        if (rep_out) *rep_out = rep;
+        grad_text[0] = 0;
+        if (!rc && grad_checked(&rd)) { /* SPEC 10.10: the backward pass, under the replay's loss: l2 against a black image */
+            const spr_grad_desc gd = {.loss = SPR_LOSS_L2};
+            FILE *f = fmemopen(grad_text, sizeof grad_text - 1, "w");
+            const int ge = f ? cli_grad_parity(f, cpu, gl, &s->view, &c, &rd, &gd, err) : -1;
+            if (f) fclose(f);
+            if (ge < 0) rc = -1, spr_parity_report_free(&rep);
+            else rc = !ge;
+        }
+        if (rc < 0) {}
+        else if (rep_out) *rep_out = rep;
         else spr_parity_report_free(&rep);
     }
     spr_groups_free(&g);
@@ -555,6 +574,8 @@ static int save(FILE *out, const rscene *s, const uint32_t *keep, size_t m, spr_
     if (prof > 0) fprintf(out, " --gauss-profile %s", spr_gauss_profile_at(prof - 1)->name);
     if (gd->driver != SPR_GL_DRIVER_DEFAULT) fprintf(out, " --gl-driver %s", spr_gl_driver_name(gd->driver));
     if (gd->device >= 0) fprintf(out, " --gl-device %d", gd->device);
+    spr_render_desc rdg = {.algo = algo, .gauss_profile = prof, .gauss_aa = (ai->uses & SPR_USES_GAUSS) && s->gauss_aa};
+    if (grad_checked(&rdg)) fprintf(out, " --loss l2"); /* the gradients' loss (parity's default, said) */
     fprintf(out, "\n");
     return 0;
 }
@@ -602,7 +623,7 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
     if (first) printf("parity random: scenes %d to %d of the seed\n", first, first + count - 1);
     int mismatches = 0, failed = 0, made_dir = 0, gauss_scenes = 0;
     cli_junit *ju = junit ? cli_junit_new("splatref parity --random") : NULL;
-    long comparisons = 0, gauss_comparisons = 0;
+    long comparisons = 0, gauss_comparisons = 0, grad_comparisons = 0;
     for (int i = first; i < first + count && !failed; i++) {
         rscene s;
         if (generate(seed, i, tmp, &s, &err)) {
@@ -625,6 +646,10 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
             snprintf(cname, sizeof cname, "scene %d %s", i, spr_algo_name((spr_algo)al));
             comparisons++;
             gauss_comparisons += (spr_algo_info_of((spr_algo)al)->uses & SPR_USES_GAUSS) != 0;
+            if (al == SPR_ALGO_GAUSS3D) {
+                spr_render_desc rdg = {.algo = SPR_ALGO_GAUSS3D, .gauss_profile = s.profile_tile, .gauss_aa = s.gauss_aa};
+                grad_comparisons += grad_checked(&rdg);
+            }
             if (d < 0) {
                 fprintf(stderr, "splatref %s: scene %d: %s\n", a->cmd, i, err.msg);
                 cli_junit_add(ju, "splatref.parity_random", cname, (spr_now_ms() - t0) / 1000.0, CLI_JUNIT_ERROR, err.msg, err.msg);
@@ -642,6 +667,7 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
             fprintf(out, "MISMATCH scene %d (%zu splats, %dx%d, %s) %s:\n", i, s.cloud.n, s.cam.width, s.cam.height, s.features[0] ? s.features : "plain",
                     spr_algo_name((spr_algo)al));
             cli_parity_summary(out, spr_algo_name((spr_algo)al), &rep);
+            if (grad_text[0]) fputs(grad_text, out);
             char msg[128];
             snprintf(msg, sizeof msg, "%d/%d planes bit-exact, max ulp %llu", rep.exact_planes, rep.n_planes, (unsigned long long)rep.max_ulp);
             spr_parity_report_free(&rep);
@@ -686,8 +712,9 @@ int cli_parity_random(spr__args *a, int first, int count, uint64_t seed, const c
     const int jrc = cli_junit_write(a, ju, junit);
     cli_junit_free(ju);
     if (failed || jrc) return 2;
-    printf("parity random: %d scenes (%d of Gaussian captures), %ld comparisons (%ld by the Gaussian algorithms), %d mismatches (seed %llu)\n",
-           count, gauss_scenes, comparisons, gauss_comparisons, mismatches, (unsigned long long)seed);
+    printf("parity random: %d scenes (%d of Gaussian captures), %ld comparisons (%ld by the Gaussian algorithms, %ld with gauss3d's gradients), "
+           "%d mismatches (seed %llu)\n",
+           count, gauss_scenes, comparisons, gauss_comparisons, grad_comparisons, mismatches, (unsigned long long)seed);
     printf("verdict: %s\n", mismatches ? "DIFFERENT" : "BIT-EXACT (Tier A)");
     return mismatches ? 1 : 0;
 }

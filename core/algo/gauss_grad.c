@@ -18,12 +18,16 @@
  * the shared arithmetic; the host's parts are the same code for both.
  */
 #include "spr_grad.h"
+#include "spr_arith_c.h"
 #include "spr_util.h"
 
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 void spr_gauss_grads_free(spr_gauss_grads *g)
 {
@@ -79,7 +83,7 @@ static spr_result upstream(const spr_grad_desc *gd, const float *rgba, int W, in
             double g;
             if (gd->loss == SPR_LOSS_GIVEN) g = gd->dl_dimage[3 * i + ch];
             else {
-                const double r = (double)rgba[4 * i + ch] - (double)gd->target[3 * i + ch];
+                const double r = (double)rgba[4 * i + ch] - (gd->target ? (double)gd->target[3 * i + ch] : 0.0);
                 if (gd->loss == SPR_LOSS_L1) L += fabs(r), g = (r > 0.0 ? 1.0 : r < 0.0 ? -1.0 : 0.0) * inv;
                 else L += r * r, g = 2.0 * r * inv;
             }
@@ -191,7 +195,6 @@ spr_result spr_gauss_grad(spr_backend *b, const spr_view *view, const spr_cloud 
         return spr__fail(err, SPR_E_ARG, "grad: --gauss-aa's compensation has no backward here yet (docs/gradients.md, open questions): "
                          "leave it out");
     if (desc->source) return spr__fail(err, SPR_E_ARG, "grad: a streamed cloud (--stream) has no backward pass: leave out --stream");
-    if (gd->loss != SPR_LOSS_GIVEN && !gd->target) return spr__fail(err, SPR_E_ARG, "grad: a loss without a target image");
     if (gd->loss == SPR_LOSS_GIVEN && !gd->dl_dimage) return spr__fail(err, SPR_E_ARG, "grad: neither a loss nor an upstream gradient");
     spr_result r = spr_render_fits(b, cloud, desc->algo, err);
     if (r) return r;
@@ -207,4 +210,259 @@ spr_result spr_gauss_grad(spr_backend *b, const spr_view *view, const spr_cloud 
     spr_render_result_free(&res);
     if (r) spr_gauss_grads_free(out);
     return r;
+}
+
+/* ---- explain --gaussian G --grad ---- */
+
+void spr_grad_explain_free(spr_grad_explain *x)
+{
+    free(x->terms), free(x->tiles);
+    memset(x, 0, sizeof *x);
+}
+
+/* The CPU backend's float environment (swrast's sw_fp_enter): flush-to-zero, denormals-are-zero. */
+static unsigned ftz_enter(void)
+{
+#if defined(__SSE__)
+    const unsigned old = _mm_getcsr();
+    _mm_setcsr(old | 0x8040u);
+    return old;
+#else
+    return 0;
+#endif
+}
+static void ftz_leave(unsigned old)
+{
+#if defined(__SSE__)
+    _mm_setcsr(old);
+#else
+    (void)old;
+#endif
+}
+
+/* The tile whose list holds entry e: range[t] ≤ e < range[t + 1]. */
+static int tile_of(const uint32_t *range, int tiles, uint32_t e)
+{
+    int lo = 0, hi = tiles;
+    while (hi - lo > 1) {
+        const int mid = lo + (hi - lo) / 2;
+        if (range[mid] <= e) lo = mid;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* G's pixels in the backward's order (sw__gauss_backward: a tile's pixels row-major from the top row, each through
+ * spr_gauss_pixel_bwd, its terms added to the entry's partial; then the entries' partials in tile order,
+ * spr_gauss_gather).  One pixel's terms are what spr_gauss_pixel_bwd adds to a zeroed partial: 0 + v is v (a
+ * denormal v flushed as the backend's add flushes it), so the two levels of float additions below are the
+ * backend's, bit for bit.  α, T, acc, ∂L/∂α, ∂L/∂o and ∂L/∂power are recomputed beside it with the same operations
+ * (spr_gauss_visit, spr_gauss_blend_bwd's recurrence, spr_gauss_alpha_bwd), to be shown. */
+static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G, spr_grad_explain *out)
+{
+    spr_backend *b = run->b;
+    const size_t n = run->cloud->n;
+    const int W = b->view.width, H = b->view.height;
+    spr__gauss_frame_st f;
+    spr_result r = spr__gauss_prepare(run, 0, &f);
+    if (r) return r;
+    int target = -1;
+    float *image = NULL, *up = NULL, *tmp = NULL, *ba = NULL, *bT = NULL;
+    int *be = NULL;
+    uint32_t *start = NULL, *csr = NULL;
+    size_t cap_terms = 0;
+    double loss = 0.0;
+    if ((r = spr__gauss_raster_frame(run, 0, &f, &target))) goto done;
+    if (!(image = malloc((size_t)W * H * 4 * sizeof *image)) || !(up = spr__big_alloc((size_t)W * H * 5 * sizeof *up))) {
+        r = spr__fail(run->err, SPR_E_NOMEM, "grad: out of memory for a %dx%d image", W, H);
+        goto done;
+    }
+    if ((r = spr_backend_read_plane(b, target, SPR_PLANE_COLOR, image))) {
+        r = spr__fail(run->err, r, "%s backend: %s", b->name, b->err.msg);
+        goto done;
+    }
+    if ((r = upstream(gd, image, W, H, up, &loss, run->err))) goto done;
+    const int gx = (int)f.gd.prm[SPR_GPRM_GX], tiles = gx * (int)f.gd.prm[SPR_GPRM_GY];
+    const size_t entries = f.range[tiles];
+    if ((r = entries_of(f.list, entries, n, &start, &csr, run->err))) goto done;
+    const float *g = f.gd.prm, *bg = run->desc->background;
+    const uint32_t k0 = start[G], k1 = start[G + 1];
+    out->G = G, out->width = W, out->height = H, out->consistent = 1;
+    if (k1 > k0 && !(out->tiles = calloc(k1 - k0, sizeof *out->tiles))) {
+        r = spr__fail(run->err, SPR_E_NOMEM, "grad: out of memory");
+        goto done;
+    }
+    const unsigned fp = ftz_enter();
+    for (uint32_t k = k0; k < k1 && !r; k++) {
+        const uint32_t e = csr[k];
+        const int t = tile_of(f.range, tiles, e);
+        const uint32_t first = f.range[t], end = f.range[t + 1], len = end - first;
+        float *nt = realloc(tmp, (size_t)len * SPR_GPART_FLOATS * sizeof *tmp);
+        int *ne = nt ? realloc(be, len * sizeof *be) : NULL;
+        if (nt) tmp = nt;
+        if (ne) be = ne;
+        float *na = ne ? realloc(ba, len * sizeof *ba) : NULL;
+        if (na) ba = na;
+        float *nT = na ? realloc(bT, len * sizeof *bT) : NULL;
+        if (nT) bT = nT;
+        if (!nT) { r = spr__fail(run->err, SPR_E_NOMEM, "grad: out of memory for a tile of %u entries", len); break; }
+        spr_grad_tile *tl = &out->tiles[out->n_tiles++];
+        tl->tile = t, tl->entry = e, tl->first = out->n_terms;
+        float part[SPR_GPART_FLOATS] = {0};
+        const int i0 = (t % gx) * 16, j0 = (t / gx) * 16;
+        for (int j = j0; j < j0 + 16 && j < H && !r; j++)
+            for (int i = i0; i < i0 + 16 && i < W; i++) {
+                const int y = H - 1 - j;
+                spr_pixel_in px = {.grec = f.rec, .granges = f.range, .glist = f.list, .gup = up, .gpart = tmp, .gpart_base = first,
+                                   .i = (size_t)y * W + (size_t)i, .x = i, .y = y};
+                const float fi = (float)i, fj = (float)j;
+                /* the forward's walk (spr_gauss_pixel_bwd's first): the blended entries, their α and T */
+                float T = 1.0f;
+                int nb = 0, rank = -1;
+                for (uint32_t e2 = first; e2 < end; e2++) {
+                    const int G2 = (int)f.list[e2];
+                    const float power = spr_gauss_power(spr_grec(&px, G2, SPR_GREC_M), spr_grec(&px, G2, SPR_GREC_M + 1), spr_grec(&px, G2, SPR_GREC_CONIC),
+                                                        spr_grec(&px, G2, SPR_GREC_CONIC + 1), spr_grec(&px, G2, SPR_GREC_CONIC + 2), fi, fj);
+                    float alpha = 0.0f, Tn = T;
+                    const int visit = spr_gauss_visit(g, spr_grec(&px, G2, SPR_GREC_OPACITY), power, T, &alpha, &Tn);
+                    if (visit == 3) break;
+                    if (visit == 0) {
+                        if (e2 == e) rank = nb;
+                        be[nb] = (int)e2, ba[nb] = alpha, bT[nb] = T;
+                        T = Tn;
+                        nb++;
+                    }
+                }
+                if (rank < 0) continue; /* G not blended here: no term */
+                const float Tf = T;
+                memset(tmp, 0, (size_t)len * SPR_GPART_FLOATS * sizeof *tmp);
+                spr_gauss_pixel_bwd(&px, g, bg);
+                if (out->n_terms == cap_terms) {
+                    const size_t c2 = cap_terms ? 2 * cap_terms : 256;
+                    spr_grad_term *nt2 = realloc(out->terms, c2 * sizeof *nt2);
+                    if (!nt2) { r = spr__fail(run->err, SPR_E_NOMEM, "grad: out of memory for %zu pixels", c2); break; }
+                    out->terms = nt2, cap_terms = c2;
+                }
+                spr_grad_term *tm = &out->terms[out->n_terms++];
+                memset(tm, 0, sizeof *tm);
+                tm->x = i, tm->y = y, tm->tile = t, tm->rank = rank, tm->blended = nb;
+                memcpy(tm->part, tmp + (size_t)(e - first) * SPR_GPART_FLOATS, sizeof tm->part);
+                /* the step's intermediates, as spr_gauss_blend_bwd computes them */
+                const float *u = up + 5 * px.i;
+                const float bgg = spr_sum3(bg[0], u[0], bg[1], u[1], bg[2], u[2]);
+                const float bt = bgg - u[3];
+                float acc[4] = {0, 0, 0, 0}, behind[5] = {0, 0, 0, 0, 0};
+                for (int kk = nb - 1; kk >= rank; kk--) {
+                    const float ob = 1.0f - behind[4];
+                    for (int ch = 0; ch < 4; ch++) {
+                        const float xx = behind[4] * behind[ch];
+                        const float yy = ob * acc[ch];
+                        acc[ch] = xx + yy;
+                    }
+                    if (kk == rank) break;
+                    const int Gb = (int)f.list[be[kk]];
+                    for (int ch = 0; ch < 3; ch++) behind[ch] = spr_grec(&px, Gb, SPR_GREC_COLOR + ch);
+                    behind[3] = spr_grec(&px, Gb, SPR_GREC_INVZ);
+                    behind[4] = ba[kk];
+                }
+                float c[4], gk[4] = {u[0], u[1], u[2], u[4]};
+                for (int ch = 0; ch < 3; ch++) c[ch] = spr_grec(&px, (int)G, SPR_GREC_COLOR + ch);
+                c[3] = spr_grec(&px, (int)G, SPR_GREC_INVZ);
+                const float alpha = ba[rank], TG = bT[rank];
+                float d = 0.0f;
+                for (int ch = 0; ch < 4; ch++) {
+                    const float df = c[ch] - acc[ch];
+                    const float dg = df * gk[ch];
+                    d = d + dg;
+                }
+                const float td = TG * d, oma = 1.0f - alpha, tf = Tf / oma, tb = tf * bt, va = td - tb;
+                const float og = spr_grec(&px, (int)G, SPR_GREC_OPACITY);
+                const float power = spr_gauss_power(spr_grec(&px, (int)G, SPR_GREC_M), spr_grec(&px, (int)G, SPR_GREC_M + 1),
+                                                    spr_grec(&px, (int)G, SPR_GREC_CONIC), spr_grec(&px, (int)G, SPR_GREC_CONIC + 1),
+                                                    spr_grec(&px, (int)G, SPR_GREC_CONIC + 2), fi, fj);
+                float vo = 0.0f, vp = 0.0f;
+                spr_gauss_alpha_bwd(g, og, power, va, &vo, &vp);
+                const float oe = og * spr_exp(power);
+                tm->power = power, tm->alpha = alpha, tm->T = TG, tm->Tf = Tf, tm->dl_dalpha = va, tm->dl_do = vo, tm->dl_dpower = vp;
+                memcpy(tm->acc, acc, sizeof acc);
+                tm->gated = oe > g[SPR_GPRM_CAP] && g[SPR_GPRM_GATE] != 0.0f;
+                if (!(vo == tm->part[SPR_GPART_OPACITY]) || tm->part[SPR_GPART_COUNT] != 1.0f) out->consistent = 0;
+                for (int q = 0; q < SPR_GPART_FLOATS; q++) {
+                    const float v = part[q] + tm->part[q];
+                    part[q] = v;
+                    out->sum[q] = out->sum[q] + tm->part[q]; /* BROKEN: one level */
+                }
+            }
+        tl->count = out->n_terms - tl->first;
+        memcpy(tl->part, part, sizeof part);
+        for (int q = 0; q < SPR_GPART_FLOATS; q++) {
+            (void)0;
+        }
+    }
+    ftz_leave(fp);
+done:
+    free(image), free(up), free(tmp), free(be), free(ba), free(bT), free(start), free(csr);
+    spr__gauss_frame_free(&f);
+    return r;
+}
+
+spr_result spr_gauss_grad_explain(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
+                                  const spr_grad_desc *gd, size_t G, spr_grad_explain *out, spr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (desc->algo != SPR_ALGO_GAUSS3D) return spr__fail(err, SPR_E_ARG, "grad: the backward pass is gauss3d's (SPEC 10.10), not %s's", spr_algo_name(desc->algo));
+    if (strcmp(b->name, "cpu"))
+        return spr__fail(err, SPR_E_ARG, "grad: explain retraces the CPU backend's backward (its order of additions), not %s's", b->name);
+    if (G >= cloud->n) return spr__fail(err, SPR_E_ARG, "grad: Gaussian %zu: the cloud has %zu (0 … %zu)", G, cloud->n, cloud->n ? cloud->n - 1 : 0);
+    const spr_gauss_profile *pf = spr_gauss_profile_of(desc->algo, desc->gauss_profile);
+    if (!pf->grad.trains) return spr__fail(err, SPR_E_ARG, "grad: profile %s has no backward pass", pf->name);
+    if (desc->gauss_aa) return spr__fail(err, SPR_E_ARG, "grad: --gauss-aa's compensation has no backward here yet: leave it out");
+    if (desc->source) return spr__fail(err, SPR_E_ARG, "grad: a streamed cloud (--stream) has no backward pass: leave out --stream");
+    if (gd->loss == SPR_LOSS_GIVEN && !gd->dl_dimage) return spr__fail(err, SPR_E_ARG, "grad: neither a loss nor an upstream gradient");
+    spr_result r = spr_render_fits(b, cloud, desc->algo, err);
+    if (r) return r;
+    if ((r = spr_backend_set_view(b, view))) return spr__fail(err, r, "%s backend: %s", b->name, b->err.msg);
+    spr_render_result res;
+    memset(&res, 0, sizeof res);
+    spr__run run = {b, cloud, desc, &res, err, 0.0f, {0, 0, 0, 0}, 0, {0}, 0, {0}, NULL};
+    const int omp_default = omp_get_max_threads();
+    if (b->host_threads > 0) omp_set_num_threads(b->host_threads);
+    r = explain_frame(&run, gd, G, out);
+    omp_set_num_threads(omp_default);
+    for (int t = 0; t < b->n_targets; t++) spr_backend_target_destroy(b, t);
+    spr_render_result_free(&res);
+    if (r) spr_grad_explain_free(out);
+    return r;
+}
+
+int spr_gauss_grad_compare(const spr_gauss_grads *a, const spr_gauss_grads *b, spr_grad_diff *d, int cap)
+{
+    spr_grad_array aa[16], ba[16];
+    const int na = spr_gauss_grads_arrays(a, aa, 16);
+    spr_gauss_grads_arrays(b, ba, 16);
+    int m = 0;
+    for (int i = 0; i < na && m < cap; i++) {
+        spr_grad_diff *o = &d[m++];
+        memset(o, 0, sizeof *o);
+        o->name = aa[i].name;
+        o->first = -1;
+        const int per = aa[i].per, off = !strcmp(aa[i].name, "shN") ? 3 : 0, stride = aa[i].data == a->sh ? 3 * a->sh_k : per;
+        for (size_t G = 0; G < a->n && G < b->n; G++) {
+            int differ = 0;
+            if (!aa[i].data) differ = a->counts[G] != b->counts[G];
+            else differ = memcmp(aa[i].data + G * (size_t)stride + (size_t)off, ba[i].data + G * (size_t)stride + (size_t)off, (size_t)per * sizeof(float)) != 0;
+            if (differ) {
+                if (o->first < 0) {
+                    o->first = (long)G;
+                    for (int k = 0; k < per && k < 4; k++) {
+                        o->va[k] = aa[i].data ? aa[i].data[G * (size_t)stride + (size_t)off + (size_t)k] : (float)a->counts[G];
+                        o->vb[k] = ba[i].data ? ba[i].data[G * (size_t)stride + (size_t)off + (size_t)k] : (float)b->counts[G];
+                    }
+                }
+                o->differing++;
+            }
+        }
+        o->gaussians = a->n;
+    }
+    return m;
 }

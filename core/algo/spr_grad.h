@@ -13,7 +13,7 @@
 typedef enum spr_loss { SPR_LOSS_GIVEN = 0, SPR_LOSS_L1, SPR_LOSS_L2 } spr_loss;
 
 /* The upstream gradient.  loss GIVEN: dl_dimage, W·H·3 floats ∂L/∂C (row 0 the bottom, as images in memory); L1, L2:
- * the mean over pixels and channels of |C − target| or (C − target)², target W·H·3 (row 0 the bottom): ∂L/∂C =
+ * the mean over pixels and channels of |C − target| or (C − target)², target W·H·3 (row 0 the bottom; NULL: black): ∂L/∂C =
  * sign(C − target)/(3WH) or 2(C − target)/(3WH), in double, rounded once.  dl_dalpha, dl_ddepth: W·H (or NULL):
  * ∂L/∂A for the alpha 1 − T_f and ∂L/∂D for the inverse depth.  batch: list entries a backend holds at once (0: its
  * own). */
@@ -50,5 +50,49 @@ void spr_gauss_grads_free(spr_gauss_grads *g);
  * its array in g (NULL for counts, which are int32: g->counts). */
 typedef struct spr_grad_array { const char *name; int per; float *data; } spr_grad_array;
 int spr_gauss_grads_arrays(const spr_gauss_grads *g, spr_grad_array *a, int cap);
+
+/* explain --gaussian G --grad: every pixel that gave Gaussian G a gradient, in the order the backward sums them
+ * (tiles in tile order; in a tile its pixels row-major from the top row), with the chain-rule terms of its step:
+ * α, T (the forward's), T_f, the colour and 1/t.z behind (acc, inria's recurrence), ∂L/∂α, ∂L/∂o and ∂L/∂power
+ * (gated: the profile's cap gate zeroed both), and the terms the pixel added to G's list entry (SPR_GPART_*). */
+typedef struct spr_grad_term {
+    int x, y, tile;       /* y from the bottom */
+    int rank, blended;    /* G's place among the pixel's blended Gaussians (0: the front), how many it blended */
+    float power, alpha, T, Tf, acc[4], dl_dalpha, dl_do, dl_dpower;
+    int gated;
+    float part[SPR_GPART_FLOATS];
+} spr_grad_term;
+/* A tile of G's: its list entry, its pixels terms[first … first + count), their partial (summed in that order). */
+typedef struct spr_grad_tile {
+    int tile;
+    uint32_t entry;
+    size_t first, count;
+    float part[SPR_GPART_FLOATS];
+} spr_grad_tile;
+typedef struct spr_grad_explain {
+    size_t G;
+    int width, height;
+    spr_grad_term *terms;
+    size_t n_terms;
+    spr_grad_tile *tiles;
+    size_t n_tiles;
+    float sum[SPR_GPART_FLOATS]; /* the tiles' partials summed in tile order: G's means2d, conics, colors, opacities, absgrad, counts */
+    int consistent;               /* every pixel's recomputed ∂L/∂o equals the term the shared arithmetic added (a self-check) */
+} spr_grad_explain;
+/* G's terms and sums, from the same frame and arithmetic as spr_gauss_grad (the CPU backend: b must be swrast's,
+ * whose backward adds in this order; the float environment is the backend's, flush-to-zero). */
+spr_result spr_gauss_grad_explain(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
+                                  const spr_grad_desc *gd, size_t G, spr_grad_explain *out, spr_error *err);
+void spr_grad_explain_free(spr_grad_explain *x);
+
+/* Two backends' gradients of one frame compared bit for bit, array by array (parity): per array the Gaussians whose
+ * values differ in any bit, the first of them and its first values on each side.  Returns the arrays compared. */
+typedef struct spr_grad_diff {
+    const char *name;
+    size_t gaussians, differing;
+    long first;
+    float va[4], vb[4];
+} spr_grad_diff;
+int spr_gauss_grad_compare(const spr_gauss_grads *a, const spr_gauss_grads *b, spr_grad_diff *d, int cap);
 
 #endif
