@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "spr_image.h"
 #include "spr_io.h"
+#include "spr_npy.h"
 #include <cjson/cJSON.h>
 #include "test_util.h"
 
@@ -735,6 +736,162 @@ START_TEST(gauss_profile_options)
 }
 END_TEST
 
+/* ---- gradients (issue 43 item 3): check --grads and explain --gaussian G --grad ---- */
+
+/* The scene of the gradient tests: 256 Gaussians of a sheet at 48x40, gauss3d, and an upstream gradient
+ * dL/dimage (float32 [40, 48, 3], a fixed pattern of both signs) in up.npy. */
+#define GRAD_SCENE "--algo", "gauss3d", "--size", "48x40", "--dl-dimage", (char *)path_in("up.npy")
+static const char *grad_model(void)
+{
+    static char model[600];
+    snprintf(model, sizeof model, "%s/tests/data/captures/splat-transform/2.7.1/sheet.ply", SPR_SOURCE_DIR);
+    return model;
+}
+
+static void grad_upstream(void)
+{
+    static float g[40 * 48 * 3];
+    for (size_t i = 0; i < sizeof g / sizeof g[0]; i++) g[i] = (float)(((i * 2654435761u) >> 7) % 2001) / 1000.0f - 1.0f;
+    spr_npy a = {.ndim = 3, .shape = {40, 48, 3}, .type = SPR_NPY_F4, .data = g};
+    spr_error e = {0};
+    ck_assert_msg(spr_npy_write(path_in("up.npy"), &a, &e) == SPR_OK, "%s", e.msg);
+}
+
+/* `splatref grad` of the scene into name. */
+static void grad_npz(const char *name)
+{
+    char err[4096];
+    const char *args[] = {"grad", "--model", grad_model(), GRAD_SCENE, NULL};
+    const int rc = run_args(args, path_in(name), err, sizeof err);
+    ck_assert_msg(rc == 0, "grad: exit %d: %s", rc, err);
+}
+
+/* The end of a long output, for a failure's message (Check's messages are short). */
+static const char *tail(const char *s)
+{
+    const size_t n = strlen(s);
+    return n > 1500 ? s + n - 1500 : s;
+}
+
+static spr_npy *npz_member(spr_npy *a, int n, const char *name)
+{
+    for (int k = 0; k < n; k++)
+        if (!strcmp(a[k].name, name)) return &a[k];
+    ck_abort_msg("no member %s", name);
+    return NULL;
+}
+
+/* check --grads THEIRS (extra: one more option and its value, or NULL) with stdout and stderr into out. */
+static int check_grads(const char *theirs, const char *extra, const char *value, char *out, size_t cap)
+{
+    char *argv[24] = {"splatref", "check", "--model", (char *)grad_model(), "--algo", "gauss3d", "--size", "48x40", "--dl-dimage", (char *)path_in("up.npy"),
+                      "--grads", (char *)theirs, "--quiet", NULL};
+    int n = 13;
+    if (extra) argv[n++] = (char *)extra, argv[n++] = (char *)value;
+    argv[n] = NULL;
+    return tu_run(NULL, NULL, 1, argv, out, cap);
+}
+
+/* (a) the reference's own .npz passes; (b) one value of one Gaussian changed fails, naming it, in the text and the
+ * JUnit report; (c) a missing array, a wrong shape, an integer array are refused in one line (exit 2). */
+START_TEST(check_grads_verdicts)
+{
+    static char out[1 << 16];
+    grad_upstream();
+    grad_npz("g.npz");
+    int rc = check_grads(path_in("g.npz"), "--junit", path_in("ok.xml"), out, sizeof out);
+    ck_assert_msg(rc == 0 && strstr(out, "verdict: PASS (11 arrays"), "own gradients: exit %d: %s", rc, tail(out));
+    ck_assert_msg(strstr(out, "check: means: 256 Gaussians, 0 fail, max |diff| 0") && strstr(out, "check: counts: 256 Gaussians, 0 fail"), "%s", tail(out));
+    spr_npy *a = NULL;
+    int n = 0;
+    spr_error e = {0};
+    ck_assert_msg(spr_npz_read(path_in("g.npz"), &a, &n, &e) == SPR_OK, "%s", e.msg);
+    ck_assert_int_eq(n, 11);
+    /* (b) opacities of Gaussian 37, 1% off (far beyond rtol 2^-10 of the value itself) */
+    spr_npy *op = npz_member(a, n, "opacities");
+    float *o = op->data;
+    const float keep = o[37];
+    ck_assert_msg(keep != 0.0f, "Gaussian 37 has no opacity gradient to change");
+    o[37] = keep * 1.01f;
+    ck_assert_msg(spr_npz_write(path_in("m.npz"), a, n, &e) == SPR_OK, "%s", e.msg);
+    o[37] = keep;
+    rc = check_grads(path_in("m.npz"), "--junit", path_in("bad.xml"), out, sizeof out);
+    ck_assert_msg(rc == 1 && strstr(out, "check: opacities: 256 Gaussians, 1 fail") && strstr(out, "worst Gaussian 37 ") &&
+                      strstr(out, "check:   opacities Gaussian 37: ref ") && strstr(out, "verdict: FAIL (opacities;"),
+                  "one changed value: exit %d: %s", rc, tail(out));
+    ck_assert_msg(strstr(out, "check: colors: 256 Gaussians, 0 fail"), "%s", tail(out));
+    size_t len = 0;
+    char *xml = NULL;
+    ck_assert_int_eq(spr__read_file(path_in("bad.xml"), &xml, &len, &e), SPR_OK);
+    ck_assert_msg(strstr(xml, "tests=\"11\" failures=\"1\"") && strstr(xml, "name=\"opacities\""), "%s", xml);
+    free(xml);
+    /* and the same file passes with a tolerance wide enough (the option is printed in the verdict) */
+    rc = check_grads(path_in("m.npz"), "--rtol", "0.05", out, sizeof out);
+    ck_assert_msg(rc == 0 && strstr(out, "verdict: PASS (11 arrays; rtol 0.05,"), "--rtol 0.05: exit %d: %s", rc, tail(out));
+    /* (c) refused in one line: a missing array, a wrong shape, an integer array where float is expected */
+    spr_npy *m = npz_member(a, n, "means"), *c = npz_member(a, n, "colors");
+    spr_npy fewer[11];
+    int k = 0;
+    for (int i = 0; i < n; i++)
+        if (strcmp(a[i].name, "conics")) fewer[k++] = a[i];
+    ck_assert_int_eq(spr_npz_write(path_in("missing.npz"), fewer, k, &e), SPR_OK);
+    rc = check_grads(path_in("missing.npz"), NULL, NULL, out, sizeof out);
+    ck_assert_msg(rc == 2 && one_line(out) && strstr(out, "has no array 'conics' (expected [256, 3];"), "missing: exit %d: %s", rc, tail(out));
+    m->ndim = 1, m->shape[0] = 768;
+    ck_assert_int_eq(spr_npz_write(path_in("shape.npz"), a, n, &e), SPR_OK);
+    m->ndim = 2, m->shape[0] = 256;
+    rc = check_grads(path_in("shape.npz"), NULL, NULL, out, sizeof out);
+    ck_assert_msg(rc == 2 && one_line(out) && strstr(out, "means has shape [768]; expected [256, 3]"), "shape: exit %d: %s", rc, tail(out));
+    c->type = SPR_NPY_I4;
+    ck_assert_int_eq(spr_npz_write(path_in("int.npz"), a, n, &e), SPR_OK);
+    rc = check_grads(path_in("int.npz"), NULL, NULL, out, sizeof out);
+    ck_assert_msg(rc == 2 && one_line(out) && strstr(out, "colors is an integer array of shape [256, 3]; expected float"), "int: exit %d: %s", rc, tail(out));
+    spr_npz_free(a, n);
+}
+END_TEST
+
+/* explain --gaussian G --grad: G's pixels with their terms, in the backward's order, and sums that are splatref
+ * grad's values to the bit (read from both: the printed %.9g sums and the .npz). */
+START_TEST(explain_grad_sums_to_the_bit)
+{
+    static char out[1 << 20];
+    grad_upstream();
+    grad_npz("g.npz");
+    spr_npy *a = NULL;
+    int n = 0;
+    spr_error e = {0};
+    ck_assert_msg(spr_npz_read(path_in("g.npz"), &a, &n, &e) == SPR_OK, "%s", e.msg);
+    const size_t G = 58; /* 54 pixels in 4 tiles of this scene */
+    char *argv[] = {"splatref", "explain", "--model", (char *)grad_model(), GRAD_SCENE, "--gaussian", "58", "--grad", "--quiet", NULL};
+    const int rc = tu_run(NULL, NULL, 1, argv, out, sizeof out);
+    int tiles = 0, pixels = 0;
+    for (const char *p = out; (p = strstr(p, "\ntile ")); p++) tiles++;
+    for (const char *p = out; (p = strstr(p, "\n  pixel x ")); p++) pixels++;
+    ck_assert_msg(tiles >= 2 && pixels >= 2, "%d tiles, %d pixels: %s", tiles, pixels, tail(out));
+    const int32_t *counts = npz_member(a, n, "counts")->data;
+    ck_assert_int_eq(pixels, counts[G]);
+    static const struct { const char *name; int per; } arr[] = {{"colors", 3}, {"opacities", 1}, {"conics", 3}, {"means2d", 2}, {"absgrad", 2}};
+    for (int i = 0; i < 5; i++) {
+        char key[64];
+        snprintf(key, sizeof key, "\nsum %s = ", arr[i].name);
+        const char *p = strstr(out, key);
+        ck_assert_msg(p, "no line %s", key + 1);
+        p += strlen(key);
+        const float *want = (const float *)npz_member(a, n, arr[i].name)->data + G * (size_t)arr[i].per;
+        for (int k = 0; k < arr[i].per; k++) {
+            char *end;
+            const float v = strtof(p, &end);
+            ck_assert_msg(end != p, "%s: no number at %.40s", arr[i].name, p);
+            ck_assert_msg(!memcmp(&v, &want[k], sizeof v), "%s[%zu][%d]: explain sums to %.9g, splatref grad has %.9g", arr[i].name, G, k, v, want[k]);
+            p = end + (*end == ',');
+        }
+    }
+    /* and explain's own comparison says so (after the independent one above) */
+    ck_assert_msg(rc == 0 && strstr(out, "explain: sums back to the array's value: yes (bit-identical)"), "exit %d: %s", rc, tail(out));
+    spr_npz_free(a, n);
+}
+END_TEST
+
 Suite *make_cli_suite(void)
 {
     Suite *s = suite_create("cli");
@@ -755,6 +912,8 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, no_partial_dump_directory);
     tcase_add_test(tc, stream_equals_whole_cloud);
     tcase_add_test(tc, gauss_profile_options);
+    tcase_add_test(tc, check_grads_verdicts);
+    tcase_add_test(tc, explain_grad_sums_to_the_bit);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -3,6 +3,7 @@
  * PARITY.md's tiers (spr_check.h): a one-screen verdict, report.json, a
  * heat map and a side-by-side picture, exit 0 (pass) or 1 (fail). */
 #include "cli.h"
+#include "cli_grad.h"
 #include "spr__scene_opts.h"
 #include "spr__inspect.h"
 #include "spr_check.h"
@@ -38,6 +39,8 @@ static const spr__opt check_opts[] = {
     {"views", "FIRST..LAST", "--camera all: only the entries FIRST to LAST of the file (0-based, LAST may be left out: to the end); by position "
                              "the image of entry FIRST is 00000.png (a model trained with --eval: cameras.json lists its T test views first, "
                              "render.py numbers test/ and train/ from 00000 each: --views 0..T-1 and --views T..)"},
+    CLI_CHECK_GRADS_OPTS,
+    CLI_GRAD_OPTS,
     SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
@@ -438,16 +441,22 @@ done:
 int cmd_check(int argc, char **argv)
 {
     spr__args a;
-    int pr = spr__parse(&a, "check", check_opts, "--scene S.json | [scene options]  --image THEIRS.png|.pfm [--plane P] [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1]", 0, argc, argv);
+    int pr = spr__parse(&a, "check", check_opts, "--scene S.json | [scene options]  --image THEIRS.png|.pfm [--plane P] [--tier A|B|C] [--ulp N] [--lsb N] [--position-tolerance 1]  |  --grads THEIRS.npz --dl-dimage G.npy|--loss l1|l2 --target IMG [--rtol R] [--atol A]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     const char *image = spr__get(&a, "image"), *pname = spr__get(&a, "plane"), *out = spr__get(&a, "out"), *junit = spr__get(&a, "junit");
     const char *images = spr__get(&a, "images"), *camera = spr__get(&a, "camera");
     const int all = camera && !strcmp(camera, "all");
+    const char *grads = spr__get(&a, "grads");
+    if (grads && (image || images)) { spr__error(&a, "--grads checks gradients, --image%s an image: give one", images ? "s" : ""); return 2; }
+    if (grads) {
+        a.camera_all = all;
+        return cli_check_grads(&a, grads, out, junit);
+    }
     if (image && images) { spr__error(&a, "--image and --images both name what to check: give one"); return 2; }
     if (all && !images) { spr__error(&a, "--camera all checks every view: give --images DIR (their images)"); return 2; }
     if (images && !all) { spr__error(&a, "--images DIR goes with --cameras F.json --camera all (every view)"); return 2; }
     if (spr__get(&a, "views") && !all) { spr__error(&a, "--views goes with --cameras F.json --camera all --images DIR"); return 2; }
-    if (!image && !images) { spr__error(&a, "--image is required (the picture your renderer made of the scene)"); return 2; }
+    if (!image && !images) { spr__error(&a, "--image is required (the picture your renderer made of the scene), or --grads THEIRS.npz (its gradients)"); return 2; }
     if (!out) out = "check-report";
     int pass = -1;
     if (spr__get_int(&a, "pass", &pass, 0, 100000) < 0) return 2;

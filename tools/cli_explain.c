@@ -7,6 +7,8 @@
 #include "spr__inspect.h"
 #include "spr_history.h"
 #include "spr_profile_diff.h"
+#include "cli_grad.h"
+#include "spr_grad.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -18,6 +20,9 @@ static const spr__opt explain_opts[] = {
     {"backend", "WHICH", "both (default: the CPU reference and GL side by side) | cpu | gl"},
     {"gl-device", "N", "GL backend: the N-th EGL device instead of the surfaceless platform"},
     {"json", NULL, "print the history as JSON (for tools)"},
+    {"grad", NULL, "gauss3d's backward (SPEC 10.10) for one Gaussian (--gaussian G) with the upstream gradient's options (as splatref grad): every pixel that gave it a gradient, in the order the backward sums them, with its chain-rule terms, each tile's partial and the sums, which must equal splatref grad's arrays to the bit (CPU reference)"},
+    {"gaussian", "G", "--grad: the Gaussian (its index in the model, from 0)"},
+    CLI_GRAD_OPTS,
     {"vs", "PROFILE", "Gaussian algorithms: compare the scene's --gauss-profile (or the default) with PROFILE at the pixel, Gaussian by Gaussian, naming the rule of SPEC 10.9 behind each difference (CPU reference)"},
     SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
@@ -218,11 +223,120 @@ static int explain_vs(spr__args *a, spr_scene *s, const spr_render_desc *rd, con
     return 0;
 }
 
+/* ---- explain --gaussian G --grad ---- */
+static void print_vals(const char *name, const float *v, int n)
+{
+    printf(" %s ", name);
+    if (n > 1) printf("(");
+    for (int k = 0; k < n; k++) printf("%s%.9g", k ? ", " : "", v[k]);
+    if (n > 1) printf(")");
+}
+
+static void print_terms(const char *indent, const float *p)
+{
+    printf("%s", indent);
+    print_vals("colors", p + SPR_GPART_COLOR, 3);
+    print_vals("opacities", p + SPR_GPART_OPACITY, 1);
+    print_vals("conics", p + SPR_GPART_CONIC, 3);
+    print_vals("means2d", p + SPR_GPART_M, 2);
+    print_vals("absgrad", p + SPR_GPART_ABS, 2);
+    printf("\n");
+}
+
+static int explain_grad(spr__args *a)
+{
+    size_t G = 0;
+    const char *bname = spr__get(a, "backend");
+    if (!spr__get(a, "gaussian")) { spr__error(a, "--grad explains one Gaussian's gradient: give --gaussian G"); return 2; }
+    if (spr__get_size(a, "gaussian", &G, 0, (size_t)1 << 40) < 0) return 2;
+    if (bname && strcmp(bname, "cpu")) { spr__error(a, "--grad retraces the CPU reference's backward: --backend %s is not available (leave it out)", bname); return 2; }
+    spr_scene s;
+    spr_render_desc rd;
+    spr_grad_desc gd;
+    cli_grad_inputs in = {0};
+    spr_gauss_grads g = {0};
+    spr_grad_explain x = {0};
+    spr_backend *b = NULL;
+    spr_error err = {0};
+    int rc = 2;
+    memset(&s, 0, sizeof s);
+    cli_grad_claim(a);
+    if (spr__scene_setup(a, &s, &rd, 0) || cli_grad_upstream(a, s.view.width, s.view.height, &gd, &in)) goto done;
+    if (G >= s.cloud.n) { spr__error(a, "--gaussian %zu: %s has %zu Gaussians (0 … %zu)", G, s.model, s.cloud.n, s.cloud.n ? s.cloud.n - 1 : 0); goto done; }
+    if (!(b = spr__backend(a, "cpu", s.threads, NULL))) goto done;
+    if (spr_gauss_grad(b, &s.view, &s.cloud, &rd, &gd, &g, &err) || spr_gauss_grad_explain(b, &s.view, &s.cloud, &rd, &gd, G, &x, &err)) {
+        fprintf(stderr, "splatref explain: %s\n", err.msg);
+        goto done;
+    }
+    const int W = s.view.width, H = s.view.height;
+    const spr_gauss_profile *pf = spr_gauss_profile_of(rd.algo, rd.gauss_profile);
+    printf("explain --gaussian %zu --grad: %s, %zu Gaussians, gauss3d under %s, %dx%d, cpu backend: %zu pixels in %zu tiles gave Gaussian %zu a gradient\n",
+           G, s.model, s.cloud.n, pf->name, W, H, x.n_terms, x.n_tiles, G);
+    printf("explain: the backward's order (SPEC 10.10 item 4): tiles in tile order; in a tile its pixels row-major from the top row.  A tile's "
+           "partial is its pixels' terms added in that order, in float; the array's value is the tiles' partials added in tile order\n");
+    printf("explain: per pixel: power, alpha and T (the forward's, before the Gaussian), acc (the colour behind per unit of the T after it: r, g, b), "
+           "dL/dalpha = T*<c - acc, dL/dC> - T_f/(1 - alpha)*(<bg, dL/dC> - dL/dA), dL/do = e^power*dL/dalpha, dL/dpower = o*e^power*dL/dalpha "
+           "(both 0 where the profile's cap gate holds), then the terms it adds\n");
+    for (size_t k = 0; k < x.n_tiles; k++) {
+        const spr_grad_tile *t = &x.tiles[k];
+        const int gx = (W + 15) / 16, i0 = (t->tile % gx) * 16, j0 = (t->tile / gx) * 16;
+        printf("tile %d (list entry %u; x %d..%d, rows %d..%d from the top): %zu pixel%s\n", t->tile, t->entry, i0, i0 + 15 < W ? i0 + 15 : W - 1, j0,
+               j0 + 15 < H ? j0 + 15 : H - 1, t->count, t->count == 1 ? "" : "s");
+        for (size_t p = t->first; p < t->first + t->count; p++) {
+            const spr_grad_term *m = &x.terms[p];
+            printf("  pixel x %d, y %d (row %d from the top), blended %d of %d: power %.9g alpha %.9g T %.9g acc (%.9g, %.9g, %.9g) dL/dalpha %.9g "
+                   "dL/do %.9g%s dL/dpower %.9g\n",
+                   m->x, m->y, H - 1 - m->y, m->rank + 1, m->blended, m->power, m->alpha, m->T, m->acc[0], m->acc[1], m->acc[2], m->dl_dalpha, m->dl_do,
+                   m->gated ? " (zeroed: the cap gate)" : "", m->dl_dpower);
+            print_terms("    terms:", m->part);
+        }
+        printf("  partial of tile %d:", t->tile);
+        print_terms("", t->part);
+    }
+    static const struct { const char *name; int off, n; } arr[] = {
+        {"colors", SPR_GPART_COLOR, 3}, {"opacities", SPR_GPART_OPACITY, 1}, {"conics", SPR_GPART_CONIC, 3}, {"means2d", SPR_GPART_M, 2}, {"absgrad", SPR_GPART_ABS, 2}};
+    const float *have[] = {g.colors + 3 * G, g.opacities + G, g.conics + 3 * G, g.means2d + 2 * G, g.absgrad + 2 * G};
+    int same = 1;
+    for (int i = 0; i < 5; i++) {
+        const float *v = x.sum + arr[i].off;
+        const int eq = !memcmp(v, have[i], (size_t)arr[i].n * sizeof *v);
+        same &= eq;
+        printf("sum %s =", arr[i].name);
+        for (int k = 0; k < arr[i].n; k++) printf("%s %.9g", k ? "," : "", v[k]);
+        printf("; array %s[%zu] =", arr[i].name, G);
+        for (int k = 0; k < arr[i].n; k++) printf("%s %.9g", k ? "," : "", have[i][k]);
+        if (eq) printf("; bit-identical\n");
+        else {
+            printf("; DIFFERS by");
+            for (int k = 0; k < arr[i].n; k++) printf("%s %.9g", k ? "," : "", (double)have[i][k] - (double)v[k]);
+            printf("\n");
+        }
+    }
+    const int ceq = (double)x.sum[SPR_GPART_COUNT] == (double)g.counts[G];
+    same &= ceq;
+    printf("sum counts = %.9g; array counts[%zu] = %d; %s\n", x.sum[SPR_GPART_COUNT], G, (int)g.counts[G], ceq ? "equal" : "DIFFER");
+    printf("explain: the chain from these sums (SPEC 10.3 backwards, and the SH's) gives means (%.9g, %.9g, %.9g), quats (%.9g, %.9g, %.9g, %.9g), "
+           "scales (%.9g, %.9g, %.9g)\n", g.means[3 * G], g.means[3 * G + 1], g.means[3 * G + 2], g.quats[4 * G], g.quats[4 * G + 1], g.quats[4 * G + 2],
+           g.quats[4 * G + 3], g.scales[3 * G], g.scales[3 * G + 1], g.scales[3 * G + 2]);
+    if (!x.consistent) printf("explain: WARNING: a pixel's recomputed dL/do differs from the term the shared arithmetic added (the printed intermediates do not retrace it)\n");
+    if (same) printf("explain: sums back to the array's value: yes (bit-identical)\n");
+    else printf("explain: sums back to the array's value: NO (the differences above)\n");
+    rc = same && x.consistent ? 0 : 1;
+done:
+    spr_grad_explain_free(&x);
+    spr_gauss_grads_free(&g);
+    cli_grad_inputs_free(&in);
+    if (b) spr_backend_destroy(b);
+    spr_scene_free(&s);
+    return rc;
+}
+
 int cmd_explain(int argc, char **argv)
 {
     spr__args a;
-    int pr = spr__parse(&a, "explain", explain_opts, "--pixel X,Y [--backend both|cpu|gl] [--json] [scene options | --scene S.json]", 0, argc, argv);
+    int pr = spr__parse(&a, "explain", explain_opts, "--pixel X,Y [--backend both|cpu|gl] [--json] [scene options | --scene S.json]  |  --gaussian G --grad --dl-dimage G.npy|--loss l1|l2 --target IMG [scene options]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
+    if (spr__flag(&a, "grad")) return explain_grad(&a);
     const char *pix = spr__get(&a, "pixel"), *which = spr__get(&a, "backend");
     const int json = spr__flag(&a, "json");
     int x, y;

@@ -390,13 +390,13 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                 for (int q = 0; q < SPR_GPART_FLOATS; q++) {
                     const float v = part[q] + tm->part[q];
                     part[q] = v;
-                    out->sum[q] = out->sum[q] + tm->part[q]; /* BROKEN: one level */
                 }
             }
         tl->count = out->n_terms - tl->first;
         memcpy(tl->part, part, sizeof part);
         for (int q = 0; q < SPR_GPART_FLOATS; q++) {
-            (void)0;
+            const float v = out->sum[q] + part[q];
+            out->sum[q] = v;
         }
     }
     ftz_leave(fp);
