@@ -337,6 +337,7 @@ int cmd_explain(int argc, char **argv)
     int pr = spr__parse(&a, "explain", explain_opts, "--pixel X,Y [--backend both|cpu|gl] [--json] [scene options | --scene S.json]  |  --gaussian G --grad --dl-dimage G.npy|--loss l1|l2 --target IMG [scene options]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     if (spr__flag(&a, "grad")) return explain_grad(&a);
+    if (spr__get(&a, "gaussian")) { spr__error(&a, "--gaussian G goes with --grad (its gradient, pixel by pixel)"); return 2; }
     const char *pix = spr__get(&a, "pixel"), *which = spr__get(&a, "backend");
     const int json = spr__flag(&a, "json");
     int x, y;
