@@ -261,9 +261,9 @@ spr_result gl__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc 
 }
 
 /* gauss3d's backward (SPEC 10.10; sw__gauss_backward is the same on the CPU): the tiles in batches whose list
- * entries' partials fit one buffer texture and spr_gauss_bwd_desc.batch; per batch the partials zeroed, 256 draws of
- * one fragment per tile, draw p running each tile's pixel p (gl_gauss_bwd_tile.frag: a tile's pixels in the CPU's
- * order), then one fragment per Gaussian adds its entries' partials of
+ * entries' partials fit one buffer texture and spr_gauss_bwd_desc.batch; per batch the partials zeroed, draws of one
+ * fragment per tile, each running a run of each tile's pixels (gl_gauss_bwd_tile.frag: a tile's pixels in the CPU's
+ * order; runs of 16 down to 1 by the batch's longest list, within llvmpipe's loop budget), then one fragment per Gaussian adds its entries' partials of
  * the batch to its sums in entry order (gl_gauss_bwd_gauss.frag, stage 0); after the last batch the chain, one
  * fragment per Gaussian in the preprocessing's batches, each batch's values read back right after its draw (the zink
  * finding of gl__gauss_preprocess).  Partials and sums are images of four floats a texel, SPR_GPART_FLOATS (16) a
@@ -310,7 +310,6 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
     glUseProgram(pt);
     glUniform1fv(glGetUniformLocation(pt, "u_g"), SPR_GPRM_COUNT, d->prm);
     glUniform1fv(glGetUniformLocation(pt, "u_bg"), 3, d->background);
-    glUniform1i(glGetUniformLocation(pt, "u_width"), (GLint)width);
     glUniform1i(glGetUniformLocation(pt, "u_gup_width"), W);
     glUseProgram(pg);
     glUniform1fv(glGetUniformLocation(pg, "u_g"), SPR_GPRM_COUNT, d->prm);
@@ -329,9 +328,22 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
         glUniform1i(glGetUniformLocation(pt, "u_t0"), t0);
         glUniform1i(glGetUniformLocation(pt, "u_t1"), t1);
         glUniform1i(glGetUniformLocation(pt, "u_gpart_base"), (GLint)base);
-        for (int pix = 0; pix < 256; pix++) { /* a tile's pixels in row-major order from the top row, one draw each */
+        /* a tile's pixels in row-major order from the top row, runs of npix a draw: within llvmpipe's loop budget at
+         * about 12 iterations a list entry a pixel (two walks, the exponential's loop) and 64 more */
+        uint32_t L = 1;
+        for (int t = t0; t < t1; t++)
+            if (d->range[t + 1] - d->range[t] > L) L = d->range[t + 1] - d->range[t];
+        int npix = 16;
+        while (npix > 1 && (double)npix * (12.0 * L + 64.0) > 60000.0) npix /= 2;
+        glUniform1i(glGetUniformLocation(pt, "u_npix"), npix);
+        /* the batch's tiles as a near-square block of fragments: llvmpipe shades 4×4 blocks, so one row of fragments
+         * would leave three quarters of its lanes idle */
+        size_t tw = 4;
+        while (tw * tw < m && tw < width) tw += 4;
+        glUniform1i(glGetUniformLocation(pt, "u_width"), (GLint)tw);
+        for (int pix = 0; pix < 256; pix += npix) {
             glUniform1i(glGetUniformLocation(pt, "u_pix"), pix);
-            draw_bare(c, (int)(m < width ? m : width), (int)((m + width - 1) / width));
+            draw_bare(c, (int)(m < tw ? m : tw), (int)((m + tw - 1) / tw));
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         }
         glUseProgram(pg);

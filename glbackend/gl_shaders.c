@@ -248,8 +248,8 @@ spr_result gl__gauss_program(gl_context *c, int which, spr_error *err)
 {
     if (c->gprog[which]) return SPR_OK;
     static const char *const names[GL_GPROG__COUNT] = {"gauss preprocess", "gauss raster", "gauss blend", "gauss backward tiles", "gauss backward Gaussians"};
-    static const char *const need[GL_GPROG__COUNT][9] = {{"u_g", "u_n", "u_base", "u_width", NULL}, {"u_g", "u_bg", "u_layer", "u_has", NULL},
-                                                          {"u_g", "u_size", NULL}, {"u_g", "u_bg", "u_t0", "u_t1", "u_width", "u_pix", "u_gpart_base", NULL},
+    static const char *const need[GL_GPROG__COUNT][10] = {{"u_g", "u_n", "u_base", "u_width", NULL}, {"u_g", "u_bg", "u_layer", "u_has", NULL},
+                                                          {"u_g", "u_size", NULL}, {"u_g", "u_bg", "u_t0", "u_t1", "u_width", "u_pix", "u_npix", "u_gpart_base", NULL},
                                                           {"u_g", "u_n", "u_base", "u_width", "u_stage", "u_ebase", "u_eend", NULL}};
     /* fragment programs all: llvmpipe flushes denormals in fragments, not in compute invocations (PARITY.md rule 6) */
     GLuint p = which == GL_GPROG_PRE        ? link(spr__src_full_vert, spr__src_gauss_pre_frag, -1, 0, names[which], err)
