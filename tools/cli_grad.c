@@ -58,7 +58,7 @@ static int read_plane_file(spr__args *a, const char *opt, const char *path, int 
 
 void cli_grad_claim(spr__args *a)
 {
-    static const char *const names[] = {"loss", "target", "dl-dimage", "dl-dalpha", "dl-ddepth", "grad-batch"};
+    static const char *const names[] = {"loss", "loss-target", "dl-dimage", "dl-dalpha", "dl-ddepth", "grad-batch"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) spr__get(a, names[i]);
 }
 
@@ -66,18 +66,18 @@ int cli_grad_upstream(spr__args *a, int W, int H, spr_grad_desc *gd, cli_grad_in
 {
     memset(gd, 0, sizeof *gd);
     memset(in, 0, sizeof *in);
-    const char *loss = spr__get(a, "loss"), *target = spr__get(a, "target"), *dl = spr__get(a, "dl-dimage");
+    const char *loss = spr__get(a, "loss"), *target = spr__get(a, "loss-target"), *dl = spr__get(a, "dl-dimage");
     const char *da = spr__get(a, "dl-dalpha"), *dd = spr__get(a, "dl-ddepth");
     if (loss && dl) { spr__error(a, "--loss and --dl-dimage both give the upstream gradient: give one"); return -1; }
-    if (!loss && !dl) { spr__error(a, "give the upstream gradient: --loss l1|l2 --target IMG, or --dl-dimage G.npy|G.pfm"); return -1; }
+    if (!loss && !dl) { spr__error(a, "give the upstream gradient: --loss l1|l2 [--loss-target IMG], or --dl-dimage G.npy|G.pfm"); return -1; }
     if (loss) {
         if (!strcmp(loss, "l1")) gd->loss = SPR_LOSS_L1;
         else if (!strcmp(loss, "l2")) gd->loss = SPR_LOSS_L2;
         else { spr__error(a, "--loss: '%s' is not l1 or l2", loss); return -1; }
-        if (target && read_plane_file(a, "target", target, W, H, 3, &in->target)) return -1; /* none: a black target */
+        if (target && read_plane_file(a, "loss-target", target, W, H, 3, &in->target)) return -1; /* none: a black target */
         gd->target = in->target;
     } else {
-        if (target) { spr__error(a, "--target goes with --loss"); return -1; }
+        if (target) { spr__error(a, "--loss-target goes with --loss"); return -1; }
         if (read_plane_file(a, "dl-dimage", dl, W, H, 3, &in->dl)) return -1;
         gd->dl_dimage = in->dl;
     }
@@ -135,7 +135,7 @@ static const spr__opt grad_opts[] = {
 int cmd_grad(int argc, char **argv)
 {
     spr__args a;
-    int pr = spr__parse(&a, "grad", grad_opts, "--scene S.json | [scene options]  --loss l1|l2 --target IMG | --dl-dimage G.npy|G.pfm  [--out grads.npz]", 0, argc, argv);
+    int pr = spr__parse(&a, "grad", grad_opts, "--scene S.json | [scene options]  --loss l1|l2 [--loss-target IMG] | --dl-dimage G.npy|G.pfm  [--out grads.npz]", 0, argc, argv);
     if (pr) return pr == 1 ? 0 : 2;
     const char *out = spr__get(&a, "out") ? spr__get(&a, "out") : "grads.npz", *bname = spr__get(&a, "backend") ? spr__get(&a, "backend") : "cpu";
     spr_gl_desc gld;

@@ -9,7 +9,7 @@
 
 #define CLI_GRAD_OPTS \
     {"loss", "l1|l2", "the loss whose gradient to take: the mean over pixels and channels of |C - target| or (C - target)^2, as trainers compute it; with --target"}, \
-    {"target", "IMG", "--loss: the target image (PNG or PFM, the scene's size; default black)"}, \
+    {"loss-target", "IMG", "--loss: the target image (PNG or PFM, the scene's size; default black)"}, \
     {"dl-dimage", "G.npy|G.pfm", "the upstream gradient dL/dimage instead of a loss: float32 [H, W, 3] .npy with row 0 the top row, as trainers hold images, or a PFM"}, \
     {"dl-dalpha", "A.npy|A.pfm", "also dL/dalpha for the alpha 1 - T (float32 [H, W])"}, \
     {"dl-ddepth", "D.npy|D.pfm", "also dL/d(inverse depth) (float32 [H, W])"}, \
