@@ -8,6 +8,7 @@
 #include "test_util.h"
 #include "spr_arith_c.h"
 #include "spr_glbackend.h"
+#include "spr_grad.h"
 #include "spr_history.h"
 #include "spr_parity.h"
 #include "spr_profile_diff.h"
@@ -618,6 +619,53 @@ static const spr__pdiff_row *pdiff_row(const spr__pdiff *d, uint32_t id)
  * Gaussian 1 at t.z = 4, σ 1, opacity 1 on the axis: by hand, σ on screen is f·σ/t.z = 40/4 = 10 pixels, Σ' = 100 + 0.3,
  * and pixel (16, 16) lies d = (0.5, 0.5) from the centre (15.5, 15.5): power = −0.5·(0.25 + 0.25)/100.3 = −0.0024925,
  * e^power = 0.99751; alpha is inria's cap 0.99 and gsplat-1.5's own 0.9975 (below its cap 0.999). */
+/* Issue 43: gauss3d's gradients are the same bits for 1, 2 and 7 threads (each sum has one order: a tile's pixels in
+ * row-major order, a Gaussian's tiles in tile order), on a real capture under inria and gsplat. */
+START_TEST(gradients_same_bits_for_any_threads)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/tests/data/captures/splat-transform/2.7.1/sheet.ply", SPR_SOURCE_DIR);
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    ld.sh_degree = 3;
+    spr_cloud c;
+    spr_error err = {0};
+    ck_assert_msg(spr_load(path, &ld, &c, &err) == SPR_OK, "%s", err.msg);
+    const double eye[3] = {0.9, 0.7, 2.4}, up3[3] = {0, 1, 0};
+    spr_view v;
+    looking_at_origin(100, 75, 90.0, eye, up3, &v);
+    float *up = malloc((size_t)v.width * v.height * 3 * sizeof *up);
+    uint64_t sd = 5;
+    for (size_t i = 0; i < (size_t)v.width * v.height * 3; i++) up[i] = (float)(2.0 * tu_uniform(&sd) - 1.0);
+    const char *names[2] = {"inria", "gsplat"};
+    for (int p = 0; p < 2; p++) {
+        spr_render_desc d = {.algo = SPR_ALGO_GAUSS3D, .gauss_profile = 1 + spr_gauss_profile_from_name(names[p])};
+        spr_grad_desc gd = {.loss = SPR_LOSS_GIVEN, .dl_dimage = up};
+        spr_gauss_grads g[3];
+        const int threads[3] = {1, 2, 7};
+        for (int t = 0; t < 3; t++) {
+            spr_backend *b = spr_swrast_create(threads[t], &err);
+            ck_assert_msg(b, "%s", err.msg);
+            ck_assert_msg(spr_gauss_grad(b, &v, &c, &d, &gd, &g[t], &err) == SPR_OK, "%s", err.msg);
+            spr_backend_destroy(b);
+        }
+        size_t reached = 0;
+        for (size_t G = 0; G < g[0].n; G++) reached += g[0].counts[G] > 0;
+        ck_assert_msg(reached > 50, "%s: %zu Gaussians reached a pixel", names[p], reached);
+        for (int t = 1; t < 3; t++) {
+            spr_grad_diff df[16];
+            const int m = spr_gauss_grad_compare(&g[0], &g[t], df, 16);
+            for (int i = 0; i < m; i++)
+                ck_assert_msg(!df[i].differing, "%s, %d threads: gradient %s differs from 1 thread's at Gaussian %ld", names[p], threads[t], df[i].name,
+                              df[i].first);
+        }
+        for (int t = 0; t < 3; t++) spr_gauss_grads_free(&g[t]);
+    }
+    free(up);
+    spr_cloud_free(&c);
+}
+END_TEST
+
 START_TEST(explain_vs_names_the_rule)
 {
     spr_scene s;
@@ -677,6 +725,7 @@ Suite *make_gauss_suite(void)
     tcase_add_test(tc, same_capture_same_image);
     tcase_add_test(tc, cameras_json_is_the_lookat_camera);
     tcase_add_test(tc, explain_vs_names_the_rule);
+    tcase_add_test(tc, gradients_same_bits_for_any_threads);
     suite_add_tcase(s, tc);
     return s;
 }
@@ -771,6 +820,26 @@ static void camera_z4(int W, int H, double f, spr_view *v)
     looking_at_origin(W, H, f, eye, up, v);
 }
 
+/* An upstream gradient for a W×H frame: values in [−1, 1) from a fixed seed (rows bottom first, as spr_grad_desc). */
+static float *upstream_image(int W, int H, uint64_t seed)
+{
+    float *g = malloc((size_t)W * H * 3 * sizeof *g);
+    uint64_t s = seed;
+    for (size_t i = 0; i < (size_t)W * H * 3; i++) g[i] = (float)(2.0 * tu_uniform(&s) - 1.0);
+    return g;
+}
+
+/* a and b bit-identical in every array, else the first difference named. */
+static void expect_same_grads(const char *label, const spr_gauss_grads *a, const spr_gauss_grads *b)
+{
+    spr_grad_diff d[16];
+    const int m = spr_gauss_grad_compare(a, b, d, 16);
+    ck_assert_int_eq(m, 11);
+    for (int i = 0; i < m; i++)
+        ck_assert_msg(!d[i].differing, "%s: gradient %s: %zu of %zu Gaussians differ, first %ld: %.9g vs %.9g", label, d[i].name, d[i].differing,
+                      d[i].gaussians, d[i].first, d[i].va[0], d[i].vb[0]);
+}
+
 START_TEST(gauss_parity_captures_and_generated)
 {
     const spr_algo algos[3] = {SPR_ALGO_GAUSS3D, SPR_ALGO_GAUSS2D, SPR_ALGO_GAUSS_BLEND};
@@ -832,6 +901,60 @@ START_TEST(gauss_parity_captures_and_generated)
     for (int a = 0; a < 3; a++)
         for (int i = 0; i < spr_gauss_profile_count(); i++) fits += spr_gauss_profile_fits(spr_gauss_profile_at(i), algos[a]);
     ck_assert_int_eq(exact_cases, 4 * (3 * 2 + fits) + KIND__COUNT * 3 + 3);
+}
+END_TEST
+
+/* Issue 43: gauss3d's gradients bit-exact between the backends, for every profile that trains, on the converter's
+ * captures and the generated kinds (needles, huge, borders, near, deep stacks that stop), whole and with the tiles' partials
+ * held a few list entries at a time (batches of 37 entries: many batches, tiles whole), which changes no bit on either. */
+START_TEST(gradients_bit_exact_and_batched)
+{
+    int cases = 0;
+    for (int k = 0; k < 2 + KIND__COUNT; k++) {
+        spr_cloud c;
+        spr_view v;
+        spr_error err = {0};
+        if (k < 2) {
+            const char *files[] = {"2.7.1/sheet.ply", "3.7.0/sphere.glb"};
+            char path[512];
+            snprintf(path, sizeof path, "%s/tests/data/captures/splat-transform/%s", SPR_SOURCE_DIR, files[k]);
+            spr_load_desc ld;
+            spr_load_defaults(&ld);
+            ld.sh_degree = 3;
+            ck_assert_msg(spr_load(path, &ld, &c, &err) == SPR_OK, "%s", err.msg);
+            const double eye[3] = {0.9, 0.7, 2.4}, up[3] = {0, 1, 0};
+            looking_at_origin(100, 75, 90.0, eye, up, &v);
+        } else {
+            gauss_scene(k - 2, k - 2 == KIND_DEEP ? 400 : 300, 2000 + (uint64_t)k, &c);
+            camera_z4(96, 80, 80.0, &v);
+        }
+        float *up = upstream_image(v.width, v.height, 77 + (uint64_t)k);
+        for (int p = 0; p < spr_gauss_profile_count(); p++) {
+            if (!spr_gauss_profile_at(p)->grad.trains) continue;
+            spr_render_desc d = {.algo = SPR_ALGO_GAUSS3D, .background = {0.1f, 0.2f, 0.3f}, .gauss_profile = p + 1};
+            spr_gauss_grads a, b, a2, b2;
+            spr_grad_desc gd = {.loss = SPR_LOSS_GIVEN, .dl_dimage = up};
+            ck_assert_msg(spr_gauss_grad(cpu, &v, &c, &d, &gd, &a, &err) == SPR_OK, "%s", err.msg);
+            ck_assert_msg(spr_gauss_grad(gl, &v, &c, &d, &gd, &b, &err) == SPR_OK, "%s", err.msg);
+            gd.batch = 37;
+            ck_assert_msg(spr_gauss_grad(cpu, &v, &c, &d, &gd, &a2, &err) == SPR_OK, "%s", err.msg);
+            ck_assert_msg(spr_gauss_grad(gl, &v, &c, &d, &gd, &b2, &err) == SPR_OK, "%s", err.msg);
+            char label[160];
+            snprintf(label, sizeof label, "scene %d, %s", k, spr_gauss_profile_at(p)->name);
+            size_t reached = 0;
+            for (size_t G = 0; G < a.n; G++) reached += a.counts[G] > 0;
+            ck_assert_msg(reached > 0, "%s: no Gaussian reached a pixel", label);
+            expect_same_grads(label, &a, &b);
+            expect_same_grads(label, &a, &a2);
+            expect_same_grads(label, &a, &b2);
+            spr_gauss_grads_free(&a), spr_gauss_grads_free(&b), spr_gauss_grads_free(&a2), spr_gauss_grads_free(&b2);
+            cases++;
+        }
+        free(up);
+        spr_cloud_free(&c);
+    }
+    printf("gauss: gradients of %d scenes x profiles bit-exact between cpu and gl, whole and in batches\n", cases);
+    ck_assert_int_ge(cases, (2 + KIND__COUNT) * 4);
 }
 END_TEST
 
@@ -1003,6 +1126,7 @@ Suite *make_gauss_gl_suite(void)
     tcase_add_test(tc, gauss_parity_captures_and_generated);
     tcase_add_test(tc, history_names_the_stop);
     tcase_add_test(tc, subnormals_flush_on_both_backends);
+    tcase_add_test(tc, gradients_bit_exact_and_batched);
     suite_add_tcase(s, tc);
     /* its own case, which CTest gl_zink_gauss_full also runs on zink (CK_RUN_CASE=full_size) */
     TCase *full = tcase_create("full_size");
