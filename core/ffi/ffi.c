@@ -2,6 +2,7 @@
  * backends, the capture hook and the reports of spr__inspect.h. */
 #include "spr_ffi.h"
 #include "spr__inspect.h"
+#include "spr_grad.h"
 #include "spr__scene_opts.h"
 #include "spr_profile_diff.h"
 #include "spr_glbackend.h"
@@ -426,6 +427,141 @@ done:
     spr_backend_destroy(cpu);
     spr_backend_destroy(gl);
     return out;
+}
+
+struct spr_ffi_grads {
+    char backend[8], renderer[600];
+    const char *profile, *loss;
+    spr_gauss_grads g;
+    float *sh0, *shN; /* g.sh (coefficient-major, sh_k a Gaussian) split as grad's .npz holds it */
+};
+
+spr_ffi_grads *spr_ffi_grad(spr_ffi_scene *sc, const char *backend, int gl_device, const char *loss, const float *target,
+                            const float *dl_dimage, const float *dl_dalpha, const float *dl_ddepth, size_t batch)
+{
+    if (sc->s.all_algos) { fail(SPR_E_ARG, "algo 'all' is for parity; grad is gauss3d's"); return NULL; }
+    spr_grad_desc gd;
+    memset(&gd, 0, sizeof gd);
+    if (loss && dl_dimage) { fail(SPR_E_ARG, "grad: a loss and dl_dimage both give the upstream gradient: give one"); return NULL; }
+    if (!loss && !dl_dimage) { fail(SPR_E_ARG, "grad: give the upstream gradient: loss l1|l2 (with a target, default black), or dl_dimage"); return NULL; }
+    if (loss) {
+        if (!strcmp(loss, "l1")) gd.loss = SPR_LOSS_L1;
+        else if (!strcmp(loss, "l2")) gd.loss = SPR_LOSS_L2;
+        else {
+            char m[160];
+            snprintf(m, sizeof m, "grad: loss '%.60s' is not l1 or l2", loss);
+            fail(SPR_E_ARG, m);
+            return NULL;
+        }
+        gd.target = target;
+    } else {
+        if (target) { fail(SPR_E_ARG, "grad: a target goes with a loss (l1 or l2), not with dl_dimage"); return NULL; }
+        gd.dl_dimage = dl_dimage;
+    }
+    gd.dl_dalpha = dl_dalpha, gd.dl_ddepth = dl_ddepth, gd.batch = batch;
+    spr_ffi_grads *f = calloc(1, sizeof *f);
+    if (!f) { fail(SPR_E_NOMEM, "out of memory"); return NULL; }
+    snprintf(f->backend, sizeof f->backend, "%s", backend && !strcmp(backend, "gl") ? "gl" : "cpu");
+    f->loss = gd.loss == SPR_LOSS_L1 ? "l1" : gd.loss == SPR_LOSS_L2 ? "l2" : NULL;
+    f->profile = spr_gauss_profile_of(sc->rd.algo, sc->rd.gauss_profile)->name;
+    spr_backend *b = backend_of(sc, backend, gl_device, f->renderer, sizeof f->renderer);
+    if (!b) { free(f); return NULL; }
+    spr_error err = {0};
+    spr_result r = spr_gauss_grad(b, &sc->s.view, &sc->s.cloud, &sc->rd, &gd, &f->g, &err);
+    spr_backend_destroy(b);
+    if (r) {
+        fail_with(&err);
+        free(f);
+        return NULL;
+    }
+    const size_t n = f->g.n, K = f->g.sh_k > 0 ? (size_t)f->g.sh_k : 0;
+    f->sh0 = calloc(n * 3 + 1, sizeof *f->sh0), f->shN = calloc(n * (K > 1 ? K - 1 : 0) * 3 + 1, sizeof *f->shN);
+    if (!f->sh0 || !f->shN) {
+        fail(SPR_E_NOMEM, "out of memory");
+        spr_ffi_grads_free(f);
+        return NULL;
+    }
+    for (size_t G = 0; G < n; G++) {
+        if (K > 0) memcpy(f->sh0 + 3 * G, f->g.sh + G * K * 3, 3 * sizeof(float));
+        if (K > 1) memcpy(f->shN + G * (K - 1) * 3, f->g.sh + G * K * 3 + 3, (K - 1) * 3 * sizeof(float));
+    }
+    return f;
+}
+
+void spr_ffi_grads_free(spr_ffi_grads *f)
+{
+    if (!f) return;
+    spr_gauss_grads_free(&f->g);
+    free(f->sh0), free(f->shN);
+    free(f);
+}
+
+/* Array i of spr_gauss_grads_arrays as grad's .npz has it: its data, shape (n, then up to two more) and type. */
+static const void *grads_member(const spr_ffi_grads *f, const spr_grad_array *ga, size_t shape[3], int *ndim, int *is_int)
+{
+    const size_t n = f->g.n, K = f->g.sh_k > 0 ? (size_t)f->g.sh_k : 0;
+    shape[0] = n, *ndim = 1, *is_int = 0;
+    if (!strcmp(ga->name, "sh0")) { shape[1] = 1, shape[2] = 3, *ndim = 3; return f->sh0; }
+    if (!strcmp(ga->name, "shN")) { shape[1] = K > 1 ? K - 1 : 0, shape[2] = 3, *ndim = 3; return f->shN; }
+    if (!strcmp(ga->name, "counts")) { *is_int = 1; return f->g.counts; }
+    if (ga->per > 1) shape[1] = (size_t)ga->per, *ndim = 2;
+    return ga->data;
+}
+
+char *spr_ffi_grads_json(const spr_ffi_grads *f)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "backend", f->backend);
+    cJSON_AddStringToObject(o, "renderer", f->renderer);
+    cJSON_AddStringToObject(o, "profile", f->profile);
+    cJSON_AddNumberToObject(o, "gaussians", (double)f->g.n);
+    cJSON_AddNumberToObject(o, "sh_k", f->g.sh_k);
+    cJSON_AddNumberToObject(o, "width", f->g.width);
+    cJSON_AddNumberToObject(o, "height", f->g.height);
+    if (f->loss) cJSON_AddStringToObject(o, "loss", f->loss);
+    else cJSON_AddNullToObject(o, "loss");
+    cJSON_AddNumberToObject(o, "loss_value", f->g.loss);
+    cJSON_AddNumberToObject(o, "ms_forward", f->g.ms_forward);
+    cJSON_AddNumberToObject(o, "ms_backward", f->g.ms_backward);
+    cJSON *arr = cJSON_AddArrayToObject(o, "arrays");
+    spr_grad_array ga[16];
+    const int na = spr_gauss_grads_arrays(&f->g, ga, 16);
+    for (int i = 0; i < na && i < 16; i++) {
+        size_t shape[3];
+        int nd, is_int;
+        grads_member(f, &ga[i], shape, &nd, &is_int);
+        cJSON *q = cJSON_CreateObject(), *sh = cJSON_AddArrayToObject(q, "shape");
+        cJSON_AddStringToObject(q, "name", ga[i].name);
+        for (int d = 0; d < nd; d++) cJSON_AddItemToArray(sh, cJSON_CreateNumber((double)shape[d]));
+        cJSON_AddStringToObject(q, "dtype", is_int ? "int32" : "float32");
+        cJSON_AddItemToArray(arr, q);
+    }
+    return json_text(o);
+}
+
+const void *spr_ffi_grads_array(const spr_ffi_grads *f, const char *name, size_t *count)
+{
+    spr_grad_array ga[16];
+    const int na = spr_gauss_grads_arrays(&f->g, ga, 16);
+    for (int i = 0; i < na && i < 16; i++) {
+        if (strcmp(ga[i].name, name)) continue;
+        size_t shape[3];
+        int nd, is_int;
+        const void *p = grads_member(f, &ga[i], shape, &nd, &is_int);
+        *count = 1;
+        for (int d = 0; d < nd; d++) *count *= shape[d];
+        return p;
+    }
+    char m[200];
+    snprintf(m, sizeof m, "grad: no array '%.40s' (means, quats, scales, opacities, sh0, shN, means2d, conics, colors, absgrad, counts)", name);
+    fail(SPR_E_ARG, m);
+    return NULL;
+}
+
+const float *spr_ffi_grads_image(const spr_ffi_grads *f, int *w, int *h)
+{
+    *w = f->g.width, *h = f->g.height;
+    return f->g.image;
 }
 
 int spr_ffi_write_image(const char *path, const float *img, int w, int h, int ch)

@@ -106,6 +106,24 @@ char *spr_ffi_explain(spr_ffi_scene *s, int x, int y, const char *backend, int g
  * algo NULL: the scene's algorithm, "all": every one. */
 char *spr_ffi_parity(spr_ffi_scene *s, const char *algo, int gl_device);
 
+/* `splatref grad`: the gradients of the scene's gauss3d frame (SPEC 10.10; docs/gradients.md) on "cpu" or "gl",
+ * for an upstream gradient: loss "l1" | "l2" (the mean over pixels and channels of |C − target| or (C − target)²;
+ * target w·h·3 floats, NULL: black), or loss NULL and dl_dimage (w·h·3, ∂L/∂C); dl_dalpha, dl_ddepth: w·h or NULL.
+ * Every image row 0 = bottom.  batch: list entries a backend holds at once (0: its own; grad's --grad-batch). */
+typedef struct spr_ffi_grads spr_ffi_grads;
+spr_ffi_grads *spr_ffi_grad(spr_ffi_scene *s, const char *backend, int gl_device, const char *loss, const float *target,
+                            const float *dl_dimage, const float *dl_dalpha, const float *dl_ddepth, size_t batch);
+void spr_ffi_grads_free(spr_ffi_grads *g);
+/* {"backend", "renderer", "profile", "gaussians", "sh_k", "width", "height", "loss" (null for a given gradient),
+ * "loss_value", "ms_forward", "ms_backward", "arrays": [{"name", "shape": [n, ...], "dtype": "float32" | "int32"}]}:
+ * the arrays in SPEC 10.10's order, gsplat's names and shapes, as grad's .npz members. */
+char *spr_ffi_grads_json(const spr_ffi_grads *g);
+/* Array `name` (means, quats, scales, opacities, sh0, shN, means2d, conics, colors, absgrad: floats; counts: int32),
+ * *count values, contiguous per Gaussian (sh0 n·3, shN n·(sh_k − 1)·3, coefficient-major as grad's .npz). */
+const void *spr_ffi_grads_array(const spr_ffi_grads *g, const char *name, size_t *count);
+/* The forward's image, w·h·4 floats, row 0 = bottom. */
+const float *spr_ffi_grads_image(const spr_ffi_grads *g, int *w, int *h);
+
 /* Save a float image (w·h·ch, row 0 = bottom) as PNG (8-bit, spr_to_u8)
  * or PFM, by the name's extension, through a temporary file.  0 or −1. */
 int spr_ffi_write_image(const char *path, const float *img, int w, int h, int ch);

@@ -8,6 +8,8 @@ domain primitives and Gaussian splatting, with numpy arrays in and out.
     frame.plane(0, "depth")                # any plane of any pass (render(passes=True))
     result = sr.check(my_image, scene)     # the verdict and the failing pixels
     assert result, result.summary()
+    g = sr.Scene(model="cap.ply", algo="gauss3d", gauss_profile="gsplat").grad(loss="l2", target=img)
+    g["means"], g.opacities, g.counts      # gauss3d's gradients, gsplat's names and shapes (`splatref grad`)
 
 Every option is a scene-file key or an option of `splatref render`, by its
 command-line name with '_' for '-' (radius_scale=0.5), values as the
@@ -26,8 +28,8 @@ import numpy as np
 
 from . import _lib
 
-__all__ = ["Error", "NoDevice", "Cloud", "Scene", "Frame", "Primitives", "CheckResult", "load", "render", "check", "explain", "parity",
-           "write_image", "to_u8", "__version__"]
+__all__ = ["Error", "NoDevice", "Cloud", "Scene", "Frame", "Primitives", "CheckResult", "Grads", "load", "render", "check", "explain",
+           "parity", "grad", "write_image", "to_u8", "__version__"]
 
 __version__ = _lib.version().decode()
 
@@ -215,6 +217,17 @@ class Scene:
     def parity(self, algo=None, gl_device=-1):
         return parity(self, algo, gl_device)
 
+    def grad(self, dl_dimage=None, loss=None, target=None, dl_dalpha=None, dl_ddepth=None, backend="cpu", gl_device=-1, batch=0):
+        """The gradients of the scene's gauss3d frame (SPEC 10.10, docs/gradients.md), as `splatref grad` computes
+        them, for an upstream gradient: dl_dimage, dL/dC as an (H, W, 3) float32 image, or loss="l1" | "l2", the
+        mean over pixels and channels of |C - target| or (C - target)^2, against target ((H, W, 3) or (H, W, 4),
+        float or uint8; None: black).  dl_dalpha, dl_ddepth: (H, W) or None, dL/d(alpha) for the alpha 1 - T and
+        dL/d(inverse depth).  Images are row 0 = top, as trainers hold them.  Returns a Grads: a dict of gsplat's
+        names and shapes (means (N, 3), quats (N, 4), scales (N, 3), opacities (N,), sh0 (N, 1, 3),
+        shN (N, K-1, 3), means2d (N, 2), conics (N, 3), colors (N, 3), absgrad (N, 2), counts (N,) int32),
+        the forward's image and the loss.  batch: grad's --grad-batch (0: the backend's own)."""
+        return grad(self, dl_dimage, loss, target, dl_dalpha, dl_ddepth, backend, gl_device, batch)
+
 
 class Primitives:
     """Domain primitives ([R]; SPEC §7.4, §7.5): rectangle k is
@@ -298,6 +311,73 @@ class Frame:
         if not p:
             _raise()
         return np.ctypeslib.as_array(p, shape=(rows.value * cols.value,)).reshape(rows.value, cols.value).copy()
+
+
+class Grads(dict):
+    """Scene.grad's result: a dict of the gradient arrays by gsplat's names (also attributes: g.means), in SPEC
+    10.10's order, as `splatref grad`'s .npz holds them (np.savez(path, **g) writes the same members); and
+    image (H, W, 4) float32, row 0 = top, the forward's frame; loss ("l1", "l2" or None for a given dl_dimage),
+    loss_value (the loss, 0 for a given gradient), profile, backend, renderer, sh_k, width, height, ms_forward,
+    ms_backward."""
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __repr__(self):
+        return "Grads(%s, %d Gaussians, %s)" % (self.profile, len(self["means"]), ", ".join(
+            "%s %s" % (k, "x".join(str(d) for d in v.shape)) for k, v in self.items()))
+
+
+def _image_in(a, h, w, chans, name, u8=False):
+    """An (H, W, ch) or (H, W) image, row 0 = top, as the library's float32, row 0 = bottom (None stays None)."""
+    if a is None:
+        return None
+    a = np.asarray(a)
+    if u8 and a.dtype == np.uint8:
+        a = a.astype(np.float32) / np.float32(255)  # as the PNG reader: v / 255, correctly rounded
+    elif a.dtype.kind not in "fiu":
+        raise Error("grad: %s: an array of numbers (this one is %s)" % (name, a.dtype))
+    want = "(%d, %d%s)" % (h, w, "" if chans == (1,) else ", " + " or ".join(str(c) for c in chans))
+    ok = a.shape[:2] == (h, w) and ((a.ndim == 2 and 1 in chans) or (a.ndim == 3 and a.shape[2] in chans))
+    if not ok:
+        raise Error("grad: %s has shape %s; the scene needs %s (row 0 the top row)" % (name, tuple(a.shape), want))
+    if a.ndim == 3:
+        a = a[:, :, :3]
+    return np.ascontiguousarray(a[::-1], dtype=np.float32)
+
+
+def grad(scene, dl_dimage=None, loss=None, target=None, dl_dalpha=None, dl_ddepth=None, backend="cpu", gl_device=-1, batch=0):
+    """Scene.grad (which see)."""
+    h, w = scene.height, scene.width
+    ins = [_image_in(target, h, w, (3, 4), "target", u8=True), _image_in(dl_dimage, h, w, (3,), "dl_dimage"),
+           _image_in(dl_dalpha, h, w, (1,), "dl_dalpha"), _image_in(dl_ddepth, h, w, (1,), "dl_ddepth")]
+    ptr = [None if a is None else a.ctypes.data_as(_lib.c_float_p) for a in ins]
+    g = _lib.grad(scene._handle(), backend.encode(), int(gl_device), None if loss is None else str(loss).encode(), ptr[0], ptr[1], ptr[2],
+                  ptr[3], int(batch))
+    if not g:
+        _raise()
+    try:
+        meta = _take_json(_lib.grads_json(g))
+        out = Grads()
+        for a in meta.pop("arrays"):
+            count = ctypes.c_size_t()
+            p = _lib.grads_array(g, a["name"].encode(), ctypes.byref(count))
+            if not p:
+                _raise()
+            ct = ctypes.c_int32 if a["dtype"] == "int32" else ctypes.c_float
+            v = np.ctypeslib.as_array(ctypes.cast(p, ctypes.POINTER(ct)), shape=(count.value,)) if count.value else np.zeros(0, ct)
+            out[a["name"]] = v.reshape(a["shape"]).astype(np.dtype(a["dtype"]), copy=True)
+        wi, hi = ctypes.c_int(), ctypes.c_int()
+        p = _lib.grads_image(g, ctypes.byref(wi), ctypes.byref(hi))
+        out.image = _top_first(np.ctypeslib.as_array(p, shape=(wi.value * hi.value * 4,)), hi.value, wi.value, 4)
+        for k, v in meta.items():
+            setattr(out, k, v)
+        return out
+    finally:
+        _lib.grads_free(g)
 
 
 def render(scene, backend="cpu", passes=False, gl_device=-1):
