@@ -354,6 +354,10 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    /* zink (Mesa 22.3.6): the sums, written by image stores through a buffer texture, read back through their buffer
+     * came back zero (all 256 Gaussians of a capture, from a context's third backward on, not every run) after the
+     * barrier alone; glFinish first (test gradients_bit_exact_and_batched, CTest gl_zink_gradients) */
+    glFinish();
     gl__buffer_read(c->gbuf[GL_GBUF_SUMS], 0, n * SPR_GPART_FLOATS * sizeof(float), sums);
     /* the chain, in the preprocessing's batches */
     const size_t batch = pre_batch(c, width);

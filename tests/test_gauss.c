@@ -1126,8 +1126,13 @@ Suite *make_gauss_gl_suite(void)
     tcase_add_test(tc, gauss_parity_captures_and_generated);
     tcase_add_test(tc, history_names_the_stop);
     tcase_add_test(tc, subnormals_flush_on_both_backends);
-    tcase_add_test(tc, gradients_bit_exact_and_batched);
     suite_add_tcase(s, tc);
+    /* its own case, which CTest gl_zink_gradients also runs on zink */
+    TCase *grads = tcase_create("gradients");
+    tcase_set_timeout(grads, 900);
+    tcase_add_unchecked_fixture(grads, gl_setup, gl_teardown);
+    tcase_add_test(grads, gradients_bit_exact_and_batched);
+    suite_add_tcase(s, grads);
     /* its own case, which CTest gl_zink_gauss_full also runs on zink (CK_RUN_CASE=full_size) */
     TCase *full = tcase_create("full_size");
     tcase_set_timeout(full, 900);
