@@ -71,6 +71,7 @@ static void add_constants(strbuf *b)
         {"SPR_NOTE_GAUSS_POWER", SPR_NOTE_GAUSS_POWER}, {"SPR_NOTE_GAUSS_FAINT", SPR_NOTE_GAUSS_FAINT},
         {"SPR_NOTE_GAUSS_STOP", SPR_NOTE_GAUSS_STOP}, {"SPR_NOTE_GAUSS_PARALLEL", SPR_NOTE_GAUSS_PARALLEL},
         {"SPR_NOTE_GAUSS_BEHIND", SPR_NOTE_GAUSS_BEHIND}, {"SPR_NOTE_GAUSS_END", SPR_NOTE_GAUSS_END},
+        {"SPR_NOTE_GAUSS_OUTSIDE", SPR_NOTE_GAUSS_OUTSIDE},
         {"SPR_SSBO_COUNTER", GL_SSBO_COUNTER}, {"SPR_GPRM_COUNT", SPR_GPRM_COUNT}, {"SPR_GREC_FLOATS", SPR_GREC_FLOATS}, {"SPR_EXP_COEFS", SPR_EXP_COEFS},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) sb_add(b, "#define %s %d\n", k[i].name, k[i].value);
@@ -85,6 +86,7 @@ static void add_constants(strbuf *b)
         {"SPR_GCULL_CLIP", SPR_GCULL_CLIP}, {"SPR_GCULL_SMALL", SPR_GCULL_SMALL},
         {"SPR_GMODE_3D", SPR_GMODE_3D}, {"SPR_GMODE_2D", SPR_GMODE_2D},
         {"SPR_GEXT_SQUARE_F", SPR_GEXT_SQUARE_F}, {"SPR_GEXT_AXES_F", SPR_GEXT_AXES_F}, {"SPR_GEXT_QUAD_F", SPR_GEXT_QUAD_F},
+        {"SPR_GEXT_BOX_F", SPR_GEXT_BOX_F},
     };
     for (size_t i = 0; i < sizeof kf / sizeof kf[0]; i++) sb_add(b, "#define %s %d.0\n", kf[i].name, (int)kf[i].value);
 #define GL__GPRM(name, n) sb_add(b, "#define SPR_GPRM_%s %d\n", #name, SPR_GPRM_##name);

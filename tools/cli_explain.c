@@ -106,6 +106,9 @@ static void print_note(FILE *f, const spr_probe_note *n)
         else fprintf(f, "      %8d %14.9g %14.9g %14.9g %14.9g  %s\n", n->k, n->v[0], n->v[1], n->v[2], n->v[3], why[w]);
         break;
     }
+    case SPR_NOTE_GAUSS_OUTSIDE:
+        fprintf(f, "      %8d %14s %14s %14.9g %14.9g  skipped: outside its pixel box\n", n->k, "-", "-", n->v[2], n->v[3]);
+        break;
     case SPR_NOTE_GAUSS_END:
         fprintf(f, "    the loop ends after %d of the list: %d blended, T = %.9g, D = %.9g, last contributor %d\n", (int)n->v[2], (int)n->v[3], n->v[0],
                 n->v[1], n->k);

@@ -34,14 +34,16 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
     for (int i = 0; i < 3; i++) g[SPR_GPRM_T + i] = (float)p->t[i];
     g[SPR_GPRM_FX] = (float)p->fx;
     g[SPR_GPRM_FY] = (float)p->fy;
-    g[SPR_GPRM_CX] = (float)(p->cx - 0.5); /* pixel-index coordinates: pixel i's centre at i */
-    g[SPR_GPRM_CY] = (float)(p->cy - 0.5);
+    /* rule 11: a renderer that ignores the principal point draws about the image's centre */
+    const double pcx = pf->camera.centre ? 0.5 * v->width : p->cx, pcy = pf->camera.centre ? 0.5 * v->height : p->cy;
+    g[SPR_GPRM_CX] = (float)(pcx - 0.5); /* pixel-index coordinates: pixel i's centre at i */
+    g[SPR_GPRM_CY] = (float)(pcy - 0.5);
     /* the training code: tan(fov/2) in double, rounded to float, then 1.3f times it in float */
     const float tanx = (float)(0.5 * v->width / p->fx), tany = (float)(0.5 * v->height / p->fy);
     g[SPR_GPRM_LX] = g[SPR_GPRM_LXN] = 1.3f * tanx;
     g[SPR_GPRM_LY] = g[SPR_GPRM_LYN] = 1.3f * tany;
     if (pf->tan_clamp == 2) { /* gsplat: from the principal point (continuous), in float: (W − cx)/fx + 0.3·tan, cx/fx + 0.3·tan */
-        const float W = (float)v->width, H = (float)v->height, fx = (float)p->fx, fy = (float)p->fy, cx = (float)p->cx, cy = (float)p->cy;
+        const float W = (float)v->width, H = (float)v->height, fx = (float)p->fx, fy = (float)p->fy, cx = (float)pcx, cy = (float)pcy;
         const float ex = 0.3f * tanx, ey = 0.3f * tany;
         g[SPR_GPRM_LX] = (W - cx) / fx + ex, g[SPR_GPRM_LXN] = cx / fx + ex;
         g[SPR_GPRM_LY] = (H - cy) / fy + ey, g[SPR_GPRM_LYN] = cy / fy + ey;
@@ -55,9 +57,9 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
     g[SPR_GPRM_NEAR_LT] = (float)pf->cull.near_lt;
     g[SPR_GPRM_CLIP_K] = pf->cull.clip_k;
     g[SPR_GPRM_NDC] = (float)(2.0 * p->fx / v->width); /* clip x/w = (2fx/W)·(t.x/t.z) + (2cx/W − 1), cx continuous */
-    g[SPR_GPRM_NDC + 1] = (float)(2.0 * p->cx / v->width - 1.0);
+    g[SPR_GPRM_NDC + 1] = (float)(2.0 * pcx / v->width - 1.0);
     g[SPR_GPRM_NDC + 2] = (float)(2.0 * p->fy / v->height);
-    g[SPR_GPRM_NDC + 3] = (float)(2.0 * p->cy / v->height - 1.0);
+    g[SPR_GPRM_NDC + 3] = (float)(2.0 * pcy / v->height - 1.0);
     g[SPR_GPRM_DET_LE] = (float)pf->cull.det_le;
     g[SPR_GPRM_TCLAMP] = pf->tan_clamp ? 1.0f : 0.0f; /* rule 2 */
     g[SPR_GPRM_EPS2D] = pf->dilation.eps2d;    /* rule 3 */
@@ -72,6 +74,7 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
         if (g[SPR_GPRM_EXT_CAP] > (float)v->height) g[SPR_GPRM_EXT_CAP] = (float)v->height;
     }
     g[SPR_GPRM_EXT_MIN] = pf->extent.lambda_min;
+    g[SPR_GPRM_EXT_PAD] = pf->extent.pad_px;
     g[SPR_GPRM_MIN_PX] = pf->extent.min_px;
     g[SPR_GPRM_CUT] = (float)(0.5 * pf->extent.k2); /* power < −k²/2: outside k standard deviations */
     g[SPR_GPRM_FALLOFF] = (float)pf->extent.falloff;
@@ -89,6 +92,9 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
     g[SPR_GPRM_MODE] = mode == 1 ? SPR_GMODE_2D : SPR_GMODE_3D;
     g[SPR_GPRM_GATE] = (float)pf->grad.gate; /* rule 10: the backward's */
     g[SPR_GPRM_TCLAMP_BWD] = (float)pf->grad.tclamp;
+    g[SPR_GPRM_CAP_BWD] = pf->grad.cap;
+    g[SPR_GPRM_TDIV] = (float)pf->grad.tdiv;
+    g[SPR_GPRM_HALF_B] = (float)pf->grad.half_b;
 }
 
 spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s)
@@ -113,30 +119,31 @@ spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s)
 
 /* ---- the host's sorting ---- */
 
-static uint32_t depth_key(const float *rec, uint32_t G)
+static uint32_t depth_key(const float *rec, const uint32_t *keys, uint32_t G)
 {
+    if (keys) return keys[G];
     uint32_t k;
     memcpy(&k, rec + (size_t)G * SPR_GREC_FLOATS + SPR_GREC_DEPTH, 4); /* t.z > 0: the bits order as the values */
     return k;
 }
 
-/* Sort a[0 … m−1] (Gaussian ids in file order) by t.z, stably (LSD radix
+/* Sort a[0 … m−1] (Gaussian ids in file order) by t.z (keys: by keys[G]), stably (LSD radix
  * on the float's bits, 8 bits a pass; insertion sort for short lists). */
-static void sort_tile(const float *rec, uint32_t *a, uint32_t m, uint32_t *tmp)
+static void sort_tile(const float *rec, const uint32_t *keys, uint32_t *a, uint32_t m, uint32_t *tmp)
 {
     if (m < 48) {
         for (uint32_t i = 1; i < m; i++) {
-            uint32_t x = a[i], kx = depth_key(rec, x), j = i;
-            while (j > 0 && depth_key(rec, a[j - 1]) > kx) a[j] = a[j - 1], j--;
+            uint32_t x = a[i], kx = depth_key(rec, keys, x), j = i;
+            while (j > 0 && depth_key(rec, keys, a[j - 1]) > kx) a[j] = a[j - 1], j--;
             a[j] = x;
         }
         return;
     }
     for (int shift = 0; shift < 32; shift += 8) {
         uint32_t cnt[257] = {0};
-        for (uint32_t i = 0; i < m; i++) cnt[(depth_key(rec, a[i]) >> shift & 255u) + 1]++;
+        for (uint32_t i = 0; i < m; i++) cnt[(depth_key(rec, keys, a[i]) >> shift & 255u) + 1]++;
         for (int b = 0; b < 256; b++) cnt[b + 1] += cnt[b];
-        for (uint32_t i = 0; i < m; i++) tmp[cnt[depth_key(rec, a[i]) >> shift & 255u]++] = a[i];
+        for (uint32_t i = 0; i < m; i++) tmp[cnt[depth_key(rec, keys, a[i]) >> shift & 255u]++] = a[i];
         memcpy(a, tmp, m * sizeof *a);
     }
 }
@@ -149,6 +156,34 @@ static void record_tiles(const void *user, size_t G, int r[4])
 }
 
 spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int threads, uint32_t **range_out, uint32_t **list_out, spr_error *err)
+{
+    return spr__gauss_tiles_keyed(rec, NULL, n, gx, gy, threads, range_out, list_out, err);
+}
+
+/* SPR_GKEY_TILE_GLDEPTH (spr_algo.h): OpenSplat's float OpenGL depth of each Gaussian, as an unsigned key that orders
+ * as the float does (negative keys below positive ones); read off its projection of znear, zfar times the float
+ * world-to-camera of g, over the centres mu and the records' float t.z.  Every operation is one float operation
+ * (-ffp-contract=off), in the order torch evaluates it, so the keys are its camDepths bit for bit. */
+static void gldepth_keys(const float *g, const float *mu, const float *rec, size_t n, float zn, float zf, uint32_t *keys)
+{
+    const float fpn = zf + zn, fmn = zf - zn, a = fpn / fmn, mfz = -1.0f * zf, mfn = mfz * zn, b = mfn / fmn;
+    const float p0 = a * g[SPR_GPRM_R + 6], p1 = a * g[SPR_GPRM_R + 7], p2 = a * g[SPR_GPRM_R + 8], at = a * g[SPR_GPRM_T + 2], p3 = at + b;
+#pragma omp parallel for schedule(static)
+    for (long li = 0; li < (long)n; li++) {
+        const size_t G = (size_t)li;
+        const float *m = mu + 3 * G;
+        const float x = p0 * m[0], y = p1 * m[1], z = p2 * m[2], xy = x + y, xyz = xy + z, zc = xyz + p3;
+        float w = rec[G * SPR_GREC_FLOATS + SPR_GREC_DEPTH];
+        if (!(w >= 1e-6f)) w = 1e-6f; /* torch's clamp_min (a culled record's t.z is 0) */
+        const float rw = 1.0f / w, key = zc * rw;
+        uint32_t u;
+        memcpy(&u, &key, 4);
+        keys[G] = u & 0x80000000u ? ~u : u | 0x80000000u;
+    }
+}
+
+spr_result spr__gauss_tiles_keyed(const float *rec, const uint32_t *keys, size_t n, int gx, int gy, int threads, uint32_t **range_out,
+                                  uint32_t **list_out, spr_error *err)
 {
     const size_t nt = (size_t)gx * gy;
     if (threads <= 0) threads = omp_get_max_threads();
@@ -168,7 +203,7 @@ spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int thre
                 cap = m;
                 if (!(tmp = malloc(cap * sizeof *tmp))) cap = 0, failed = 1;
             }
-            if (cap >= m) sort_tile(rec, list + range[t], m, tmp);
+            if (cap >= m) sort_tile(rec, keys, list + range[t], m, tmp);
         }
         free(tmp);
     }
@@ -291,7 +326,14 @@ spr_result spr__gauss_prepare(spr__run *run, int mode, spr__gauss_frame_st *f)
     }
     const int threads = run->b->host_threads; /* the lists do not depend on it */
     double t0 = spr_now_ms();
-    if (!r && mode != 2) r = spr__gauss_tiles(f->rec, n, (int)gd->prm[SPR_GPRM_GX], (int)gd->prm[SPR_GPRM_GY], threads, &f->range, &f->list, run->err);
+    uint32_t *keys = NULL;
+    if (!r && mode != 2 && pf->order.key == SPR_GKEY_TILE_GLDEPTH) { /* rule 7: the renderer's own depth key */
+        if (!(keys = spr__big_alloc((n ? n : 1) * sizeof *keys))) r = spr__fail(run->err, SPR_E_NOMEM, "%s: out of memory for %zu keys", name, n);
+        else gldepth_keys(gd->prm, gd->mu, f->rec, n, pf->order.znear, pf->order.zfar, keys);
+    }
+    if (!r && mode != 2)
+        r = spr__gauss_tiles_keyed(f->rec, keys, n, (int)gd->prm[SPR_GPRM_GX], (int)gd->prm[SPR_GPRM_GY], threads, &f->range, &f->list, run->err);
+    free(keys);
     if (!r && mode == 2) {
         const double zrow[3] = {v->PV[8], v->PV[9], v->PV[10]}; /* clip z = row 2 of P·V (GL's convention) */
         r = spr__gauss_order(f->rec, c, eye, zrow, pf->order.key, pf->order.bits, &f->order, &f->count, run->err);

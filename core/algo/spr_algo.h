@@ -110,15 +110,22 @@ typedef enum spr_gauss_comp_form {
 typedef enum spr_gauss_extent {
     SPR_GEXT_SQUARE = 0,   /* r = ceil(k·√λmax), λ from max(λfloor, mid² − det); tiles by trunc (inria) */
     SPR_GEXT_AXES,         /* per axis r_a = ceil(k·√Σ'_aa); tiles floor((m − r)/16) … ceil((m + r)/16) (gsplat) */
-    SPR_GEXT_QUAD          /* a screen quad of k·√λ per eigen-axis, each at most cap pixels (the conic then follows
+    SPR_GEXT_QUAD,         /* a screen quad of k·√λ per eigen-axis, each at most cap pixels (the conic then follows
                               the capped axes); cut inside where power < −k²/2 */
+    SPR_GEXT_BOX           /* no tiles of its own: the pixel box [floor(m − r) − pad, ceil(m + r) + pad) per axis,
+                              r = k·√Σ'_aa (not rounded), clamped to the image; the Gaussian goes into every tile the box
+                              touches and pixels outside the box skip it (OpenSplat's CPU rasterizer) */
 } spr_gauss_extent;
 typedef enum spr_gauss_key {
     SPR_GKEY_TILE_DEPTH = 0, /* per tile, by the float t.z (its bits), ties in file order (gauss3d) */
     SPR_GKEY_DISTANCE,       /* global, |μ − eye| in double, farthest first */
     SPR_GKEY_VIEW_Z,         /* global, the float t.z (the camera-forward depth), farthest first */
-    SPR_GKEY_CLIP_INT        /* global, GaussianSplats3D's integer clip depth (centres to 1/1000) in 2^bits − 1 buckets over the
+    SPR_GKEY_CLIP_INT,       /* global, GaussianSplats3D's integer clip depth (centres to 1/1000) in 2^bits − 1 buckets over the
                                 frame's kept [min, max], farthest first (core/algo/gauss.c, spr__gauss_order) */
+    SPR_GKEY_TILE_GLDEPTH    /* per tile, by the float OpenGL depth z/w of a projection with the order's znear, zfar:
+                                fl(z·fl(1/max(w, 1e-6))), z = ((p₀μx + p₁μy) + p₂μz) + p₃, p_j = fl(a·R₂ⱼ), p₃ = fl(fl(a·t₂) + b),
+                                a = fl((f + n)/(f − n)), b = fl((−f·n)/(f − n)), w the float t.z; ties in file order
+                                (core/algo/gauss.c, gldepth_keys) */
 } spr_gauss_key;
 typedef enum spr_gauss_blend {
     SPR_GBLEND_UNDER = 0,  /* front to back: C += c·α·T (the tile loop of gauss3d) */
@@ -137,25 +144,31 @@ typedef struct spr_gauss_profile {
     int tan_clamp;                     /* 2. the Jacobian's tangents clamped: 0 no; 1 at ±1.3·tan(fov/2) (inria); 2 at
                                           [−(cx/fx + 0.3·tan), (W − cx)/fx + 0.3·tan] (gsplat: the principal point) */
     struct { float eps2d; spr_gauss_comp when; spr_gauss_comp_form form; float floor; } dilation; /* 3. (eps2d in px²) */
-    struct { spr_gauss_extent kind; double k2; float cap_px; int cap_view; float lambda_min; int falloff; float min_px; } extent;
+    struct { spr_gauss_extent kind; double k2; float cap_px; int cap_view; float lambda_min; int falloff; float min_px; float pad_px; } extent;
     /* 4. k2: the extent in standard deviations, squared (9 for 3σ, 8 for the viewers' √8σ): k = sqrt(k2) rounded once,
      *    and gauss-blend cuts at power < −k2/2; lambda_min: the floor under sqrt(mid² − det) of the eigenvalues; quad: half-axes k·√λ at most cap_px pixels
      *    (cap_view: and at most min(W, H)), the falloff following the quad (the conic from its axes); falloff:
      *    e^power renormalised to reach 0 at the cut, (e^power − e^−cut)/(1 − e^−cut); min_px > 0: dropped when both
-     *    half-axes are shorter than min_px pixels */
+     *    half-axes are shorter than min_px pixels; pad_px: SPR_GEXT_BOX's margin in whole pixels */
     struct { float cap; float floor; } alpha;   /* 5. α = min(cap, o·e^power) (cap 1: none); skipped below floor (0: none) */
     struct { float t_min; int le; } stop;       /* 6. stop when T·(1 − α) < t_min (le: ≤); t_min 0: no stop */
-    struct { spr_gauss_key key; int bits; } order; /* 7. */
+    struct { spr_gauss_key key; int bits; float znear, zfar; } order; /* 7. (znear, zfar: SPR_GKEY_TILE_GLDEPTH's projection) */
     spr_gauss_blend blend;                      /* 8. */
     struct { int sh_max; int dc8; int op8; int post8; int clamp_hi; int scale8; int pos16; } colour;
     /* 9. SH degree used at most; dc8: DC + 0.5 stored in 8 bits before the SH sum, op8: the opacity, post8: the
      *    colour after the sum (SPR_Q8_* of spr_cloud.h: none, round, floor); clamp_hi: the colour clamped to [0, 1]
      *    after the sum (always ≥ 0); scale8: σ stored in a log 8-bit code (SPR_GSCALE8_*); pos16: the centre stored
      *    as half floats, absolute then relative to the eye (Spark: μ' = eye + h(h(μ) − eye), h the nearest half) */
-    struct { int trains; int gate; int tclamp; } grad;
+    struct { int trains; int gate; int tclamp; float cap; int tdiv; int half_b; int detach_dirs; } grad;
     /* 10. the backward pass (SPEC 10.10), read at the renderer's backward: trains: it has one (the viewers do not);
      *     gate: no gradient through a capped α (else as if uncapped); tclamp: 0 the clamped tangent's exact
-     *     derivative, 1 inria's (the clamped u held constant: J's t.z term twice the exact one) */
+     *     derivative, 1 inria's (the clamped u held constant: J's t.z term twice the exact one); cap > 0: the
+     *     backward's own α cap, α_b = min(cap, α) in every backward term (0: the forward's α); tdiv: T recovered
+     *     back to front by division, T ← T·(1/(1 − α_b)) from the final T (0: the forward's own T, SPEC 10.10
+     *     item 3); half_b: ∂L/∂B of the conic's off-diagonal halved before the chain (the conic's gradient too);
+     *     detach_dirs: the SH colour's view direction detached (no ∂L/∂μ through the colour) */
+    struct { int centre; } camera;
+    /* 11. centre: the principal point ignored, cx = W/2, cy = H/2 (the renderer takes only the focal lengths) */
 } spr_gauss_profile;
 
 /* The table: count, row i, the row named name (NULL: none), the names joined by sep. */
@@ -358,6 +371,9 @@ spr_result spr__gauss_of_cloud(const spr_cloud *c, float *q, float *s);
 /* A frame's parameters (SPR_GPRM_COUNT floats) for view v, mode 0 (3D) or 1 (2D), desc's --gauss-aa and profile pf. */
 void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, const spr_gauss_profile *pf, float *g);
 spr_result spr__gauss_tiles(const float *rec, size_t n, int gx, int gy, int threads, uint32_t **range, uint32_t **list, spr_error *err);
+/* The same with each Gaussian's 32-bit key in keys (NULL: its record's float t.z), ties in file order. */
+spr_result spr__gauss_tiles_keyed(const float *rec, const uint32_t *keys, size_t n, int gx, int gy, int threads, uint32_t **range,
+                                  uint32_t **list, spr_error *err);
 spr_result spr__gauss_order(const float *rec, const spr_cloud *c, const double eye[3], const double zrow[3], spr_gauss_key key, int bits,
                             uint32_t **order, size_t *count, spr_error *err);
 /* The Gaussian passes, recorded: preprocessing (with its records), a host pass (no target), rasterization, a draw. */

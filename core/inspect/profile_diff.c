@@ -82,7 +82,9 @@ static local outcome(const ctx *c, const spr_gauss_profile *pf, uint32_t G)
     const float fi = (float)c->i, fj = (float)c->j;
     if (pf->skeleton != SPR_ALGO_GAUSS_BLEND) {
         const int tx = c->i / 16, ty = c->j / 16;
-        if (tx < rec[SPR_GREC_RECT] || tx >= rec[SPR_GREC_RECT + 2] || ty < rec[SPR_GREC_RECT + 1] || ty >= rec[SPR_GREC_RECT + 3]) {
+        if (tx < rec[SPR_GREC_RECT] || tx >= rec[SPR_GREC_RECT + 2] || ty < rec[SPR_GREC_RECT + 1] || ty >= rec[SPR_GREC_RECT + 3] ||
+            (pf->extent.kind == SPR_GEXT_BOX &&
+             (fi < rec[SPR_GREC_BOX] || fi > rec[SPR_GREC_BOX + 2] || fj < rec[SPR_GREC_BOX + 1] || fj > rec[SPR_GREC_BOX + 3]))) {
             L.status = L_OUTSIDE;
             return L;
         }

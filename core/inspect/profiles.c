@@ -34,7 +34,8 @@ void spr__profile_rule_text(const spr_gauss_profile *p, int rule, char *out, siz
         break;
     }
     case 2:
-        snprintf(out, cap, "%s", p->tan_clamp == 0 ? "none" : p->tan_clamp == 1 ? "±1.3·tan(fov/2)" : "−(cx/fx + 0.3·tan) … (W − cx)/fx + 0.3·tan");
+        snprintf(out, cap, "%s%s", p->tan_clamp == 0 ? "none" : p->tan_clamp == 1 ? "±1.3·tan(fov/2)" : "−(cx/fx + 0.3·tan) … (W − cx)/fx + 0.3·tan",
+                 p->camera.centre ? "; the principal point ignored: cx = W/2, cy = H/2" : "");
         break;
     case 3:
         snprintf(out, cap, "+%s; %s o·%s", num(p->dilation.eps2d, a, sizeof a), p->dilation.when == SPR_GCOMP_ALWAYS ? "always" : "--gauss-aa:",
@@ -47,6 +48,9 @@ void spr__profile_rule_text(const spr_gauss_profile *p, int rule, char *out, siz
         if (p->extent.kind == SPR_GEXT_SQUARE)
             o += (size_t)snprintf(out, cap, "ceil(%s·√λmax), λ floor %s; tiles trunc", num(k, a, sizeof a), num(p->extent.lambda_min, b, sizeof b));
         else if (p->extent.kind == SPR_GEXT_AXES) o += (size_t)snprintf(out, cap, "per axis ceil(%s·√Σ'aa); tiles floor/ceil", num(k, a, sizeof a));
+        else if (p->extent.kind == SPR_GEXT_BOX)
+            o += (size_t)snprintf(out, cap, "pixel box floor/ceil(m ∓ %s·√Σ'aa) ± %s px, no tiles of its own: pixels outside skip it", num(k, a, sizeof a),
+                                  num(p->extent.pad_px, b, sizeof b));
         else
             o += (size_t)snprintf(out, cap, "quad %s·√λ ≤ %s%s px, λ floor %s", num(k, a, sizeof a), num(p->extent.cap_px, b, sizeof b),
                                   p->extent.cap_view ? ", W, H" : "", num(p->extent.lambda_min, c, sizeof c));
@@ -68,6 +72,10 @@ void spr__profile_rule_text(const spr_gauss_profile *p, int rule, char *out, siz
         case SPR_GKEY_TILE_DEPTH: snprintf(out, cap, "per tile, float t.z"); break;
         case SPR_GKEY_DISTANCE: snprintf(out, cap, "global, \\|μ − eye\\| (double)"); break;
         case SPR_GKEY_VIEW_Z: snprintf(out, cap, "global, float t.z"); break;
+        case SPR_GKEY_TILE_GLDEPTH:
+            snprintf(out, cap, "per tile (its global sort), float OpenGL depth z·(1/max(w, 1e-6)) of near %s, far %s", num(p->order.znear, a, sizeof a),
+                     num(p->order.zfar, b, sizeof b));
+            break;
         default: snprintf(out, cap, "global, Σ round(1000·μ)·trunc(1000·clip-z row) in %d-bit buckets of the frame's range", p->order.bits);
         }
         break;

@@ -437,7 +437,11 @@ int spr_rect_pixel_rect(const spr_view *v, const float *f, int *x0, int *y0, int
     X(STOP_LE, 1)            /* 1: stop at T·(1 − α) ≤ T_MIN too (gsplat) */                                    \
     X(MODE, 1)               /* SPR_GMODE_3D (gauss3d, gauss-blend) or SPR_GMODE_2D (gauss2d) */              \
     X(GATE, 1)               /* backward (SPEC 10.10): 1 no gradient through a capped α (gsplat); 0 as uncapped (inria) */ \
-    X(TCLAMP_BWD, 1)         /* backward: 0 the clamped tangent's exact derivative; 1 inria's (u held, J's t.z term ×2) */
+    X(TCLAMP_BWD, 1)         /* backward: 0 the clamped tangent's exact derivative; 1 inria's (u held, J's t.z term ×2) */ \
+    X(EXT_PAD, 1)            /* SPR_GEXT_BOX: the pixel box's margin, whole pixels (OpenSplat: 2) */            \
+    X(CAP_BWD, 1)            /* backward: > 0 its own α cap, α_b = min(CAP_BWD, α) (OpenSplat 0.99); 0 the forward's α */ \
+    X(TDIV, 1)               /* backward: 1 T recovered back to front, T·(1/(1 − α_b)) from the final T; 0 the forward's T */ \
+    X(HALF_B, 1)             /* backward: 1 ∂L/∂B (the conic's off-diagonal) halved per pixel (OpenSplat) */
 enum {
 #define SPR__GPRM_OFF(name, n) SPR_GPRM_##name, SPR_GPRM__END_##name = SPR_GPRM_##name + (n) - 1,
     SPR_GPRM_LIST(SPR__GPRM_OFF)
@@ -503,6 +507,7 @@ enum {
 #define SPR_GEXT_SQUARE_F 0.0f
 #define SPR_GEXT_AXES_F 1.0f
 #define SPR_GEXT_QUAD_F 2.0f
+#define SPR_GEXT_BOX_F 3.0f
 
 /* The Gaussians of a frame, per Gaussian: mean, unit quaternion (w x y z),
  * σ (linear; a 2D Gaussian's third 0), opacity, colour (SPEC §10.3 step 9:
@@ -601,7 +606,8 @@ enum {
     SPR_NOTE_GAUSS_STOP,      /* the loop stops here, T·(1 − α) below the threshold: power, α, T, T·(1 − α) (not blended) */
     SPR_NOTE_GAUSS_PARALLEL,  /* gauss2d, skipped: the ray is parallel to the disk: 0, 0, T, T */
     SPR_NOTE_GAUSS_BEHIND,    /* gauss2d, skipped: the hit lies before the near plane: power, depth, T, T */
-    SPR_NOTE_GAUSS_END        /* the loop's end: k = the last contributor; T, D, Gaussians visited, Gaussians blended */
+    SPR_NOTE_GAUSS_END,       /* the loop's end: k = the last contributor; T, D, Gaussians visited, Gaussians blended */
+    SPR_NOTE_GAUSS_OUTSIDE    /* skipped, the pixel lies outside the Gaussian's pixel box (SPR_GEXT_BOX): 0, 0, T, T */
 };
 typedef struct spr_probe_note {
     int32_t tag;         /* SPR_NOTE_* of spr_backend.h, made by the shared arithmetic */

@@ -128,7 +128,33 @@ SPR_FN void spr_gauss_rects(SPR_CARR g[SPR_GPRM_COUNT], float mx, float my, floa
         float r = rr[a];
         SPR_PRECISE float lo = m[a] - r;
         SPR_PRECISE float hr = m[a] + r;
-        if (g[SPR_GPRM_EXT] == SPR_GEXT_AXES_F) {
+        float wn = g[SPR_GPRM_W + a];
+        SPR_PRECISE float last = wn - 1.0f;
+        if (g[SPR_GPRM_EXT] == SPR_GEXT_BOX_F) {
+            /* OpenSplat: pixels [max(0, floor(m − r) − pad), min(W, ceil(m + r) + pad)), every tile they touch */
+            SPR_PRECISE float fl0 = spr_floor(lo);
+            SPR_PRECISE float p0 = fl0 - g[SPR_GPRM_EXT_PAD];
+            SPR_PRECISE float ch1 = spr_ceil(hr);
+            SPR_PRECISE float p1 = ch1 + g[SPR_GPRM_EXT_PAD];
+            if (!(p0 >= 0.0f)) p0 = 0.0f;
+            if (!(p1 <= wn)) p1 = wn;
+            SPR_PRECISE float pl = p1 - 1.0f;
+            float t0 = 0.0f;
+            float t1 = 0.0f;
+            if (pl >= p0) {
+                SPR_PRECISE float q0 = p0 / 16.0f;
+                SPR_PRECISE float q1 = pl / 16.0f;
+                SPR_PRECISE float f0 = spr_floor(q0);
+                SPR_PRECISE float f1 = spr_floor(q1);
+                SPR_PRECISE float f2 = f1 + 1.0f;
+                t0 = f0;
+                t1 = f2;
+            }
+            rec[SPR_GREC_RECT + a] = t0;
+            rec[SPR_GREC_RECT + 2 + a] = t1;
+            rec[SPR_GREC_BOX + a] = p0;
+            rec[SPR_GREC_BOX + 2 + a] = pl;
+        } else if (g[SPR_GPRM_EXT] == SPR_GEXT_AXES_F) {
             SPR_PRECISE float mc = m[a] + 0.5f;
             SPR_PRECISE float clo = mc - r;
             SPR_PRECISE float chi = mc + r;
@@ -156,8 +182,7 @@ SPR_FN void spr_gauss_rects(SPR_CARR g[SPR_GPRM_COUNT], float mx, float my, floa
             rec[SPR_GREC_RECT + a] = t0;
             rec[SPR_GREC_RECT + 2 + a] = t1;
         }
-        float wn = g[SPR_GPRM_W + a];
-        SPR_PRECISE float last = wn - 1.0f;
+        if (g[SPR_GPRM_EXT] == SPR_GEXT_BOX_F) continue;
         SPR_PRECISE float b0 = spr_ceil(lo);
         SPR_PRECISE float b1 = spr_floor(hr);
         if (!(b0 >= 0.0f)) b0 = 0.0f;
@@ -336,7 +361,15 @@ SPR_FN void spr_gauss_preprocess3d(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3], S
     float k3 = g[SPR_GPRM_EXT_K];
     float rx = 0.0f;
     float ry = 0.0f;
-    if (g[SPR_GPRM_EXT] == SPR_GEXT_AXES_F) {
+    if (g[SPR_GPRM_EXT] == SPR_GEXT_BOX_F) {
+        /* OpenSplat's pixel box: k·sqrt(Σ'_aa) of the dilated covariance, not rounded (spr_gauss_rects) */
+        SPR_PRECISE float sa = spr_sqrt(a);
+        SPR_PRECISE float sc = spr_sqrt(cc);
+        SPR_PRECISE float ka = k3 * sa;
+        SPR_PRECISE float kc = k3 * sc;
+        rx = ka;
+        ry = kc;
+    } else if (g[SPR_GPRM_EXT] == SPR_GEXT_AXES_F) {
         /* per axis: ceil(k·sqrt(Σ'_aa)) of the dilated covariance */
         SPR_PRECISE float sa = spr_sqrt(a);
         SPR_PRECISE float sc = spr_sqrt(cc);
@@ -1003,6 +1036,16 @@ SPR_FN int spr_gauss_surfel(SPR_PIXEL px, int G, float fi, float fj, SPR_OUT pow
     return 1;
 }
 
+/* 1 when pixel (fi, fj) lies outside record G's pixel box under the extent SPR_GEXT_BOX (its tiles hold pixels the
+ * box does not: they skip it); 0 otherwise and under every other extent. */
+SPR_FN int spr_gauss_outside(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], int G, float fi, float fj)
+{
+    if (g[SPR_GPRM_EXT] != SPR_GEXT_BOX_F) return 0;
+    if (fi < spr_grec(px, G, SPR_GREC_BOX) || fi > spr_grec(px, G, SPR_GREC_BOX + 2)) return 1;
+    if (fj < spr_grec(px, G, SPR_GREC_BOX + 1) || fj > spr_grec(px, G, SPR_GREC_BOX + 3)) return 1;
+    return 0;
+}
+
 /* SPEC §10.4 (mode 3D) and §10.5 (mode 2D): pixel px's tile list, front to
  * back; returns the Gaussians visited.  Gives o = (C + T·bg, 1 − T),
  * aux = (T, last contributor k, D, Gaussians blended) with
@@ -1038,6 +1081,10 @@ SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg
     for (int e = first; e < end; e++) {
         int G = spr_glist(px, e);
         k = k + 1;
+        if (spr_gauss_outside(px, g, G, fi, fj) != 0) {
+            SPR_NOTE(px, SPR_NOTE_GAUSS_OUTSIDE, G, 0.0f, 0.0f, T, T);
+            continue;
+        }
         float power = 0.0f;
         float depth = 0.0f;
         if (two != 0) {
@@ -1179,6 +1226,10 @@ SPR_FN void spr_gauss_blend_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], float 
     spr_gpart_add(px, e, SPR_GPART_OPACITY, vo);
     float dp[5];
     spr_gauss_power_bwd(mx, my, cA, cB, cC, fi, fj, vp, dp);
+    if (g[SPR_GPRM_HALF_B] != 0.0f) { /* the profile's halved off-diagonal (OpenSplat: 0.5·v_σ·x·y) */
+        SPR_PRECISE float hb = 0.5f * dp[1];
+        dp[1] = hb;
+    }
     for (int k = 0; k < 3; k++) spr_gpart_add(px, e, SPR_GPART_CONIC + k, dp[k]);
     for (int k = 0; k < 2; k++) {
         spr_gpart_add(px, e, SPR_GPART_M + k, dp[3 + k]);
@@ -1221,6 +1272,7 @@ SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
     int n = 0;
     for (int e = first; e < end; e++) {
         int G = spr_glist(px, e);
+        if (spr_gauss_outside(px, g, G, fi, fj) != 0) continue;
         float power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
                                       spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
         float alpha = 0.0f;
@@ -1243,6 +1295,7 @@ SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
     float behind[5];
     for (int k = 0; k < 4; k++) acc[k] = 0.0f;
     for (int k = 0; k < 5; k++) behind[k] = 0.0f;
+    SPR_PRECISE float Tb = Tf;
     int hi = n;
     while (hi > 0) {
         int lo = ((hi - 1) / 32) * 32;
@@ -1256,6 +1309,7 @@ SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
         if (hi - lo > 32) lo = hi - 32;
         for (int e = ce[cp]; e < end && b < hi; e++) {
             int G = spr_glist(px, e);
+            if (spr_gauss_outside(px, g, G, fi, fj) != 0) continue;
             float power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
                                           spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
             float alpha = 0.0f;
@@ -1272,7 +1326,20 @@ SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
                 b = b + 1;
             }
         }
-        for (int k = hi - lo - 1; k >= 0; k--) spr_gauss_blend_bwd(px, g, fi, fj, se[k], sa[k], sT[k], Tf, up, bt, acc, behind);
+        for (int k = hi - lo - 1; k >= 0; k--) {
+            /* the profile's backward rules: its own α cap, and T recovered by division (OpenSplat) */
+            float ab = sa[k];
+            if (g[SPR_GPRM_CAP_BWD] > 0.0f && ab > g[SPR_GPRM_CAP_BWD]) ab = g[SPR_GPRM_CAP_BWD];
+            float Tk = sT[k];
+            if (g[SPR_GPRM_TDIV] != 0.0f) {
+                SPR_PRECISE float om = 1.0f - ab;
+                SPR_PRECISE float ra = 1.0f / om;
+                SPR_PRECISE float tn = Tb * ra;
+                Tb = tn;
+                Tk = tn;
+            }
+            spr_gauss_blend_bwd(px, g, fi, fj, se[k], ab, Tk, Tf, up, bt, acc, behind);
+        }
         hi = lo;
     }
     return n;
