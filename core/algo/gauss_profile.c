@@ -86,6 +86,30 @@ static const spr_gauss_profile rows[] = {
         .grad = {1, 1, 0},
     },
     {
+        .name = "opensplat",
+        .skeleton = SPR_ALGO_GAUSS3D,
+        .renderer = "pierotofy/OpenSplat, its CPU rasterizer (gsplat-cpu; the backward keeps its own rules: alpha capped at 0.99 with T "
+                    "recovered by division, the conic's off-diagonal gradient halved, the view directions detached)",
+        .version = "15b7e80 (gsplat_cpu.cpp last changed 0aca3f0)",
+        .source = "rasterizer/gsplat-cpu/gsplat_cpu.cpp:48-257, 260-372, model.cpp:35-47, 83-222",
+        /* no near test (L71): only t.z ≤ 0 culled, which it draws off-screen (w clamped at 1e-6, L121); det clamped, never culled */
+        .cull = {.near = 0.0f, .near_lt = 0, .clip_k = 0.0f, .det_le = 0},
+        .tan_clamp = 1,
+        .dilation = {0.3f, SPR_GCOMP_OPTION, SPR_GCOMP_ROOT_OF_MAX, 0.0f},
+        /* no tiles: rows [max(0, floor(gY − 3√Σ'yy) − 2), min(H, ceil(gY + 3√Σ'yy) + 2)), columns likewise (L167-168, L201-204) */
+        .extent = {SPR_GEXT_BOX, 9.0, 0.0f, 0, 0.0f, 0, 0.0f, 2.0f},
+        .alpha = {0.999f, A255},
+        .stop = {0.0001f, 1},
+        /* one global std::sort by its float camDepths (L155-159), the OpenGL depth of model.cpp's projection (0.001, 1000);
+         * ties in file order here (std::sort's tie permutation is libstdc++'s introsort) */
+        .order = {SPR_GKEY_TILE_GLDEPTH, 32, 0.001f, 1000.0f},
+        .blend = SPR_GBLEND_UNDER,
+        .colour = {3, SPR_Q8_NONE, SPR_Q8_NONE, SPR_Q8_NONE, 0},
+        /* backward: cap 0.99 with T by division (L338-342), v_conic.y = 0.5·v_σ·x·y (L364), dirs from means.detach() (model.cpp L176) */
+        .grad = {.trains = 1, .gate = 0, .tclamp = 0, .cap = 0.99f, .tdiv = 1, .half_b = 1, .detach_dirs = 1},
+        .camera = {.centre = 1}, /* u = fx·x/z + W/2 − 0.5 (L119-125, model.cpp L110-113): cx, cy never reach it */
+    },
+    {
         .name = "khr",
         .skeleton = SPR_ALGO_GAUSS_BLEND,
         .renderer = "KhronosGroup/glTF KHR_gaussian_splatting (release candidate; SPEC 10.7 fills in what it leaves open)",
