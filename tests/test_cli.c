@@ -892,6 +892,70 @@ START_TEST(explain_grad_sums_to_the_bit)
 }
 END_TEST
 
+/* step --grad-gaussian G: the page's "Backward pass" section under the upstream options of the gradient tests: the chosen
+ * pixel's reverse walk, G's pixels in summation order (as many as the .npz's counts[G]) and its sums, which the page
+ * states equal splatref grad's values bit for bit; then with a G that blends at the chosen pixel, its row of the walk
+ * equals the backward's own term. */
+static char *step_page(const char *G, const char *name)
+{
+    static char out[1 << 14];
+    char *argv[] = {"splatref", "step", "--model", (char *)grad_model(), GRAD_SCENE, "--grad-gaussian", (char *)G, "--out", (char *)path_in(name), "--quiet", NULL};
+    const int rc = tu_run(NULL, NULL, 1, argv, out, sizeof out);
+    ck_assert_msg(rc == 0 && strstr(out, "its sums equal splatref grad's values bit for bit: yes"), "step --grad-gaussian %s: exit %d: %s", G, rc, tail(out));
+    char p[400];
+    snprintf(p, sizeof p, "%s/index.html", path_in(name));
+    char *html = NULL;
+    size_t len = 0;
+    spr_error e = {0};
+    ck_assert_msg(spr__read_file(p, &html, &len, &e) == SPR_OK, "%s", e.msg);
+    return html;
+}
+
+static int count_of(const char *s, const char *what)
+{
+    int n = 0;
+    for (const char *p = s; (p = strstr(p, what)); p++) n++;
+    return n;
+}
+
+START_TEST(step_backward_section)
+{
+    grad_upstream();
+    grad_npz("g.npz");
+    spr_npy *a = NULL;
+    int n = 0;
+    spr_error e = {0};
+    ck_assert_msg(spr_npz_read(path_in("g.npz"), &a, &n, &e) == SPR_OK, "%s", e.msg);
+    const int32_t *counts = npz_member(a, n, "counts")->data;
+    char *html = step_page("58", "walk");
+    ck_assert_msg(strstr(html, "<section id=\"backward\"><h2>Backward pass"), "no backward section");
+    ck_assert_msg(strstr(html, "id=\"backward-pixel-table\"") && count_of(html, "<tr class=\"bpx\"") >= 1, "no pixel walk");
+    ck_assert_msg(strstr(html, "&part;L/&part;&alpha;<sub>k</sub>    = T<sub>k</sub>"), "no equations above the pixel's table");
+    ck_assert_msg(strstr(html, "id=\"backward-bits\" data-same=\"yes\"") && strstr(html, "bit for bit: <b>yes</b>"), "sums not stated bit-identical");
+    const char *c = strstr(html, "id=\"backward-count\" data-pixels=\"");
+    ck_assert_msg(c, "no pixel count");
+    ck_assert_int_eq(atoi(c + strlen("id=\"backward-count\" data-pixels=\"")), counts[58]);
+    ck_assert_int_eq(count_of(html, "<tr class=\"gpx\""), counts[58]);
+    ck_assert_msg(strstr(html, "id=\"backward-chain-table\"") && strstr(html, "<td>quats</td>") && strstr(html, "<td>sh0</td>"), "no chain");
+    /* the front Gaussian of the chosen pixel's walk (its last row): its row equals the backward's own term for that pixel */
+    const char *t = strstr(html, "id=\"backward-pixel-table\""), *last = NULL;
+    for (const char *p = t; (p = strstr(p, "<tr class=\"bpx\"")) && p < strstr(t, "</table>"); p++) last = p;
+    ck_assert_ptr_nonnull(last);
+    const char *cell = last;
+    for (int k = 0; k < 3; k++) cell = strstr(cell, "<td>") + 4; /* step, k, Gaussian */
+    char G[16];
+    snprintf(G, sizeof G, "%d", atoi(cell));
+    free(html);
+    html = step_page(G, "walk2");
+    ck_assert_msg(strstr(html, "id=\"backward-pixel-check\" data-same=\"yes\""), "Gaussian %s's row of the walk differs from the backward's term", G);
+    c = strstr(html, "id=\"backward-count\" data-pixels=\"");
+    ck_assert_msg(c && atoi(c + strlen("id=\"backward-count\" data-pixels=\"")) == counts[atoi(G)], "Gaussian %s: pixel count", G);
+    printf("step --grad-gaussian: Gaussian 58, %d pixels; Gaussian %s (front at the chosen pixel), %d pixels\n", counts[58], G, counts[atoi(G)]);
+    free(html);
+    spr_npz_free(a, n);
+}
+END_TEST
+
 Suite *make_cli_suite(void)
 {
     Suite *s = suite_create("cli");
@@ -914,6 +978,7 @@ Suite *make_cli_suite(void)
     tcase_add_test(tc, gauss_profile_options);
     tcase_add_test(tc, check_grads_verdicts);
     tcase_add_test(tc, explain_grad_sums_to_the_bit);
+    tcase_add_test(tc, step_backward_section);
     suite_add_tcase(s, tc);
     return s;
 }

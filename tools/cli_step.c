@@ -10,6 +10,7 @@
  * embedded too.  Grouping gets its own section: which splat went to which
  * group, with its overlapping neighbours' groups, on a small cloud. */
 #include "cli.h"
+#include "cli_grad.h"
 #include "spr__scene_opts.h"
 #include "spr_image.h"
 #include "spr_swrast.h"
@@ -19,10 +20,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 static const spr__opt step_opts[] = {
     {"out", "DIR", "the walk-through: DIR/index.html, its pictures and scene.json (required)"},
     {"pixels", "N", "pixel histories to embed, 0..16 (default 6)"},
+    {"grad-gaussian", "G", "gauss3d under a profile that trains: a backward pass section (SPEC 10.10) for the first embedded pixel and for Gaussian G "
+                           "(its index in the model), under the upstream gradient of --loss or --dl-dimage (as splatref grad)"},
+    CLI_GRAD_OPTS,
     SPR__SCENE_OPTS,
     {NULL, NULL, NULL}};
 
@@ -397,7 +404,7 @@ static const char *const page_css =
     "#info table{border-collapse:collapse}#info td{padding:1px 6px;border-bottom:1px solid #eee;font-family:monospace}"
     "pre{font-size:.75em;overflow:auto;background:#fafafa;border:1px solid #ddd;padding:.4em}.note{color:#555}#tip{position:fixed;"
     "background:#ffd;border:1px solid #aa8;padding:2px 5px;font:12px monospace;pointer-events:none;display:none}"
-    "table.groups td,table.groups th{padding:1px 6px;font-size:.8em;border-bottom:1px solid #eee}";
+    "table.groups td,table.groups th{padding:1px 6px;font-size:.8em;border-bottom:1px solid #eee}table.bwd td{font-family:monospace;white-space:nowrap;vertical-align:top}.wide{overflow-x:auto}pre.bwdeq{font-size:.9em}";
 
 /* The page's script: decode the planes, show a pixel's values on click,
  * one value on hover; #test=X,Y clicks that pixel once the pictures have
@@ -493,6 +500,378 @@ static void grouping_section(page *pg, const spr_scene *s)
     spr_overlap_graph_free(&og);
 }
 
+/* ---- the backward pass (SPEC 10.10, docs/gradients.md): one pixel and one Gaussian ---- */
+/* The backend's float environment (flush-to-zero, as gauss_grad.c), for the host's retrace of the pixel. */
+static unsigned ftz_enter(void)
+{
+#if defined(__SSE__)
+    const unsigned old = _mm_getcsr();
+    _mm_setcsr(old | 0x8040u);
+    return old;
+#else
+    return 0;
+#endif
+}
+static void ftz_leave(unsigned old)
+{
+#if defined(__SSE__)
+    _mm_setcsr(old);
+#else
+    (void)old;
+#endif
+}
+
+/* n floats as "a, b, c" (%.9g: a float's bits). */
+static void fvals(FILE *f, const float *v, int n)
+{
+    for (int k = 0; k < n; k++) fprintf(f, "%s%.9g", k ? ", " : "", v[k]);
+}
+/* the same in a table's cell: one value a line */
+static void fcell(FILE *f, const float *v, int n)
+{
+    for (int k = 0; k < n; k++) fprintf(f, "%s%.9g", k ? "<br>" : "", v[k]);
+}
+
+typedef struct grad_view {
+    const spr_gauss_grads *g;
+    const spr_grad_explain *x;
+    const spr_grad_desc *gd;
+    const float *bg;
+    const spr_gauss_profile *pf;
+    const float *rec; /* the preprocessing's records (SPR_GREC_FLOATS a Gaussian), or NULL */
+    const spr_history *h; /* the page's chosen pixel (its history), or NULL */
+} grad_view;
+
+/* One step of the pixel's reverse walk, as spr_gauss_blend_bwd computes it. */
+typedef struct bwd_row {
+    int G, rank;
+    float power, alpha, T, ab, Tk, acc[4], dc[4], td, tb, va, vo, vp, dp[5];
+    int gated;
+} bwd_row;
+
+/* The pixel's upstream gradient (∂L/∂C, ∂L/∂A, ∂L/∂D), as the backward's host computes it from the forward's image. */
+static void pixel_upstream(const spr_grad_desc *gd, const float *rgba, int W, int H, size_t i, float up[5])
+{
+    const double inv = 1.0 / (3.0 * (double)((size_t)W * H));
+    for (int ch = 0; ch < 3; ch++) {
+        double v;
+        if (gd->loss == SPR_LOSS_GIVEN) v = gd->dl_dimage[3 * i + ch];
+        else {
+            const double r = (double)rgba[4 * i + ch] - (gd->target ? (double)gd->target[3 * i + ch] : 0.0);
+            v = gd->loss == SPR_LOSS_L1 ? (r > 0.0 ? 1.0 : r < 0.0 ? -1.0 : 0.0) * inv : 2.0 * r * inv;
+        }
+        up[ch] = (float)v;
+    }
+    up[3] = gd->dl_dalpha ? gd->dl_dalpha[i] : 0.0f;
+    up[4] = gd->dl_ddepth ? gd->dl_ddepth[i] : 0.0f;
+}
+
+static const char *const bwd_eq =
+    "<p>g = &part;L/&part;C at the pixel (the upstream gradient), bg the background, T<sub>f</sub> the forward's final T. The walk runs back to front "
+    "over the Gaussians the forward blended, with the forward's own &alpha; and T (SPEC 10.10 item 3), and inria's recurrence for the colour behind:</p>"
+    "<pre class=\"bwdeq\">acc        = &alpha;'&middot;c' + (1 &minus; &alpha;')&middot;acc            (&alpha;', c': the Gaussian walked before, i.e. behind; acc = 0 at first;"
+    " a 4th channel carries 1/t.z)\n"
+    "&part;L/&part;c<sub>k</sub>    = (&alpha;<sub>k</sub>&middot;T<sub>k</sub>)&middot;g\n"
+    "&part;L/&part;&alpha;<sub>k</sub>    = T<sub>k</sub>&middot;&Sigma;<sub>ch</sub>(c<sub>k</sub> &minus; acc)&middot;g  &minus;  "
+    "(T<sub>f</sub>/(1 &minus; &alpha;<sub>k</sub>))&middot;(&lang;bg, g&rang; &minus; &part;L/&part;A)     (the 4th channel: (1/t.z &minus; acc)&middot;&part;L/&part;D)\n"
+    "&alpha;<sub>k</sub>       = min(cap, o<sub>k</sub>&middot;G<sub>k</sub>),  G<sub>k</sub> = e<sup>power<sub>k</sub></sup>\n"
+    "power<sub>k</sub>   = &minus;&frac12;(A dx&sup2; + C dy&sup2;) &minus; B dx dy,  (dx, dy) = m &minus; pixel\n"
+    "&part;L/&part;o      = G&middot;&part;L/&part;&alpha;,   &part;L/&part;power = o&middot;G&middot;&part;L/&part;&alpha;     "
+    "(both 0 where o&middot;G &gt; cap under a profile with the cap gate)\n"
+    "&part;L/&part;(A, B, C) = &part;L/&part;power&middot;(&minus;&frac12;dx&sup2;, &minus;dx&middot;dy, &minus;&frac12;dy&sup2;)\n"
+    "&part;L/&part;m      = &part;L/&part;power&middot;(&minus;(A dx + B dy), &minus;(B dx + C dy))        (means2d, pixels)</pre>";
+
+/* The chosen pixel: its blended Gaussians walked back to front. */
+static void backward_pixel(page *pg, const grad_view *gv, size_t Gsel)
+{
+    FILE *f = pg->f;
+    const int W = pg->W, H = pg->H;
+    const spr_history *h = gv->h;
+    if (!h) {
+        fprintf(f, "<h3 id=\"backward-pixel\">The chosen pixel</h3><p class=\"note\">No pixel is embedded (--pixels 0): give --pixels 1 or more.</p>\n");
+        return;
+    }
+    fprintf(f, "<h3 id=\"backward-pixel\">Pixel x %d, y %d (row %d from the top): its blended Gaussians, back to front</h3>\n", h->x, h->y, H - 1 - h->y);
+    const spr_hist_event *ev = NULL;
+    for (int e = 0; e < h->n; e++)
+        if (h->ev[e].kind == SPR_HIST_GAUSS_RASTER) ev = &h->ev[e];
+    if (!ev || !gv->rec) {
+        fprintf(f, "<p class=\"note\">The pixel's history has no Gaussian raster call or the frame no records: nothing to walk.</p>\n");
+        return;
+    }
+    if (h->overflow) fprintf(f, "<p class=\"note\">The pixel's history overflowed (more than %d notes): the walk below is incomplete.</p>\n", SPR_PROBE_MAX);
+    const float *g = ev->gprm;
+    int nb = 0, tile = -1;
+    float Tf = 1.0f;
+    for (int k = 0; k < ev->n_notes; k++) {
+        const spr_probe_note *n = &ev->notes[k];
+        if (n->tag == SPR_NOTE_GAUSS_BLEND) nb++;
+        else if (n->tag == SPR_NOTE_GAUSS_TILE) tile = n->k;
+        else if (n->tag == SPR_NOTE_GAUSS_END) Tf = n->v[0];
+    }
+    bwd_row *rows = nb ? calloc((size_t)nb, sizeof *rows) : NULL;
+    if (nb && !rows) { fprintf(f, "<p class=\"note\">out of memory</p>\n"); return; }
+    int r = 0;
+    for (int k = 0; k < ev->n_notes; k++) { /* front to back, as the forward blended them */
+        const spr_probe_note *n = &ev->notes[k];
+        if (n->tag != SPR_NOTE_GAUSS_BLEND) continue;
+        rows[r].G = n->k, rows[r].rank = r, rows[r].power = n->v[0], rows[r].alpha = n->v[1], rows[r].T = n->v[2];
+        r++;
+    }
+    const size_t i = (size_t)h->y * W + (size_t)h->x;
+    float up[5];
+    pixel_upstream(gv->gd, gv->g->image, W, H, i, up);
+    const float fi = (float)h->x, fj = (float)(H - 1 - h->y);
+    const unsigned fp = ftz_enter();
+    const float bgg = spr_sum3(gv->bg[0], up[0], gv->bg[1], up[1], gv->bg[2], up[2]);
+    const float bt = bgg - up[3];
+    float acc[4] = {0, 0, 0, 0}, behind[5] = {0, 0, 0, 0, 0};
+    const float gk[4] = {up[0], up[1], up[2], up[4]};
+    float Tb = Tf;
+    for (int k = nb - 1; k >= 0; k--) { /* spr_gauss_pixel_bwd's profile rules, then spr_gauss_blend_bwd, operation by operation */
+        bwd_row *w = &rows[k];
+        w->ab = w->alpha, w->Tk = w->T;
+        if (g[SPR_GPRM_CAP_BWD] > 0.0f && w->ab > g[SPR_GPRM_CAP_BWD]) w->ab = g[SPR_GPRM_CAP_BWD];
+        if (g[SPR_GPRM_TDIV] != 0.0f) { /* T recovered by division from T_f (OpenSplat) */
+            const float om = 1.0f - w->ab, ra = 1.0f / om;
+            Tb = Tb * ra;
+            w->Tk = Tb;
+        }
+        const float *R = gv->rec + (size_t)w->G * SPR_GREC_FLOATS;
+        const float c[4] = {R[SPR_GREC_COLOR], R[SPR_GREC_COLOR + 1], R[SPR_GREC_COLOR + 2], R[SPR_GREC_INVZ]};
+        const float ob = 1.0f - behind[4];
+        for (int ch = 0; ch < 4; ch++) {
+            const float xx = behind[4] * behind[ch];
+            const float yy = ob * acc[ch];
+            acc[ch] = xx + yy;
+        }
+        const float aT = w->ab * w->Tk;
+        float d = 0.0f;
+        for (int ch = 0; ch < 4; ch++) {
+            w->dc[ch] = aT * gk[ch];
+            const float df = c[ch] - acc[ch];
+            const float dg = df * gk[ch];
+            d = d + dg;
+        }
+        w->td = w->Tk * d;
+        const float oma = 1.0f - w->ab, tf = Tf / oma;
+        w->tb = tf * bt;
+        w->va = w->td - w->tb;
+        memcpy(w->acc, acc, sizeof acc);
+        const float power = spr_gauss_power(R[SPR_GREC_M], R[SPR_GREC_M + 1], R[SPR_GREC_CONIC], R[SPR_GREC_CONIC + 1], R[SPR_GREC_CONIC + 2], fi, fj);
+        spr_gauss_alpha_bwd(g, R[SPR_GREC_OPACITY], power, w->va, &w->vo, &w->vp);
+        spr_gauss_power_bwd(R[SPR_GREC_M], R[SPR_GREC_M + 1], R[SPR_GREC_CONIC], R[SPR_GREC_CONIC + 1], R[SPR_GREC_CONIC + 2], fi, fj, w->vp, w->dp);
+        if (g[SPR_GPRM_HALF_B] != 0.0f) w->dp[1] = 0.5f * w->dp[1]; /* the profile's halved off-diagonal (OpenSplat) */
+        const float oe = R[SPR_GREC_OPACITY] * spr_exp(power);
+        w->gated = oe > g[SPR_GPRM_CAP] && g[SPR_GPRM_GATE] != 0.0f;
+        for (int ch = 0; ch < 4; ch++) behind[ch] = c[ch];
+        behind[4] = w->ab;
+    }
+    ftz_leave(fp);
+    const float *C = gv->g->image + 4 * i;
+    fprintf(f, "<p>Tile %d; %d Gaussians blended; C = (", tile, nb);
+    fvals(f, C, 3);
+    fprintf(f, "), T<sub>f</sub> = %.9g, bg = (", Tf);
+    fvals(f, gv->bg, 3);
+    fprintf(f, "). Upstream: g = &part;L/&part;C = (");
+    fvals(f, up, 3);
+    fprintf(f, ")%s, &part;L/&part;A = %.9g, &part;L/&part;D = %.9g; &lang;bg, g&rang; &minus; &part;L/&part;A = %.9g. Profile %s: cap %.9g, cap gate %s.</p>\n",
+            gv->gd->loss == SPR_LOSS_L2 ? " (2(C &minus; target)/(3WH))" : gv->gd->loss == SPR_LOSS_L1 ? " (sign(C &minus; target)/(3WH))" : " (given)",
+            up[3], up[4], bt, gv->pf->name, g[SPR_GPRM_CAP], g[SPR_GPRM_GATE] != 0.0f ? "on" : "off (&part;&alpha;/&part;o = G even when capped)");
+    if (g[SPR_GPRM_CAP_BWD] > 0.0f || g[SPR_GPRM_TDIV] != 0.0f || g[SPR_GPRM_HALF_B] != 0.0f) {
+        fprintf(f, "<p>The profile's backward rules (rule 10):");
+        if (g[SPR_GPRM_CAP_BWD] > 0.0f) fprintf(f, " its own &alpha; cap %.9g;", g[SPR_GPRM_CAP_BWD]);
+        if (g[SPR_GPRM_TDIV] != 0.0f) fprintf(f, " T recovered by division from T<sub>f</sub>, T<sub>k</sub> = T<sub>k+1</sub>/(1 &minus; &alpha;<sub>k</sub>);");
+        if (g[SPR_GPRM_HALF_B] != 0.0f) fprintf(f, " &part;L/&part;B halved;");
+        fprintf(f, " where the backward's &alpha; or T differs from the forward's, the cell shows the backward's and then the forward's.</p>\n");
+    }
+    fprintf(f, "<div class=\"eq\">%s</div>\n", bwd_eq);
+    fprintf(f, "<div class=\"wide\"><table class=\"groups bwd\" id=\"backward-pixel-table\"><tr><th>step</th><th>k (1: front)</th><th>Gaussian</th><th>power</th><th>&alpha;</th>"
+               "<th>T</th><th>acc (r, g, b, 1/z)</th><th>&part;L/&part;&alpha;</th><th>= T&middot;&Sigma;(c &minus; acc)&middot;g</th>"
+               "<th>&minus; background term</th><th>&part;L/&part;o</th><th>&part;L/&part;power</th><th>&part;L/&part;(A, B, C)</th><th>&part;L/&part;m</th>"
+               "<th>&part;L/&part;c</th></tr>\n");
+    const bwd_row *mine = NULL;
+    for (int k = nb - 1, step = 1; k >= 0; k--, step++) {
+        const bwd_row *w = &rows[k];
+        if ((size_t)w->G == Gsel) mine = w;
+        fprintf(f, "<tr class=\"bpx\"%s><td>%d</td><td>%d</td><td>%d</td><td>%.9g</td><td>%.9g", (size_t)w->G == Gsel ? " style=\"background:#ffe\"" : "",
+                step, k + 1, w->G, w->power, w->ab);
+        if (memcmp(&w->ab, &w->alpha, sizeof w->ab)) fprintf(f, "<br>(forward %.9g)", w->alpha);
+        fprintf(f, "</td><td>%.9g", w->Tk);
+        if (memcmp(&w->Tk, &w->T, sizeof w->Tk)) fprintf(f, "<br>(forward %.9g)", w->T);
+        fprintf(f, "</td><td>");
+        fcell(f, w->acc, 4);
+        fprintf(f, "</td><td>%.9g</td><td>%.9g</td><td>%.9g</td><td>%.9g%s</td><td>%.9g</td><td>", w->va, w->td, w->tb, w->vo, w->gated ? " (gated)" : "", w->vp);
+        fcell(f, w->dp, 3);
+        fprintf(f, "</td><td>");
+        fcell(f, w->dp + 3, 2);
+        fprintf(f, "</td><td>");
+        fcell(f, w->dc, 3);
+        fprintf(f, "</td></tr>\n");
+    }
+    fprintf(f, "</table></div>\n");
+    /* G's row, when G blends here, against the backward's own term for this pixel (spr_gauss_grad_explain) */
+    const spr_grad_term *t = NULL;
+    for (size_t p = 0; p < gv->x->n_terms; p++)
+        if (gv->x->terms[p].x == h->x && gv->x->terms[p].y == h->y) t = &gv->x->terms[p];
+    if (!mine) fprintf(f, "<p class=\"note\">Gaussian %zu does not blend at this pixel.</p>\n", Gsel);
+    else if (t) {
+        /* the forward's α and T, and the terms the backward itself added to G's partial at this pixel */
+        int same = !memcmp(&mine->alpha, &t->alpha, sizeof t->alpha) && !memcmp(&mine->T, &t->T, sizeof t->T) &&
+                   !memcmp(&mine->vo, t->part + SPR_GPART_OPACITY, sizeof(float)) && !memcmp(mine->dp, t->part + SPR_GPART_CONIC, 3 * sizeof(float)) &&
+                   !memcmp(mine->dp + 3, t->part + SPR_GPART_M, 2 * sizeof(float)) && !memcmp(mine->dc, t->part + SPR_GPART_COLOR, 4 * sizeof(float));
+        fprintf(f, "<p id=\"backward-pixel-check\" data-same=\"%s\">Gaussian %zu's row (highlighted): its terms (&part;L/&part;c, &part;L/&part;o, "
+                   "&part;L/&part;(A, B, C), &part;L/&part;m) equal what the backward added to its partial at this pixel (the table below) bit for bit: "
+                   "<b>%s</b>.</p>\n", same ? "yes" : "no", Gsel, same ? "yes" : "no");
+    }
+    free(rows);
+}
+
+/* Gaussian G: its pixels in summation order, the tiles' partials, the sums against splatref grad's arrays, and the chain. */
+static int backward_gaussian(page *pg, const grad_view *gv)
+{
+    FILE *f = pg->f;
+    const int W = pg->W, H = pg->H;
+    const spr_grad_explain *x = gv->x;
+    const spr_gauss_grads *g = gv->g;
+    const size_t G = x->G;
+    fprintf(f, "<h3 id=\"backward-gaussian\">Gaussian %zu: every pixel that gave it a gradient, in summation order</h3>\n", G);
+    if (gv->rec) {
+        const float *R = gv->rec + G * SPR_GREC_FLOATS;
+        fprintf(f, "<p>Its record: centre m = (%.9g, %.9g), conic (A, B, C) = (%.9g, %.9g, %.9g), opacity o = %.9g, colour c = (%.9g, %.9g, %.9g), "
+                   "depth t.z = %.9g.</p>\n", R[SPR_GREC_M], R[SPR_GREC_M + 1], R[SPR_GREC_CONIC], R[SPR_GREC_CONIC + 1], R[SPR_GREC_CONIC + 2],
+                R[SPR_GREC_OPACITY], R[SPR_GREC_COLOR], R[SPR_GREC_COLOR + 1], R[SPR_GREC_COLOR + 2], R[SPR_GREC_DEPTH]);
+    }
+    fprintf(f, "<div class=\"eq\"><p>The order of the sums (SPEC 10.10 item 4): each tile that lists Gaussian %zu owns a partial, its pixels' terms "
+               "added in float in the tile's row-major order from the top row; G's value is those partials added in tile order. Per pixel the terms "
+               "are the equations above: &part;L/&part;c = &alpha;T&middot;g (colors), &part;L/&part;o (opacities), &part;L/&part;(A, B, C) (conics), "
+               "&part;L/&part;m (means2d), |&part;L/&part;m| per axis (absgrad) and 1 (counts).</p></div>\n", G);
+    fprintf(f, "<p id=\"backward-count\" data-pixels=\"%zu\" data-tiles=\"%zu\">%zu pixels in %zu tiles gave Gaussian %zu a gradient.</p>\n", x->n_terms,
+            x->n_tiles, x->n_terms, x->n_tiles, G);
+    const size_t cap = 20000;
+    if (x->n_terms > cap)
+        fprintf(f, "<p class=\"note\">The first %zu pixels are listed (the partials and sums below count them all); every one: "
+                   "<code>splatref explain --scene scene.json --gaussian %zu --grad</code> with the same upstream options.</p>\n", cap, G);
+    fprintf(f, "<details open><summary>pixel by pixel</summary><div class=\"wide\"><table class=\"groups bwd\" id=\"backward-gaussian-table\"><tr><th>pixel x, y</th>"
+               "<th>row from the top</th><th>k of blended</th><th>power</th><th>&alpha;</th><th>T</th><th>acc (r, g, b, 1/z)</th><th>&part;L/&part;&alpha;</th>"
+               "<th>&part;L/&part;o</th><th>&part;L/&part;power</th><th>colors</th><th>conics</th><th>means2d</th><th>absgrad</th></tr>\n");
+    size_t shown = 0;
+    for (size_t k = 0; k < x->n_tiles; k++) {
+        const spr_grad_tile *t = &x->tiles[k];
+        const int gx = (W + 15) / 16, i0 = (t->tile % gx) * 16, j0 = (t->tile / gx) * 16;
+        fprintf(f, "<tr class=\"gtile\"><th colspan=\"14\" style=\"text-align:left;background:#eef\">tile %d (list entry %u; x %d&ndash;%d, rows %d&ndash;%d "
+                   "from the top): %zu pixel%s</th></tr>\n", t->tile, t->entry, i0, i0 + 15 < W ? i0 + 15 : W - 1, j0, j0 + 15 < H ? j0 + 15 : H - 1,
+                t->count, t->count == 1 ? "" : "s");
+        for (size_t p = t->first; p < t->first + t->count; p++) {
+            if (shown++ >= cap) continue;
+            const spr_grad_term *m = &x->terms[p];
+            const int chosen = gv->h && gv->h->x == m->x && gv->h->y == m->y;
+            fprintf(f, "<tr class=\"gpx\"%s><td>%d, %d</td><td>%d</td><td>%d of %d</td><td>%.9g</td><td>%.9g</td><td>%.9g</td><td>", chosen ? " style=\"background:#ffe\"" : "",
+                    m->x, m->y, H - 1 - m->y, m->rank + 1, m->blended, m->power, m->alpha, m->T);
+            fcell(f, m->acc, 4);
+            fprintf(f, "</td><td>%.9g</td><td>%.9g%s</td><td>%.9g</td><td>", m->dl_dalpha, m->dl_do, m->gated ? " (gated)" : "", m->dl_dpower);
+            fcell(f, m->part + SPR_GPART_COLOR, 3);
+            fprintf(f, "</td><td>");
+            fcell(f, m->part + SPR_GPART_CONIC, 3);
+            fprintf(f, "</td><td>");
+            fcell(f, m->part + SPR_GPART_M, 2);
+            fprintf(f, "</td><td>");
+            fcell(f, m->part + SPR_GPART_ABS, 2);
+            fprintf(f, "</td></tr>\n");
+        }
+        fprintf(f, "<tr class=\"gpart\" style=\"font-weight:bold\"><td colspan=\"7\">partial of tile %d</td><td></td><td>%.9g</td><td>count %.9g</td><td>", t->tile,
+                t->part[SPR_GPART_OPACITY], t->part[SPR_GPART_COUNT]);
+        fcell(f, t->part + SPR_GPART_COLOR, 3);
+        fprintf(f, "</td><td>");
+        fcell(f, t->part + SPR_GPART_CONIC, 3);
+        fprintf(f, "</td><td>");
+        fcell(f, t->part + SPR_GPART_M, 2);
+        fprintf(f, "</td><td>");
+        fcell(f, t->part + SPR_GPART_ABS, 2);
+        fprintf(f, "</td></tr>\n");
+    }
+    fprintf(f, "</table></div></details>\n");
+    /* the sums against splatref grad's arrays, bit for bit */
+    static const struct { const char *name; int off, n; } arr[] = {
+        {"colors", SPR_GPART_COLOR, 3}, {"opacities", SPR_GPART_OPACITY, 1}, {"conics", SPR_GPART_CONIC, 3}, {"means2d", SPR_GPART_M, 2}, {"absgrad", SPR_GPART_ABS, 2}};
+    const float *have[] = {g->colors + 3 * G, g->opacities + G, g->conics + 3 * G, g->means2d + 2 * G, g->absgrad + 2 * G};
+    fprintf(f, "<table class=\"groups bwd\" id=\"backward-sums\"><tr><th>array</th><th>the partials summed in tile order</th><th>splatref grad's value "
+               "(spr_gauss_grad)</th><th>bit-identical</th></tr>\n");
+    int same = 1;
+    for (int a = 0; a < 5; a++) {
+        const int eq = !memcmp(x->sum + arr[a].off, have[a], (size_t)arr[a].n * sizeof(float));
+        same &= eq;
+        fprintf(f, "<tr><td>%s[%zu]</td><td>", arr[a].name, G);
+        fvals(f, x->sum + arr[a].off, arr[a].n);
+        fprintf(f, "</td><td>");
+        fvals(f, have[a], arr[a].n);
+        fprintf(f, "</td><td>%s</td></tr>\n", eq ? "yes" : "<b>NO</b>");
+    }
+    const int ceq = (double)x->sum[SPR_GPART_COUNT] == (double)g->counts[G];
+    same &= ceq;
+    fprintf(f, "<tr><td>counts[%zu]</td><td>%.9g</td><td>%d</td><td>%s</td></tr></table>\n", G, x->sum[SPR_GPART_COUNT], (int)g->counts[G], ceq ? "yes" : "<b>NO</b>");
+    fprintf(f, "<p id=\"backward-bits\" data-same=\"%s\">These sums equal <code>splatref grad</code>'s values for Gaussian %zu bit for bit: <b>%s</b>.</p>\n",
+            same ? "yes" : "no", G, same ? "yes" : "no");
+    if (!x->consistent)
+        fprintf(f, "<p class=\"note\">Warning: a pixel's recomputed &part;L/&part;o differs from the term the shared arithmetic added (the intermediates "
+                   "above do not retrace it).</p>\n");
+    /* the chain */
+    fprintf(f, "<h3 id=\"backward-chain\">From Gaussian %zu's sums to its parameters</h3>\n<div class=\"eq\"><p>The chain runs SPEC 10.3 backwards, per "
+               "Gaussian (arith/gauss.h, spr_gauss_preprocess3d_bwd): conics &rarr; &Sigma;&prime; = conic<sup>&minus;1</sup> &rarr; "
+               "&Sigma; = &Sigma;&prime; &minus; %g&middot;I (the profile's dilation) = J&middot;W&middot;&Sigma;<sub>3</sub>&middot;W<sup>T</sup>&middot;J<sup>T</sup> &rarr; "
+               "&Sigma;<sub>3</sub> = R&middot;S&middot;S<sup>T</sup>&middot;R<sup>T</sup> &rarr; quats (the unit quaternion's tangent part) and scales; "
+               "means2d and J's dependence on t &rarr; means; 1/t.z (from &part;L/&part;D) &rarr; means; opacities pass as they are; colors &rarr; the "
+               "SH coefficients sh0 and shN through the basis of the view direction (on the host, in double, rounded once), and the direction's share "
+               "&rarr; means.</p></div>\n", G, gv->pf->dilation.eps2d);
+    fprintf(f, "<table class=\"groups bwd\" id=\"backward-chain-table\"><tr><th></th><th>value</th></tr>\n");
+    fprintf(f, "<tr><th colspan=\"2\" style=\"text-align:left\">the sums that enter the chain</th></tr>\n<tr><td>means2d (&part;L/&part;m)</td><td>");
+    fvals(f, x->sum + SPR_GPART_M, 2);
+    fprintf(f, "</td></tr><tr><td>conics (&part;L/&part;(A, B, C))</td><td>");
+    fvals(f, x->sum + SPR_GPART_CONIC, 3);
+    fprintf(f, "</td></tr><tr><td>colors (&part;L/&part;c)</td><td>");
+    fvals(f, x->sum + SPR_GPART_COLOR, 3);
+    fprintf(f, "</td></tr><tr><td>opacities (&part;L/&part;o)</td><td>%.9g</td></tr><tr><td>1/t.z (&part;L/&part;(1/t.z))</td><td>%.9g</td></tr>\n",
+            x->sum[SPR_GPART_OPACITY], x->sum[SPR_GPART_INVZ]);
+    fprintf(f, "<tr><th colspan=\"2\" style=\"text-align:left\">splatref grad's values (spr_gauss_grad)</th></tr>\n<tr><td>means</td><td>");
+    fvals(f, g->means + 3 * G, 3);
+    fprintf(f, "</td></tr><tr><td>quats</td><td>");
+    fvals(f, g->quats + 4 * G, 4);
+    fprintf(f, "</td></tr><tr><td>scales</td><td>");
+    fvals(f, g->scales + 3 * G, 3);
+    fprintf(f, "</td></tr><tr><td>opacities</td><td>%.9g</td></tr>", g->opacities[G]);
+    const float *sh = g->sh ? g->sh + G * 3 * (size_t)g->sh_k : NULL;
+    if (sh && g->sh_k > 0) {
+        fprintf(f, "<tr><td>sh0</td><td>");
+        fvals(f, sh, 3);
+        fprintf(f, "</td></tr>");
+    }
+    if (sh && g->sh_k > 1) {
+        fprintf(f, "<tr><td>shN (%d coefficients &times; 3)</td><td>", g->sh_k - 1);
+        for (int k = 1; k < g->sh_k; k++) { /* a coefficient a line */
+            if (k > 1) fprintf(f, "<br>");
+            fvals(f, sh + 3 * k, 3);
+        }
+        fprintf(f, "</td></tr>");
+    } else fprintf(f, "<tr><td>shN</td><td>none (degree 0)</td></tr>");
+    fprintf(f, "</table>\n");
+    return same;
+}
+
+/* The "Backward pass" section; returns whether G's sums are splatref grad's values to the bit. */
+static int backward_section(page *pg, const grad_view *gv, const char *upstream_text)
+{
+    FILE *f = pg->f;
+    fprintf(f, "<section id=\"backward\"><h2>Backward pass (SPEC 10.10)</h2>\n<p>gauss3d under %s; the upstream gradient: ", gv->pf->name);
+    html_escape(f, upstream_text);
+    fprintf(f, ". The same frame and arithmetic as <code>splatref grad</code> on the CPU (docs/gradients.md): per pixel a reverse walk of the "
+               "Gaussians it blended, adding each one's terms to its tile's partials; per Gaussian the partials summed in tile order, then the chain "
+               "to its parameters.</p>\n");
+    backward_pixel(pg, gv, gv->x->G);
+    const int same = backward_gaussian(pg, gv);
+    fprintf(f, "</section>\n");
+    return same;
+}
+
 int cmd_step(int argc, char **argv)
 {
     spr__args a;
@@ -502,6 +881,16 @@ int cmd_step(int argc, char **argv)
     int npix = 6;
     if (!dir) { spr__error(&a, "--out DIR is required"); return 2; }
     if (spr__get_int(&a, "pixels", &npix, 0, 16) < 0) return 2;
+    /* the backward pass: Gaussian G under the upstream options (read after the scene's setup, which knows the size) */
+    size_t gradG = 0;
+    const int want_grad = spr__get(&a, "grad-gaussian") != NULL;
+    if (want_grad && spr__get_size(&a, "grad-gaussian", &gradG, 0, (size_t)1 << 40) < 0) return 2;
+    static const char *const grad_names[] = {"loss", "loss-target", "dl-dimage", "dl-dalpha", "dl-ddepth", "grad-batch"};
+    const char *grad_given = NULL;
+    for (size_t k = 0; k < sizeof grad_names / sizeof grad_names[0]; k++)
+        if (!grad_given && spr__get(&a, grad_names[k])) grad_given = grad_names[k];
+    if (grad_given && !want_grad) { spr__error(&a, "--%s goes with --grad-gaussian G (the backward pass section)", grad_given); return 2; }
+    cli_grad_claim(&a);
     /* small by default: every pixel is shown and embedded */
     for (int k = 0; a.opts[k].name; k++)
         if (!strcmp(a.opts[k].name, "size") && !a.value[k]) a.value[k] = "128x128";
@@ -516,8 +905,21 @@ int cmd_step(int argc, char **argv)
     cli_history_run hist[16];
     int nh = 0;
     FILE *f = NULL;
+    spr_grad_desc gd;
+    cli_grad_inputs gin = {0};
+    spr_gauss_grads gg = {0};
+    spr_grad_explain gx = {0};
+    int grad_same = -1;
     memset(hist, 0, sizeof hist);
+    memset(&gd, 0, sizeof gd);
     if (spr__scene_setup(&a, &s, &rd, 0)) goto done;
+    if (want_grad) {
+        if (cli_grad_upstream(&a, s.view.width, s.view.height, &gd, &gin)) goto done;
+        if (gradG >= s.cloud.n) {
+            spr__error(&a, "--grad-gaussian %zu: %s has %zu Gaussians (0 … %zu)", gradG, s.model, s.cloud.n, s.cloud.n ? s.cloud.n - 1 : 0);
+            goto done;
+        }
+    }
     if (cli_outdir_begin(&a, "out", dir, tmp, sizeof tmp)) goto done;
     open_dir = 1;
     snprintf(path, sizeof path, "%s/scene.json", tmp);
@@ -529,6 +931,14 @@ int cmd_step(int argc, char **argv)
         goto done;
     }
     if (cc.failed) { fprintf(stderr, "splatref step: %s\n", cc.err.msg); goto done; }
+    if (want_grad) { /* splatref grad's arrays and G's terms in the backward's order (the CPU reference, the frame without the capture) */
+        spr_render_desc gr = rd;
+        gr.hook = NULL, gr.hook_user = NULL;
+        if (spr_gauss_grad(b, &s.view, &s.cloud, &gr, &gd, &gg, &err) || spr_gauss_grad_explain(b, &s.view, &s.cloud, &gr, &gd, gradG, &gx, &err)) {
+            fprintf(stderr, "splatref step: %s\n", err.msg);
+            goto done;
+        }
+    }
     const int W = s.view.width, H = s.view.height;
     /* pixels to explain: covered ones spread over the image, blended ones first */
     {
@@ -559,6 +969,7 @@ int cmd_step(int argc, char **argv)
                "pixels with an embedded history: ", s.cloud.n, W, H, res.K);
     for (int i = 0; i < nh; i++) fprintf(f, "<a href=\"#\" class=\"px\" data-px=\"%d,%d\">%d,%d</a> ", hist[i].h.x, hist[i].h.y, hist[i].h.x, hist[i].h.y);
     fprintf(f, "</p>\n<div id=\"info\">Click a pixel of any picture.</div><div id=\"tip\"></div>\n");
+    if (want_grad) fprintf(f, "<p>Backward pass for Gaussian %zu: <a href=\"#backward\">below</a>.</p>\n", gradG);
     if (rd.groups) grouping_section(&pg, &s);
     /* the passes, each with the history call that matches it */
     const spr_hist_event *events = nh ? hist[0].h.ev : NULL;
@@ -587,6 +998,20 @@ int cmd_step(int argc, char **argv)
         fprintf(f, "<section id=\"final\"><h2>The final image</h2><div class=\"views\">");
         figure(&pg, &vo, cc.n ? cc.passes[cc.n - 1].index : 0, "color", 0, 0, 0);
         fprintf(f, "</div></section>\n");
+    }
+    if (want_grad) {
+        const float *rec = NULL;
+        for (int i = 0; i < cc.n; i++)
+            if (cc.passes[i].records && cc.passes[i].n_records == s.cloud.n) rec = cc.passes[i].records;
+        char up_text[600];
+        const char *loss = spr__get(&a, "loss"), *lt = spr__get(&a, "loss-target"), *dl = spr__get(&a, "dl-dimage");
+        const char *da = spr__get(&a, "dl-dalpha"), *dd = spr__get(&a, "dl-ddepth");
+        if (loss) snprintf(up_text, sizeof up_text, "--loss %s, target %s", loss, lt ? lt : "black");
+        else snprintf(up_text, sizeof up_text, "--dl-dimage %s", dl ? dl : "?");
+        if (da) snprintf(up_text + strlen(up_text), sizeof up_text - strlen(up_text), ", --dl-dalpha %s", da);
+        if (dd) snprintf(up_text + strlen(up_text), sizeof up_text - strlen(up_text), ", --dl-ddepth %s", dd);
+        grad_view gv = {&gg, &gx, &gd, rd.background, spr_gauss_profile_of(rd.algo, rd.gauss_profile), rec, nh ? &hist[0].h : NULL};
+        grad_same = backward_section(&pg, &gv, up_text);
     }
     fprintf(f, "<p id=\"selftest\" class=\"note\"></p>\n");
     data_script(&pg, &cc);
@@ -621,7 +1046,13 @@ int cmd_step(int argc, char **argv)
 done:
     if (f) fclose(f);
     if (open_dir && cli_outdir_end(&a, "out", tmp, dir, rc == 0)) rc = 2;
+    if (rc == 0 && want_grad)
+        printf("step: backward pass for Gaussian %zu: %zu pixels in %zu tiles; its sums equal splatref grad's values bit for bit: %s\n", gradG, gx.n_terms,
+               gx.n_tiles, grad_same == 1 ? "yes" : "no");
     if (rc == 0) printf("step: %s, %d passes, %d pixel histories -> %s/index.html\n", spr_algo_name(rd.algo), cc.n, nh, dir);
+    spr_grad_explain_free(&gx);
+    spr_gauss_grads_free(&gg);
+    cli_grad_inputs_free(&gin);
     for (int i = 0; i < nh; i++) spr_history_free(&hist[i].h);
     spr_capture_free(&cc);
     spr_render_result_free(&res);
