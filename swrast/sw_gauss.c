@@ -239,26 +239,48 @@ spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
         for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
         if (d->range[t1] - d->range[t0] > most) most = d->range[t1] - d->range[t0];
     }
+    int failed_any = 0;
     float *part = spr__big_alloc((most ? most : 1) * SPR_GPART_FLOATS * sizeof *part);
     if (!part) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for the partials of %zu list entries", most);
     for (int t0 = 0, t1; t0 < nt; t0 = t1) {
         for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
         const uint32_t base = d->range[t0], end = d->range[t1];
         memset(part, 0, (size_t)(end - base) * SPR_GPART_FLOATS * sizeof *part);
-#pragma omp parallel num_threads(c->threads)
+        int failed = 0;
+#pragma omp parallel num_threads(c->threads) reduction(| : failed)
         {
             unsigned fp = sw_fp_enter();
+            /* each tile's records copied in list order first, as the forward's raster does (a tile's list lies scattered
+             * in file order): the pixels read them in sequence, through a local list 0 … m − 1 whose entry k is the
+             * tile's entry range[t] + k, so its partials are those from part + (range[t] − base) */
+            float *lrec = NULL;
+            uint32_t *lids = NULL, *lrange = calloc((size_t)nt + 1, sizeof *lrange);
+            size_t lcap = 0;
+            failed |= !lrange;
 #pragma omp for schedule(dynamic, 1)
             for (int t = t0; t < t1; t++) {
+                if (failed) continue;
+                const uint32_t first = d->range[t], m = d->range[t + 1] - first;
+                if (m > lcap) {
+                    free(lrec), free(lids);
+                    lcap = m;
+                    lrec = malloc(lcap * SPR_GREC_FLOATS * sizeof *lrec), lids = malloc(lcap * sizeof *lids);
+                    if (!lrec || !lids) { failed = 1, lcap = 0; continue; }
+                    for (uint32_t k = 0; k < m; k++) lids[k] = k;
+                }
+                for (uint32_t k = 0; k < m; k++)
+                    memcpy(lrec + (size_t)k * SPR_GREC_FLOATS, d->rec + (size_t)d->list[first + k] * SPR_GREC_FLOATS, SPR_GREC_FLOATS * sizeof *lrec);
+                lrange[t] = 0, lrange[t + 1] = m;
                 const int i0 = (t % gx) * 16, j0 = (t / gx) * 16;
                 for (int j = j0; j < j0 + 16 && j < H; j++)
                     for (int i = i0; i < i0 + 16 && i < W; i++) {
                         const int y = H - 1 - j;
-                        spr_pixel_in px = {.grec = d->rec, .granges = d->range, .glist = d->list, .gup = d->up, .gpart = part,
-                                           .gpart_base = base, .i = (size_t)y * W + (size_t)i, .x = i, .y = y};
+                        spr_pixel_in px = {.grec = lrec, .granges = lrange, .glist = lids, .gup = d->up, .gpart = part + (size_t)(first - base) * SPR_GPART_FLOATS,
+                                           .gpart_base = 0, .i = (size_t)y * W + (size_t)i, .x = i, .y = y};
                         spr_gauss_pixel_bwd(&px, d->prm, d->background);
                     }
             }
+            free(lrec), free(lids), free(lrange);
 #pragma omp for schedule(static)
             for (long G = 0; G < (long)n; G++) {
                 spr_pixel_in px = {.gpart = part, .gpart_base = base, .gcsr = d->csr};
@@ -266,8 +288,10 @@ spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
             }
             sw_fp_leave(fp);
         }
+        if ((failed_any = failed)) break;
     }
     free(part);
+    if (failed_any) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a tile's Gaussians");
 #pragma omp parallel num_threads(c->threads)
     {
         unsigned fp = sw_fp_enter();

@@ -5,6 +5,8 @@
  */
 #include "spr_util.h"
 #include "cli.h"
+#include "spr_grad.h"
+#include <unistd.h>
 #include "spr__scene_opts.h"
 #include "spr_glbackend.h"
 #include "spr_swrast.h"
@@ -169,6 +171,8 @@ static int bench_row_wanted(bench_mode mode, spr_algo al)
     return 1;
 }
 
+static void bench_backward(const spr_scene *s, int reps);
+
 static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, int quiet, bench_mode mode, double load_ms)
 {
     const int scale = mode != BENCH_ALL; /* no grouping, domains, BSP or capture loading */
@@ -285,10 +289,93 @@ static int bench_scene(spr__args *a, const char *label, spr_scene *s, int reps, 
         if (bench_gl) printf("; time CPU (2 threads) / GL: %.2f", run[row][1].ms / run[row][2].ms);
         printf("\n");
     }
+    if (mode == BENCH_GAUSS && bench_row_wanted(mode, SPR_ALGO_GAUSS3D)) bench_backward(s, reps);
     printf("  (x stream: frame time over the streaming pass on the same thread count (gl: over 2 threads'); passes: splats\n"
            "   submitted per frame / splats in the model, the geometry passes over the data (domain-*: rectangles submitted /\n"
            "   splats); /pbr2p1: frame time over pbr2p1's on the same backend and view)\n");
     return 0;
+}
+
+/* gauss3d's backward pass (SPEC 10.10) on the CPU, 1 and 2 threads, best of reps: its forward (preprocess, sort, raster)
+ * and its backward (the upstream gradient, the backend's backward, the colour's) as spr_gauss_grad times them, under
+ * the inria profile and an l2 loss against a black image; and each one's peak memory, a frame run in a child process
+ * (its peak resident set, the loaded capture included): spr_render's gauss3d frame against spr_gauss_grad's. */
+/* This process's resident set (VmRSS) or its peak since the last reset (VmHWM), in kB, from /proc/self/status; the
+ * peak reset by writing 5 to /proc/self/clear_refs (Linux 4.0); −1 where either is missing. */
+static long proc_kb(const char *field)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    long kb = -1;
+    const size_t n = strlen(field);
+    while (f && fgets(line, sizeof line, f))
+        if (!strncmp(line, field, n) && line[n] == ':') kb = atol(line + n + 1);
+    if (f) fclose(f);
+    return kb;
+}
+static int reset_peak(void)
+{
+    FILE *f = fopen("/proc/self/clear_refs", "w");
+    if (!f) return -1;
+    const int bad = fputs("5", f) < 0;
+    return fclose(f) || bad ? -1 : 0;
+}
+
+static void bench_backward(const spr_scene *s, int reps)
+{
+    double fwd[2] = {1e300, 1e300}, bwd[2] = {1e300, 1e300}, frame[2] = {1e300, 1e300};
+    size_t reached = 0;
+    for (int r = 0; r < reps; r++)
+        for (int t = 0; t < 2; t++) {
+            spr_error err = {0};
+            spr_backend *b = spr_swrast_create(t + 1, &err);
+            spr_render_desc rd = {.algo = SPR_ALGO_GAUSS3D};
+            spr_gauss_grads g;
+            const spr_grad_desc gd = {.loss = SPR_LOSS_L2};
+            spr_render_result res;
+            double t0 = spr_now_ms();
+            if (!b || spr_render(b, &s->view, &s->cloud, &rd, &res, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); spr_backend_destroy(b); return; }
+            const double ms = spr_now_ms() - t0;
+            spr_render_result_free(&res);
+            if (spr_gauss_grad(b, &s->view, &s->cloud, &rd, &gd, &g, &err)) { fprintf(stderr, "splatref bench: %s\n", err.msg); spr_backend_destroy(b); return; }
+            if (ms < frame[t]) frame[t] = ms;
+            if (g.ms_forward < fwd[t]) fwd[t] = g.ms_forward;
+            if (g.ms_backward < bwd[t]) bwd[t] = g.ms_backward;
+            reached = 0;
+            for (size_t G = 0; G < g.n; G++) reached += g.counts[G] > 0;
+            spr_gauss_grads_free(&g);
+            spr_backend_destroy(b);
+        }
+    /* peak memory: this process's peak resident set over a gauss3d frame, then over a backward (its forward included),
+     * each above the resident set before it (the loaded capture) */
+    long base = -1, kf = -1, kb = -1, hf = -1, hb = -1;
+    {
+        spr_error err = {0};
+        spr_backend *b = spr_swrast_create(2, &err);
+        spr_render_desc rd = {.algo = SPR_ALGO_GAUSS3D};
+        spr_render_result res;
+        spr_gauss_grads g;
+        const spr_grad_desc gd = {.loss = SPR_LOSS_L2};
+        if (b && !reset_peak() && (base = proc_kb("VmRSS")) > 0 && !spr_render(b, &s->view, &s->cloud, &rd, &res, &err)) {
+            hf = proc_kb("VmHWM");
+            kf = hf - base;
+            spr_render_result_free(&res);
+            if (!reset_peak() && (base = proc_kb("VmRSS")) > 0 && !spr_gauss_grad(b, &s->view, &s->cloud, &rd, &gd, &g, &err)) {
+                hb = proc_kb("VmHWM");
+                kb = hb - base;
+                spr_gauss_grads_free(&g);
+            }
+        }
+        spr_backend_destroy(b);
+    }
+    printf("  gauss3d backward (SPEC 10.10, inria, l2 loss, cpu): %zu Gaussians reach a pixel; forward %.1f / %.1f ms, backward %.1f / %.1f ms "
+           "(1 / 2 threads); backward/forward %.2fx / %.2fx; gauss3d frame alone %.1f / %.1f ms\n",
+           reached, fwd[0], fwd[1], bwd[0], bwd[1], bwd[0] / fwd[0], bwd[1] / fwd[1], frame[0], frame[1]);
+    if (kf > 0 && kb > 0)
+        printf("  gauss3d backward, peak memory (VmHWM, 2 threads): the process with the loaded capture %.0f MB / %.0f MB (frame / forward + "
+               "backward): %.2fx; above what was resident before, %.0f MB / %.0f MB: %.2fx (the gradient arrays alone are %.0f MB)\n",
+               hf / 1024.0, hb / 1024.0, (double)hb / (double)hf, kf / 1024.0, kb / 1024.0, (double)kb / (double)kf,
+               (double)s->cloud.n * (3 + 4 + 3 + 1 + 3.0 * (s->cloud.sh_k > 16 ? 16 : s->cloud.sh_k > 0 ? s->cloud.sh_k : 1) + 2 + 3 + 3 + 2 + 1) * 4.0 / 1048576.0);
 }
 
 /* The capture scene: the armadillo resampled to npts points, written as a
@@ -314,11 +401,11 @@ static int bench_capture(spr__args *a, size_t npts, int W, int H, int reps, int 
     double t0 = spr_now_ms();
     if (!r) r = spr_load(gpath, &ld, &s.cloud, &err);
     const double load_ms = spr_now_ms() - t0;
-    remove(gpath);
-    if (r) { fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
+    if (r) { remove(gpath); fprintf(stderr, "splatref bench: %s\n", err.msg); return -1; }
     char label[96];
     snprintf(label, sizeof label, "3DGS capture of the armadillo, %zu Gaussians, SH degree 3", npts);
     int rc = bench_scene(a, label, &s, reps, quiet, BENCH_GAUSS, load_ms);
+    remove(gpath);
     spr_scene_free(&s);
     return rc;
 }
