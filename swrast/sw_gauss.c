@@ -35,6 +35,33 @@ spr_result sw__gauss_preprocess(spr_backend *b, const spr_gauss_desc *d, float *
     return SPR_OK;
 }
 
+/* A tile's records copied in list order before its pixels walk them (a tile's list lies scattered in file order):
+ * the pixels read them in sequence, through a local list 0 … m − 1 (ids) and local ranges (range[t] = 0, range[t + 1]
+ * = m), the raster's and the backward's alike.  One per thread; take returns −1 out of memory. */
+typedef struct tile_copy { float *rec; uint32_t *ids, *range; size_t cap; } tile_copy;
+static int tile_copy_init(tile_copy *tc, int nt)
+{
+    memset(tc, 0, sizeof *tc);
+    tc->range = calloc((size_t)nt + 1, sizeof *tc->range);
+    return tc->range ? 0 : -1;
+}
+static int tile_copy_take(tile_copy *tc, const float *rec, const uint32_t *range, const uint32_t *list, int t)
+{
+    const uint32_t first = range[t], m = range[t + 1] - first;
+    if (m > tc->cap) {
+        free(tc->rec), free(tc->ids);
+        tc->cap = m;
+        tc->rec = malloc(m * SPR_GREC_FLOATS * sizeof *tc->rec), tc->ids = malloc(m * sizeof *tc->ids);
+        if (!tc->rec || !tc->ids) { tc->cap = 0; return -1; }
+        for (uint32_t k = 0; k < m; k++) tc->ids[k] = k;
+    }
+    for (uint32_t k = 0; k < m; k++)
+        memcpy(tc->rec + (size_t)k * SPR_GREC_FLOATS, rec + (size_t)list[first + k] * SPR_GREC_FLOATS, SPR_GREC_FLOATS * sizeof *tc->rec);
+    tc->range[t] = 0, tc->range[t + 1] = m;
+    return 0;
+}
+static void tile_copy_free(tile_copy *tc) { free(tc->rec), free(tc->ids), free(tc->range); }
+
 spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_desc *d, spr_draw_stats *st)
 {
     sw_context *c = sw_ctx(b);
@@ -52,37 +79,21 @@ spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
 #pragma omp parallel num_threads(c->threads) reduction(+ : visited, blended) reduction(| : failed)
     {
         unsigned fp = sw_fp_enter();
-        /* each tile's records copied in list order before its pixels run the loop: every pixel reads the
-         * list in sequence from there (the records of a tile's list lie scattered in file order), with a
-         * local list 0 … m−1 and local ranges; the tile of the probed pixel keeps the global ones, so that
-         * its notes name the Gaussians */
-        float *lrec = NULL;
-        uint32_t *lids = NULL, *lrange = calloc((size_t)nt + 1, sizeof *lrange);
-        size_t cap = 0;
-        failed |= !lrange;
+        /* each tile's records copied in list order (tile_copy); the tile of the probed pixel keeps the global ones,
+         * so that its notes name the Gaussians */
+        tile_copy tc;
+        failed |= tile_copy_init(&tc, nt);
 #pragma omp for schedule(dynamic, 1)
         for (int t = 0; t < nt; t++) {
             if (failed) continue;
             const int i0 = (t % gx) * 16, j0 = (t / gx) * 16;
-            const uint32_t first = d->range[t], m = d->range[t + 1] - first;
             const int probed = probe && probe->x >= i0 && probe->x < i0 + 16 && H - 1 - probe->y >= j0 && H - 1 - probe->y < j0 + 16;
-            if (!probed && m > cap) {
-                free(lrec), free(lids);
-                cap = m;
-                lrec = malloc(cap * SPR_GREC_FLOATS * sizeof *lrec), lids = malloc(cap * sizeof *lids);
-                if (!lrec || !lids) { failed = 1, cap = 0; continue; }
-                for (uint32_t k = 0; k < m; k++) lids[k] = k;
-            }
-            if (!probed) {
-                for (uint32_t k = 0; k < m; k++)
-                    memcpy(lrec + (size_t)k * SPR_GREC_FLOATS, d->rec + (size_t)d->list[first + k] * SPR_GREC_FLOATS, SPR_GREC_FLOATS * sizeof *lrec);
-                lrange[t] = 0, lrange[t + 1] = m;
-            }
+            if (!probed && tile_copy_take(&tc, d->rec, d->range, d->list, t)) { failed = 1; continue; }
             for (int j = j0; j < j0 + 16 && j < H; j++)
                 for (int i = i0; i < i0 + 16 && i < W; i++) {
                     const int y = H - 1 - j;
                     const size_t pix = (size_t)y * W + (size_t)i;
-                    spr_pixel_in px = {.grec = lrec, .granges = lrange, .glist = lids, .i = pix, .x = i, .y = y};
+                    spr_pixel_in px = {.grec = tc.rec, .granges = tc.range, .glist = tc.ids, .i = pix, .x = i, .y = y};
                     if (probed) px.grec = d->rec, px.granges = d->range, px.glist = d->list;
                     if (probe && i == probe->x && y == probe->y) px.probe = probe;
                     float o[4], aux[4], nrm[4];
@@ -95,7 +106,7 @@ spr_result sw__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
                     if (normal && two) memcpy(normal + 4 * pix, nrm, sizeof nrm);
                 }
         }
-        free(lrec), free(lids), free(lrange);
+        tile_copy_free(&tc);
         sw_fp_leave(fp);
     }
     if (failed) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a tile's Gaussians");
@@ -250,37 +261,25 @@ spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
 #pragma omp parallel num_threads(c->threads) reduction(| : failed)
         {
             unsigned fp = sw_fp_enter();
-            /* each tile's records copied in list order first, as the forward's raster does (a tile's list lies scattered
-             * in file order): the pixels read them in sequence, through a local list 0 … m − 1 whose entry k is the
+            /* each tile's records copied in list order first, as the raster does (tile_copy): its local entry k is the
              * tile's entry range[t] + k, so its partials are those from part + (range[t] − base) */
-            float *lrec = NULL;
-            uint32_t *lids = NULL, *lrange = calloc((size_t)nt + 1, sizeof *lrange);
-            size_t lcap = 0;
-            failed |= !lrange;
+            tile_copy tc;
+            failed |= tile_copy_init(&tc, nt);
 #pragma omp for schedule(dynamic, 1)
             for (int t = t0; t < t1; t++) {
                 if (failed) continue;
-                const uint32_t first = d->range[t], m = d->range[t + 1] - first;
-                if (m > lcap) {
-                    free(lrec), free(lids);
-                    lcap = m;
-                    lrec = malloc(lcap * SPR_GREC_FLOATS * sizeof *lrec), lids = malloc(lcap * sizeof *lids);
-                    if (!lrec || !lids) { failed = 1, lcap = 0; continue; }
-                    for (uint32_t k = 0; k < m; k++) lids[k] = k;
-                }
-                for (uint32_t k = 0; k < m; k++)
-                    memcpy(lrec + (size_t)k * SPR_GREC_FLOATS, d->rec + (size_t)d->list[first + k] * SPR_GREC_FLOATS, SPR_GREC_FLOATS * sizeof *lrec);
-                lrange[t] = 0, lrange[t + 1] = m;
+                if (tile_copy_take(&tc, d->rec, d->range, d->list, t)) { failed = 1; continue; }
+                const uint32_t first = d->range[t];
                 const int i0 = (t % gx) * 16, j0 = (t / gx) * 16;
                 for (int j = j0; j < j0 + 16 && j < H; j++)
                     for (int i = i0; i < i0 + 16 && i < W; i++) {
                         const int y = H - 1 - j;
-                        spr_pixel_in px = {.grec = lrec, .granges = lrange, .glist = lids, .gup = d->up, .gpart = part + (size_t)(first - base) * SPR_GPART_FLOATS,
+                        spr_pixel_in px = {.grec = tc.rec, .granges = tc.range, .glist = tc.ids, .gup = d->up, .gpart = part + (size_t)(first - base) * SPR_GPART_FLOATS,
                                            .gpart_base = 0, .i = (size_t)y * W + (size_t)i, .x = i, .y = y};
                         spr_gauss_pixel_bwd(&px, d->prm, d->background);
                     }
             }
-            free(lrec), free(lids), free(lrange);
+            tile_copy_free(&tc);
 #pragma omp for schedule(static)
             for (long G = 0; G < (long)n; G++) {
                 spr_pixel_in px = {.gpart = part, .gpart_base = base, .gcsr = d->csr};

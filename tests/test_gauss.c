@@ -61,6 +61,21 @@ static void looking_at_origin(int W, int H, double f, const double eye[3], const
     pinhole_view(W, H, f, f, 0.5 * W, 0.5 * H, R, t, v);
 }
 
+/* A converter capture of tests/data/captures/splat-transform (SH degree 3) and the oblique 100 × 75 view the Gaussian
+ * tests see it from (sizes not multiples of 16). */
+static void converter_capture(const char *file, spr_cloud *c, spr_view *v)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/tests/data/captures/splat-transform/%s", SPR_SOURCE_DIR, file);
+    spr_load_desc ld;
+    spr_load_defaults(&ld);
+    ld.sh_degree = 3;
+    spr_error err = {0};
+    ck_assert_msg(spr_load(path, &ld, c, &err) == SPR_OK, "%s", err.msg);
+    const double eye[3] = {0.9, 0.7, 2.4}, up[3] = {0, 1, 0};
+    looking_at_origin(100, 75, 90.0, eye, up, v);
+}
+
 static void render_on(spr_backend *b, const spr_view *v, const spr_cloud *c, const spr_render_desc *d, spr_render_result *out)
 {
     spr_error err = {0};
@@ -623,17 +638,10 @@ static const spr__pdiff_row *pdiff_row(const spr__pdiff *d, uint32_t id)
  * row-major order, a Gaussian's tiles in tile order), on a real capture under inria and gsplat. */
 START_TEST(gradients_same_bits_for_any_threads)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/tests/data/captures/splat-transform/2.7.1/sheet.ply", SPR_SOURCE_DIR);
-    spr_load_desc ld;
-    spr_load_defaults(&ld);
-    ld.sh_degree = 3;
     spr_cloud c;
-    spr_error err = {0};
-    ck_assert_msg(spr_load(path, &ld, &c, &err) == SPR_OK, "%s", err.msg);
-    const double eye[3] = {0.9, 0.7, 2.4}, up3[3] = {0, 1, 0};
     spr_view v;
-    looking_at_origin(100, 75, 90.0, eye, up3, &v);
+    spr_error err = {0};
+    converter_capture("2.7.1/sheet.ply", &c, &v);
     float *up = malloc((size_t)v.width * v.height * 3 * sizeof *up);
     uint64_t sd = 5;
     for (size_t i = 0; i < (size_t)v.width * v.height * 3; i++) up[i] = (float)(2.0 * tu_uniform(&sd) - 1.0);
@@ -846,17 +854,9 @@ START_TEST(gauss_parity_captures_and_generated)
     /* the converter's captures, SH degree 3, from an oblique camera (sizes not multiples of 16) */
     const char *files[] = {"2.7.1/sheet.ply", "3.7.0/sphere.glb", "2.7.1/sphere.spz", "3.7.0/sphere.compressed.ply"};
     for (int f = 0; f < 4; f++) {
-        char path[512];
-        snprintf(path, sizeof path, "%s/tests/data/captures/splat-transform/%s", SPR_SOURCE_DIR, files[f]);
-        spr_load_desc ld;
-        spr_load_defaults(&ld);
-        ld.sh_degree = 3;
         spr_cloud c;
-        spr_error err = {0};
-        ck_assert_msg(spr_load(path, &ld, &c, &err) == SPR_OK, "%s", err.msg);
-        const double eye[3] = {0.9, 0.7, 2.4}, up[3] = {0, 1, 0};
         spr_view v;
-        looking_at_origin(100, 75, 90.0, eye, up, &v);
+        converter_capture(files[f], &c, &v);
         for (int a = 0; a < 3; a++)
             for (int variant = 0; variant < 2 + spr_gauss_profile_count(); variant++) {
                 /* the default, --gauss-aa, then every profile of the table that fits the algorithm (SPEC 10.9) */
@@ -916,14 +916,7 @@ START_TEST(gradients_bit_exact_and_batched)
         spr_error err = {0};
         if (k < 2) {
             const char *files[] = {"2.7.1/sheet.ply", "3.7.0/sphere.glb"};
-            char path[512];
-            snprintf(path, sizeof path, "%s/tests/data/captures/splat-transform/%s", SPR_SOURCE_DIR, files[k]);
-            spr_load_desc ld;
-            spr_load_defaults(&ld);
-            ld.sh_degree = 3;
-            ck_assert_msg(spr_load(path, &ld, &c, &err) == SPR_OK, "%s", err.msg);
-            const double eye[3] = {0.9, 0.7, 2.4}, up[3] = {0, 1, 0};
-            looking_at_origin(100, 75, 90.0, eye, up, &v);
+            converter_capture(files[k], &c, &v);
         } else {
             gauss_scene(k - 2, k - 2 == KIND_DEEP ? 400 : 300, 2000 + (uint64_t)k, &c);
             camera_z4(96, 80, 80.0, &v);

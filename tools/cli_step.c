@@ -20,9 +20,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#if defined(__SSE__)
-#include <xmmintrin.h>
-#endif
 
 static const spr__opt step_opts[] = {
     {"out", "DIR", "the walk-through: DIR/index.html, its pictures and scene.json (required)"},
@@ -501,26 +498,6 @@ static void grouping_section(page *pg, const spr_scene *s)
 }
 
 /* ---- the backward pass (SPEC 10.10, docs/gradients.md): one pixel and one Gaussian ---- */
-/* The backend's float environment (flush-to-zero, as gauss_grad.c), for the host's retrace of the pixel. */
-static unsigned ftz_enter(void)
-{
-#if defined(__SSE__)
-    const unsigned old = _mm_getcsr();
-    _mm_setcsr(old | 0x8040u);
-    return old;
-#else
-    return 0;
-#endif
-}
-static void ftz_leave(unsigned old)
-{
-#if defined(__SSE__)
-    _mm_setcsr(old);
-#else
-    (void)old;
-#endif
-}
-
 /* n floats as "a, b, c" (%.9g: a float's bits). */
 static void fvals(FILE *f, const float *v, int n)
 {
@@ -622,7 +599,7 @@ static void backward_pixel(page *pg, const grad_view *gv, size_t Gsel)
     float up[5];
     pixel_upstream(gv->gd, gv->g->image, W, H, i, up);
     const float fi = (float)h->x, fj = (float)(H - 1 - h->y);
-    const unsigned fp = ftz_enter();
+    const unsigned fp = spr__grad_fp_enter(); /* the backend's float environment, for the host's retrace of the pixel */
     const float bgg = spr_sum3(gv->bg[0], up[0], gv->bg[1], up[1], gv->bg[2], up[2]);
     const float bt = bgg - up[3];
     float acc[4] = {0, 0, 0, 0}, behind[5] = {0, 0, 0, 0, 0};
@@ -667,7 +644,7 @@ static void backward_pixel(page *pg, const grad_view *gv, size_t Gsel)
         for (int ch = 0; ch < 4; ch++) behind[ch] = c[ch];
         behind[4] = w->ab;
     }
-    ftz_leave(fp);
+    spr__grad_fp_leave(fp);
     const float *C = gv->g->image + 4 * i;
     fprintf(f, "<p>Tile %d; %d Gaussians blended; C = (", tile, nb);
     fvals(f, C, 3);

@@ -183,15 +183,17 @@ done:
     return r;
 }
 
-spr_result spr_gauss_grad(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc, const spr_grad_desc *gd,
-                          spr_gauss_grads *out, spr_error *err)
+/* What spr_gauss_grad and spr_gauss_grad_explain share: the frame's checks, its view, its run on the backend's host
+ * thread count, fn on it, its targets destroyed. */
+typedef spr_result (*frame_fn)(spr__run *run, const spr_grad_desc *gd, void *user);
+static spr_result with_frame(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc, const spr_grad_desc *gd,
+                             frame_fn fn, void *user, spr_error *err)
 {
-    memset(out, 0, sizeof *out);
     if (desc->algo != SPR_ALGO_GAUSS3D) return spr__fail(err, SPR_E_ARG, "grad: the backward pass is gauss3d's (SPEC 10.10), not %s's", spr_algo_name(desc->algo));
     const spr_gauss_profile *pf = spr_gauss_profile_of(desc->algo, desc->gauss_profile);
     if (!pf->grad.trains)
-        return spr__fail(err, SPR_E_ARG, "grad: profile %s has no backward pass (its renderer does not train; SPEC 10.10 covers inria, gsplat, "
-                         "gsplat-1.5, brush)", pf->name);
+        return spr__fail(err, SPR_E_ARG, "grad: profile %s has no backward pass (its renderer does not train; SPEC 10.10 covers the rows whose "
+                         "renderer trains: inria, gsplat, gsplat-1.5, brush, opensplat)", pf->name);
     if (desc->gauss_aa)
         return spr__fail(err, SPR_E_ARG, "grad: --gauss-aa's compensation has no backward here yet (docs/gradients.md, open questions): "
                          "leave it out");
@@ -205,15 +207,23 @@ spr_result spr_gauss_grad(spr_backend *b, const spr_view *view, const spr_cloud 
     spr__run run = {b, cloud, desc, &res, err, 0.0f, {0, 0, 0, 0}, 0, {0}, 0, {0}, NULL};
     const int omp_default = omp_get_max_threads();
     if (b->host_threads > 0) omp_set_num_threads(b->host_threads);
-    r = grad_frame(&run, gd, out);
+    r = fn(&run, gd, user);
     omp_set_num_threads(omp_default);
     for (int t = 0; t < b->n_targets; t++) spr_backend_target_destroy(b, t);
     spr_render_result_free(&res);
-    if (r) spr_gauss_grads_free(out);
     return r;
 }
 
-/* ---- explain --gaussian G --grad ---- */
+static spr_result grad_fn(spr__run *run, const spr_grad_desc *gd, void *user) { return grad_frame(run, gd, user); }
+
+spr_result spr_gauss_grad(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc, const spr_grad_desc *gd,
+                          spr_gauss_grads *out, spr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const spr_result r = with_frame(b, view, cloud, desc, gd, grad_fn, out, err);
+    if (r) spr_gauss_grads_free(out);
+    return r;
+}
 
 void spr_grad_explain_free(spr_grad_explain *x)
 {
@@ -221,8 +231,7 @@ void spr_grad_explain_free(spr_grad_explain *x)
     memset(x, 0, sizeof *x);
 }
 
-/* The CPU backend's float environment (swrast's sw_fp_enter): flush-to-zero, denormals-are-zero. */
-static unsigned ftz_enter(void)
+unsigned spr__grad_fp_enter(void)
 {
 #if defined(__SSE__)
     const unsigned old = _mm_getcsr();
@@ -232,7 +241,7 @@ static unsigned ftz_enter(void)
     return 0;
 #endif
 }
-static void ftz_leave(unsigned old)
+void spr__grad_fp_leave(unsigned old)
 {
 #if defined(__SSE__)
     _mm_setcsr(old);
@@ -293,7 +302,7 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
         r = spr__fail(run->err, SPR_E_NOMEM, "grad: out of memory");
         goto done;
     }
-    const unsigned fp = ftz_enter();
+    const unsigned fp = spr__grad_fp_enter();
     for (uint32_t k = k0; k < k1 && !r; k++) {
         const uint32_t e = csr[k];
         const int t = tile_of(f.range, tiles, e);
@@ -400,38 +409,29 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
             out->sum[q] = v;
         }
     }
-    ftz_leave(fp);
+    spr__grad_fp_leave(fp);
 done:
     free(image), free(up), free(tmp), free(be), free(ba), free(bT), free(start), free(csr);
     spr__gauss_frame_free(&f);
     return r;
 }
 
+typedef struct explain_ctx { size_t G; spr_grad_explain *out; } explain_ctx;
+static spr_result explain_fn(spr__run *run, const spr_grad_desc *gd, void *user)
+{
+    explain_ctx *x = user;
+    return explain_frame(run, gd, x->G, x->out);
+}
+
 spr_result spr_gauss_grad_explain(spr_backend *b, const spr_view *view, const spr_cloud *cloud, const spr_render_desc *desc,
                                   const spr_grad_desc *gd, size_t G, spr_grad_explain *out, spr_error *err)
 {
     memset(out, 0, sizeof *out);
-    if (desc->algo != SPR_ALGO_GAUSS3D) return spr__fail(err, SPR_E_ARG, "grad: the backward pass is gauss3d's (SPEC 10.10), not %s's", spr_algo_name(desc->algo));
     if (strcmp(b->name, "cpu"))
         return spr__fail(err, SPR_E_ARG, "grad: explain retraces the CPU backend's backward (its order of additions), not %s's", b->name);
     if (G >= cloud->n) return spr__fail(err, SPR_E_ARG, "grad: Gaussian %zu: the cloud has %zu (0 … %zu)", G, cloud->n, cloud->n ? cloud->n - 1 : 0);
-    const spr_gauss_profile *pf = spr_gauss_profile_of(desc->algo, desc->gauss_profile);
-    if (!pf->grad.trains) return spr__fail(err, SPR_E_ARG, "grad: profile %s has no backward pass", pf->name);
-    if (desc->gauss_aa) return spr__fail(err, SPR_E_ARG, "grad: --gauss-aa's compensation has no backward here yet: leave it out");
-    if (desc->source) return spr__fail(err, SPR_E_ARG, "grad: a streamed cloud (--stream) has no backward pass: leave out --stream");
-    if (gd->loss == SPR_LOSS_GIVEN && !gd->dl_dimage) return spr__fail(err, SPR_E_ARG, "grad: neither a loss nor an upstream gradient");
-    spr_result r = spr_render_fits(b, cloud, desc->algo, err);
-    if (r) return r;
-    if ((r = spr_backend_set_view(b, view))) return spr__fail(err, r, "%s backend: %s", b->name, b->err.msg);
-    spr_render_result res;
-    memset(&res, 0, sizeof res);
-    spr__run run = {b, cloud, desc, &res, err, 0.0f, {0, 0, 0, 0}, 0, {0}, 0, {0}, NULL};
-    const int omp_default = omp_get_max_threads();
-    if (b->host_threads > 0) omp_set_num_threads(b->host_threads);
-    r = explain_frame(&run, gd, G, out);
-    omp_set_num_threads(omp_default);
-    for (int t = 0; t < b->n_targets; t++) spr_backend_target_destroy(b, t);
-    spr_render_result_free(&res);
+    explain_ctx x = {G, out};
+    const spr_result r = with_frame(b, view, cloud, desc, gd, explain_fn, &x, err);
     if (r) spr_grad_explain_free(out);
     return r;
 }

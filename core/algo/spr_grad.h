@@ -95,4 +95,9 @@ typedef struct spr_grad_diff {
 } spr_grad_diff;
 int spr_gauss_grad_compare(const spr_gauss_grads *a, const spr_gauss_grads *b, spr_grad_diff *d, int cap);
 
+/* The CPU backend's float environment (swrast's: flush-to-zero, denormals-are-zero) for host code that retraces the
+ * backward's arithmetic (explain, step): enter returns what leave restores. */
+unsigned spr__grad_fp_enter(void);
+void spr__grad_fp_leave(unsigned old);
+
 #endif
