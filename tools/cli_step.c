@@ -509,6 +509,19 @@ static void fcell(FILE *f, const float *v, int n)
     for (int k = 0; k < n; k++) fprintf(f, "%s%.9g", k ? "<br>" : "", v[k]);
 }
 
+/* A list entry's partial (or a pixel's terms) as the last cells of a row: colour, conic, centre, absgrad; the row ends. */
+static void part_cells(FILE *f, const float *part)
+{
+    fcell(f, part + SPR_GPART_COLOR, 3);
+    fprintf(f, "</td><td>");
+    fcell(f, part + SPR_GPART_CONIC, 3);
+    fprintf(f, "</td><td>");
+    fcell(f, part + SPR_GPART_M, 2);
+    fprintf(f, "</td><td>");
+    fcell(f, part + SPR_GPART_ABS, 2);
+    fprintf(f, "</td></tr>\n");
+}
+
 typedef struct grad_view {
     const spr_gauss_grads *g;
     const spr_grad_explain *x;
@@ -747,25 +760,11 @@ static int backward_gaussian(page *pg, const grad_view *gv)
                     m->x, m->y, H - 1 - m->y, m->rank + 1, m->blended, m->power, m->alpha, m->T);
             fcell(f, m->acc, 4);
             fprintf(f, "</td><td>%.9g</td><td>%.9g%s</td><td>%.9g</td><td>", m->dl_dalpha, m->dl_do, m->gated ? " (gated)" : "", m->dl_dpower);
-            fcell(f, m->part + SPR_GPART_COLOR, 3);
-            fprintf(f, "</td><td>");
-            fcell(f, m->part + SPR_GPART_CONIC, 3);
-            fprintf(f, "</td><td>");
-            fcell(f, m->part + SPR_GPART_M, 2);
-            fprintf(f, "</td><td>");
-            fcell(f, m->part + SPR_GPART_ABS, 2);
-            fprintf(f, "</td></tr>\n");
+            part_cells(f, m->part);
         }
         fprintf(f, "<tr class=\"gpart\" style=\"font-weight:bold\"><td colspan=\"7\">partial of tile %d</td><td></td><td>%.9g</td><td>count %.9g</td><td>", t->tile,
                 t->part[SPR_GPART_OPACITY], t->part[SPR_GPART_COUNT]);
-        fcell(f, t->part + SPR_GPART_COLOR, 3);
-        fprintf(f, "</td><td>");
-        fcell(f, t->part + SPR_GPART_CONIC, 3);
-        fprintf(f, "</td><td>");
-        fcell(f, t->part + SPR_GPART_M, 2);
-        fprintf(f, "</td><td>");
-        fcell(f, t->part + SPR_GPART_ABS, 2);
-        fprintf(f, "</td></tr>\n");
+        part_cells(f, t->part);
     }
     fprintf(f, "</table></div></details>\n");
     /* the sums against splatref grad's arrays, bit for bit */

@@ -28,8 +28,9 @@ F32 = np.float32
 TYPES = {"float": "<f4", "float32": "<f4", "double": "<f8", "uchar": "u1", "uint8": "u1", "int": "<i4", "uint": "<u4"}
 
 
-def read_3dgs_ply(path, sh_degree=3):
-    """The Gaussians of a binary little-endian 3DGS PLY (training code's layout)."""
+def ply_vertices(path):
+    """The vertices of a binary little-endian PLY as a numpy structured array (its properties by name), and their
+    names in file order."""
     with open(path, "rb") as f:
         data = f.read()
     end = data.index(b"end_header\n") + len(b"end_header\n")
@@ -40,7 +41,13 @@ def read_3dgs_ply(path, sh_degree=3):
             n = int(w[2])
         elif w and w[0] == "property":
             props.append((w[2], TYPES[w[1]]))
-    v = np.frombuffer(data, dtype=np.dtype(props), count=n, offset=end)
+    return np.frombuffer(data, dtype=np.dtype(props), count=n, offset=end), props
+
+
+def read_3dgs_ply(path, sh_degree=3):
+    """The Gaussians of a binary little-endian 3DGS PLY (training code's layout)."""
+    v, props = ply_vertices(path)
+    n = len(v)
     g = {"n": n, "mu": np.stack([v["x"], v["y"], v["z"]], 1).astype(np.float64)}
     q = np.stack([v["rot_%d" % k] for k in range(4)], 1).astype(np.float64)
     g["q"] = q / np.linalg.norm(q, axis=1, keepdims=True)

@@ -393,17 +393,8 @@ def fd_gradients(P, cam, profile, G, log=None):
 def read_params(path, sh_degree=3):
     """A 3DGS PLY (binary little endian) as the oracle's parameters: quaternions as stored (not normalised),
     σ = exp(scale_*), o = sigmoid(opacity), SH coefficient-major [n, K, 3]."""
-    with open(path, "rb") as f:
-        data = f.read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    props, n = [], 0
-    for line in data[:end].decode("ascii").splitlines():
-        w = line.split()
-        if w[:2] == ["element", "vertex"]:
-            n = int(w[2])
-        elif w and w[0] == "property":
-            props.append((w[2], go.TYPES[w[1]]))
-    v = np.frombuffer(data, dtype=np.dtype(props), count=n, offset=end)
+    v, props = go.ply_vertices(path)
+    n = len(v)
     K = (sh_degree + 1) ** 2
     rest = sorted((p for p, _ in props if p.startswith("f_rest_")), key=lambda p: int(p[7:]))
     per = len(rest) // 3
