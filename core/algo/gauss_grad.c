@@ -331,6 +331,7 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                 int nb = 0, rank = -1;
                 for (uint32_t e2 = first; e2 < end; e2++) {
                     const int G2 = (int)f.list[e2];
+                    if (spr_gauss_outside(&px, g, G2, fi, fj)) continue; /* outside its pixel box (SPR_GEXT_BOX) */
                     const float power = spr_gauss_power(spr_grec(&px, G2, SPR_GREC_M), spr_grec(&px, G2, SPR_GREC_M + 1), spr_grec(&px, G2, SPR_GREC_CONIC),
                                                         spr_grec(&px, G2, SPR_GREC_CONIC + 1), spr_grec(&px, G2, SPR_GREC_CONIC + 2), fi, fj);
                     float alpha = 0.0f, Tn = T;
@@ -345,6 +346,16 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                 }
                 if (rank < 0) continue; /* G not blended here: no term */
                 const float Tf = T;
+                /* the profile's backward rules, as spr_gauss_pixel_bwd applies them: its own α cap, T recovered by division */
+                float Tb = Tf;
+                for (int kk = nb - 1; kk >= 0; kk--) {
+                    if (g[SPR_GPRM_CAP_BWD] > 0.0f && ba[kk] > g[SPR_GPRM_CAP_BWD]) ba[kk] = g[SPR_GPRM_CAP_BWD];
+                    if (g[SPR_GPRM_TDIV] != 0.0f) {
+                        const float om = 1.0f - ba[kk], ra = 1.0f / om;
+                        Tb = Tb * ra;
+                        bT[kk] = Tb;
+                    }
+                }
                 memset(tmp, 0, (size_t)len * SPR_GPART_FLOATS * sizeof *tmp);
                 spr_gauss_pixel_bwd(&px, g, bg);
                 if (out->n_terms == cap_terms) {
