@@ -549,6 +549,15 @@ SPR_FN void spr_gauss_preprocess3d_bwd(SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR mu[3
                                        SPR_CARR sum[SPR_GPART_FLOATS], SPR_OARR gout[SPR_GOUT_FLOATS])
 {
     for (int f = 0; f < SPR_GOUT_FLOATS; f++) gout[f] = 0.0f;
+    gout[SPR_GOUT_OPACITY] = sum[SPR_GPART_OPACITY];
+    /* the chain is linear in the sums that enter it: none (a Gaussian no pixel blended), no gradient, whatever the
+     * chain's factors (a scene at 1e-18 scale under a profile without a near cull overflowed them: inf·0, a NaN
+     * whose sign the backends set differently; parity --random seed 20261207, scenes 720 and 727) */
+    int any = 0;
+    for (int f = SPR_GPART_CONIC; f < SPR_GPART_CONIC + 3; f++)
+        if (sum[f] != 0.0f) any = 1;
+    if (sum[SPR_GPART_M] != 0.0f || sum[SPR_GPART_M + 1] != 0.0f || sum[SPR_GPART_INVZ] != 0.0f) any = 1;
+    if (any == 0) return;
     float t[3];
     float Rq[9];
     float L[9];
