@@ -284,11 +284,7 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
     upload(&c->gbuf[GL_GBUF_UP], &c->gcap[GL_GBUF_UP], (size_t)W * H * 5 * sizeof(float), d->up);
     upload(&c->gbuf[GL_GBUF_CSR], &c->gcap[GL_GBUF_CSR], entries * sizeof(uint32_t), d->csr);
     upload(&c->gbuf[GL_GBUF_CSR_START], &c->gcap[GL_GBUF_CSR_START], (n + 1) * sizeof(uint32_t), d->csr_start);
-    size_t most = 0;
-    for (int t0 = 0, t1; t0 < nt; t0 = t1) {
-        for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
-        if (d->range[t1] - d->range[t0] > most) most = d->range[t1] - d->range[t0];
-    }
+    const size_t most = spr_gauss_bwd_batch_most(d->range, nt, cap);
     gl__buffer_reserve(&c->gbuf[GL_GBUF_PART], &c->gcap[GL_GBUF_PART], (most ? most : 1) * SPR_GPART_FLOATS * sizeof(float), GL_DYNAMIC_DRAW);
     gl__buffer_reserve(&c->gbuf[GL_GBUF_SUMS], &c->gcap[GL_GBUF_SUMS], (n ? n : 1) * SPR_GPART_FLOATS * sizeof(float), GL_DYNAMIC_DRAW);
     gl__buffer_fill(c->gbuf[GL_GBUF_SUMS], 0, (n ? n : 1) * SPR_GPART_FLOATS * sizeof(float), 0);
@@ -318,7 +314,7 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
     glUniform1ui(glGetUniformLocation(pg, "u_width"), (GLuint)width);
     glUniform1i(glGetUniformLocation(pg, "u_stage"), 0);
     for (int t0 = 0, t1; t0 < nt && n; t0 = t1) {
-        for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
+        t1 = spr_gauss_bwd_batch_end(d->range, nt, t0, cap);
         const uint32_t base = d->range[t0], end = d->range[t1];
         if (end == base) continue;
         gl__buffer_fill(c->gbuf[GL_GBUF_PART], 0, (size_t)(end - base) * SPR_GPART_FLOATS * sizeof(float), 0);

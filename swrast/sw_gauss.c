@@ -245,16 +245,12 @@ spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
     const int gx = (int)d->prm[SPR_GPRM_GX], nt = gx * (int)d->prm[SPR_GPRM_GY];
     const size_t cap = d->batch ? d->batch : (size_t)1 << 21, n = d->n;
     memset(sums, 0, n * SPR_GPART_FLOATS * sizeof *sums);
-    size_t most = 0; /* the largest batch: tiles are whole, so at least the longest tile list */
-    for (int t0 = 0, t1; t0 < nt; t0 = t1) {
-        for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
-        if (d->range[t1] - d->range[t0] > most) most = d->range[t1] - d->range[t0];
-    }
+    const size_t most = spr_gauss_bwd_batch_most(d->range, nt, cap);
     int failed_any = 0;
     float *part = spr__big_alloc((most ? most : 1) * SPR_GPART_FLOATS * sizeof *part);
     if (!part) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for the partials of %zu list entries", most);
     for (int t0 = 0, t1; t0 < nt; t0 = t1) {
-        for (t1 = t0 + 1; t1 < nt && d->range[t1 + 1] - d->range[t0] <= cap; t1++) {}
+        t1 = spr_gauss_bwd_batch_end(d->range, nt, t0, cap);
         const uint32_t base = d->range[t0], end = d->range[t1];
         memset(part, 0, (size_t)(end - base) * SPR_GPART_FLOATS * sizeof *part);
         int failed = 0;

@@ -355,6 +355,23 @@ spr_result spr_backend_gauss_draw(spr_backend *b, int target, const spr_gauss_dr
     return b->gauss_draw(b, target, d, st ? st : &dummy);
 }
 
+int spr_gauss_bwd_batch_end(const uint32_t *range, int nt, int t0, size_t cap)
+{
+    int t1 = t0 + 1;
+    while (t1 < nt && range[t1 + 1] - range[t0] <= cap) t1++;
+    return t1;
+}
+
+size_t spr_gauss_bwd_batch_most(const uint32_t *range, int nt, size_t cap)
+{
+    size_t most = 0;
+    for (int t0 = 0, t1; t0 < nt; t0 = t1) {
+        t1 = spr_gauss_bwd_batch_end(range, nt, t0, cap);
+        if (range[t1] - range[t0] > most) most = range[t1] - range[t0];
+    }
+    return most;
+}
+
 spr_result spr_backend_gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out)
 {
     if (!b->gauss_backward) return spr__fail(&b->err, SPR_E_BACKEND, "gauss: backend %s has no backward pass", b->name);

@@ -565,6 +565,11 @@ typedef struct spr_gauss_bwd_desc {
     float prm[SPR_GPRM_COUNT];
     size_t batch;
 } spr_gauss_bwd_desc;
+/* The backward's batches, the same for every backend: whole tiles from t0 while their entries number at most cap (one
+ * tile at least); spr_gauss_bwd_batch_end gives the tile after the batch, spr_gauss_bwd_batch_most the most entries a
+ * batch of the frame holds (the partials a backend allocates). */
+int spr_gauss_bwd_batch_end(const uint32_t *range, int nt, int t0, size_t cap);
+size_t spr_gauss_bwd_batch_most(const uint32_t *range, int nt, size_t cap);
 
 /* The tiles [r0, r2) × [r1, r3) item k touches (empty: r2 ≤ r0 or r3 ≤ r1). */
 typedef void (*spr__gauss_rect_fn)(const void *user, size_t k, int r[4]);
