@@ -131,10 +131,7 @@ int cli_check_grads(spr__args *a, const char *path, const char *out, const char 
     cJSON *rep = NULL;
     memset(&s, 0, sizeof s);
     if (spr_npz_read(path, &th, &nth, &err)) { fprintf(stderr, "splatref check: --grads: %s\n", err.msg); goto done; }
-    cli_grad_claim(a);
-    if (spr__scene_setup(a, &s, &rd, 0) || cli_grad_upstream(a, s.view.width, s.view.height, &gd, &in)) goto done;
-    if (!(b = spr__backend(a, "cpu", s.threads, NULL))) goto done;
-    if (spr_gauss_grad(b, &s.view, &s.cloud, &rd, &gd, &g, &err)) { fprintf(stderr, "splatref check: %s\n", err.msg); goto done; }
+    if (cli_grad_frame(a, "cpu", NULL, &s, &rd, &gd, &in, &b, &g)) goto done;
     if ((nref = cli_grad_npz(&g, ref, 16, &sh0, &shN)) < 0) { spr__error(a, "out of memory"); goto done; }
     /* every array present, of the reference's shape, float where float is expected: refused in one line otherwise */
     const spr_npy *match[16];

@@ -90,6 +90,20 @@ int cli_grad_upstream(spr__args *a, int W, int H, spr_grad_desc *gd, cli_grad_in
     return 0;
 }
 
+int cli_grad_frame(spr__args *a, const char *bname, const spr_gl_desc *gld, spr_scene *s, spr_render_desc *rd, spr_grad_desc *gd,
+                   cli_grad_inputs *in, spr_backend **b, spr_gauss_grads *g)
+{
+    spr_error err = {0};
+    cli_grad_claim(a);
+    if (spr__scene_setup(a, s, rd, 0) || cli_grad_upstream(a, s->view.width, s->view.height, gd, in)) return -1;
+    if (!(*b = spr__backend(a, bname, s->threads, gld))) return -1;
+    if (spr_gauss_grad(*b, &s->view, &s->cloud, rd, gd, g, &err)) {
+        fprintf(stderr, "splatref %s: %s\n", a->cmd, err.msg);
+        return -1;
+    }
+    return 0;
+}
+
 void cli_grad_inputs_free(cli_grad_inputs *in)
 {
     free(in->target), free(in->dl), free(in->da), free(in->dd);
@@ -152,10 +166,7 @@ int cmd_grad(int argc, char **argv)
     float *sh0 = NULL, *shN = NULL;
     int rc = 2;
     memset(&s, 0, sizeof s);
-    cli_grad_claim(&a);
-    if (spr__scene_setup(&a, &s, &rd, 0) || cli_grad_upstream(&a, s.view.width, s.view.height, &gd, &in)) goto done;
-    if (!(b = spr__backend(&a, bname, s.threads, &gld))) goto done;
-    if (spr_gauss_grad(b, &s.view, &s.cloud, &rd, &gd, &g, &err)) { fprintf(stderr, "splatref grad: %s\n", err.msg); goto done; }
+    if (cli_grad_frame(&a, bname, &gld, &s, &rd, &gd, &in, &b, &g)) goto done;
     spr_npy arr[16];
     const int m = cli_grad_npz(&g, arr, 16, &sh0, &shN);
     if (m < 0) { spr__error(&a, "out of memory"); goto done; }

@@ -22,6 +22,10 @@ void cli_grad_claim(spr__args *a);
 /* The upstream gradient's options for a W×H scene into gd (its arrays held in in); 0, or −1 after one line. */
 int cli_grad_upstream(spr__args *a, int W, int H, spr_grad_desc *gd, cli_grad_inputs *in);
 void cli_grad_inputs_free(cli_grad_inputs *in);
+/* What grad and check --grads share: the scene's setup (the upstream options claimed first), the upstream gradient,
+ * backend bname, and its gradients into g; 0, or −1 after one line (*b and g, when made, for the caller to free). */
+int cli_grad_frame(spr__args *a, const char *bname, const spr_gl_desc *gld, spr_scene *s, spr_render_desc *rd, spr_grad_desc *gd,
+                   cli_grad_inputs *in, spr_backend **b, spr_gauss_grads *g);
 /* g's arrays as .npz members (up to cap), sh0 [N,1,3] and shN [N,K-1,3] copied into *sh0 and *shN (the caller frees
  * them); the count, or −1 out of memory. */
 int cli_grad_npz(const spr_gauss_grads *g, spr_npy *arr, int cap, float **sh0, float **shN);
