@@ -260,6 +260,13 @@ spr_result gl__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc 
     return gl__check(b, "gauss draw");
 }
 
+/* The backward's steps a tile a draw (spr_gauss_tile_bwd, one loop iteration each: its inner loops have constant trip
+ * counts, unrolled): half of llvmpipe's 65,535 loop iterations an invocation, the rest left to the loops around them.
+ * The biker capture (a 48,716-entry list, CTest capture_gl) gives the CPU's bits with 4,096, 60,000 and even 100,000 (a
+ * walk stopped by the budget resumes from its state; only a loop after the walk, cut, would lose values), and takes the
+ * same time with each: the draws cost little beside the walks. */
+#define GL_BWD_STEPS 32768
+
 /* gauss3d's backward (SPEC 10.10; sw__gauss_backward is the same on the CPU): the tiles in batches whose list
  * entries' partials fit one buffer texture and spr_gauss_bwd_desc.batch; per batch the partials zeroed, draws of one
  * fragment per tile, each running a run of each tile's pixels (gl_gauss_bwd_tile.frag: a tile's pixels in the CPU's
@@ -303,10 +310,12 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
     glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &maxw);
     const size_t width = maxw < 4096 ? (size_t)maxw : 4096;
     const GLuint pt = c->gprog[GL_GPROG_BWD_TILE], pg = c->gprog[GL_GPROG_BWD_GAUSS];
+    const int steps = c->bwd_steps > 0 ? c->bwd_steps : GL_BWD_STEPS;
+    uint32_t *done = malloc(((size_t)nt + 1) * sizeof *done);
+    if (!done) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %d tiles", nt);
     glUseProgram(pt);
     glUniform1fv(glGetUniformLocation(pt, "u_g"), SPR_GPRM_COUNT, d->prm);
     glUniform1fv(glGetUniformLocation(pt, "u_bg"), 3, d->background);
-    glUniform1i(glGetUniformLocation(pt, "u_gup_width"), W);
     glUseProgram(pg);
     glUniform1fv(glGetUniformLocation(pg, "u_g"), SPR_GPRM_COUNT, d->prm);
     glUniform1ui(glGetUniformLocation(pg, "u_n"), (GLuint)n);
@@ -320,27 +329,36 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
         gl__buffer_fill(c->gbuf[GL_GBUF_PART], 0, (size_t)(end - base) * SPR_GPART_FLOATS * sizeof(float), 0);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         const size_t m = (size_t)(t1 - t0);
+        /* each tile's walk state, fresh (its first pixel, not begun), and its done flag */
+        gl__buffer_reserve(&c->gbuf[GL_GBUF_GBS], &c->gcap[GL_GBUF_GBS], m * SPR_GBS_FLOATS * sizeof(uint32_t), GL_DYNAMIC_DRAW);
+        gl__buffer_fill(c->gbuf[GL_GBUF_GBS], 0, m * SPR_GBS_FLOATS * sizeof(uint32_t), 0);
+        gl__buffer_reserve(&c->gbuf[GL_GBUF_DONE], &c->gcap[GL_GBUF_DONE], m * sizeof(uint32_t), GL_DYNAMIC_DRAW);
+        if ((r = texture_of(c, &c->gtex[8], GL_R32UI, 1, c->gbuf[GL_GBUF_GBS], m * SPR_GBS_FLOATS, 18, "the tiles' walk state"))) {
+            free(done);
+            return r;
+        }
+        glBindImageTexture(7, c->gtex[8], 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c->gbuf[GL_GBUF_DONE]);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         glUseProgram(pt);
         glUniform1i(glGetUniformLocation(pt, "u_t0"), t0);
         glUniform1i(glGetUniformLocation(pt, "u_t1"), t1);
         glUniform1i(glGetUniformLocation(pt, "u_gpart_base"), (GLint)base);
-        /* a tile's pixels in row-major order from the top row, runs of npix a draw: within llvmpipe's loop budget at
-         * about 12 iterations a list entry a pixel (two walks, the exponential's loop) and 64 more */
-        uint32_t L = 1;
-        for (int t = t0; t < t1; t++)
-            if (d->range[t + 1] - d->range[t] > L) L = d->range[t + 1] - d->range[t];
-        int npix = 16;
-        while (npix > 1 && (double)npix * (12.0 * L + 64.0) > 60000.0) npix /= 2;
-        glUniform1i(glGetUniformLocation(pt, "u_npix"), npix);
+        glUniform1i(glGetUniformLocation(pt, "u_budget"), steps);
         /* the batch's tiles as a near-square block of fragments: llvmpipe shades 4×4 blocks, so one row of fragments
          * would leave three quarters of its lanes idle */
         size_t tw = 4;
         while (tw * tw < m && tw < width) tw += 4;
         glUniform1i(glGetUniformLocation(pt, "u_width"), (GLint)tw);
-        for (int pix = 0; pix < 256; pix += npix) {
-            glUniform1i(glGetUniformLocation(pt, "u_pix"), pix);
+        /* draws of at most `steps` steps a tile until every tile is done (each draw advances every tile that is
+         * not: the loop ends) */
+        for (int more = 1; more;) {
             draw_bare(c, (int)(m < tw ? m : tw), (int)((m + tw - 1) / tw));
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+            glFinish(); /* zink: stores read back through their buffer need it (below) */
+            gl__buffer_read(c->gbuf[GL_GBUF_DONE], 0, m * sizeof(uint32_t), done);
+            more = 0;
+            for (size_t k = 0; k < m && !more; k++) more = !done[k];
         }
         glUseProgram(pg);
         glUniform1i(glGetUniformLocation(pg, "u_gpart_base"), (GLint)base);
@@ -349,6 +367,7 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
         draw_bare(c, (int)(n < width ? n : width), (int)((n + width - 1) / width));
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
+    free(done);
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
     /* zink (Mesa 22.3.6): the sums, written by image stores through a buffer texture, read back through their buffer
      * came back zero (all 256 Gaussians of a capture, from a context's third backward on, not every run) after the
@@ -393,7 +412,7 @@ void gl__gauss_free(gl_context *c)
     free(c->gpre);
     free(c->gpre_cap);
     c->gpre = NULL, c->gpre_cap = NULL, c->n_gpre = 0;
-    glDeleteTextures(8, c->gtex);
+    glDeleteTextures(9, c->gtex);
     if (c->gfbo) glDeleteFramebuffers(1, &c->gfbo);
     c->gfbo = 0;
     for (int k = 0; k < GL_GPROG__COUNT; k++)

@@ -124,8 +124,14 @@ layout(binding = 13) uniform samplerBuffer u_gup;
 layout(binding = 14) uniform usamplerBuffer u_gcsr;
 layout(rgba32f, binding = 5) uniform coherent imageBuffer u_gpart;
 uniform int u_gpart_base;
-uniform int u_gup_width;
-float spr_in_grad(ivec2 px, int k) { return texelFetch(u_gup, (px.y * u_gup_width + px.x) * 5 + k).r; }
+float spr_in_grad_i(ivec2 px, int i, int k) { return texelFetch(u_gup, i * 5 + k).r; }
+/* a tile's walk state (spr_gauss_tile_bwd): SPR_GBS_FLOATS values from spr__gbs_at, the fragment's own */
+layout(r32ui, binding = 7) uniform coherent uimageBuffer u_gbs;
+int spr__gbs_at = 0;
+float spr_gbs(ivec2 px, int k) { return uintBitsToFloat(imageLoad(u_gbs, spr__gbs_at + k).r); }
+void spr_gbs_set(ivec2 px, int k, float v) { imageStore(u_gbs, spr__gbs_at + k, uvec4(floatBitsToUint(v))); }
+int spr_gbs_i(ivec2 px, int k) { return int(imageLoad(u_gbs, spr__gbs_at + k).r); }
+void spr_gbs_seti(ivec2 px, int k, int v) { imageStore(u_gbs, spr__gbs_at + k, uvec4(uint(v))); }
 int spr__gpart_texel(int e, int f) { return (e - u_gpart_base) * (SPR_GPART_FLOATS / 4) + f / 4; }
 float spr_gpart(ivec2 px, int e, int f) { return imageLoad(u_gpart, spr__gpart_texel(e, f))[f & 3]; }
 void spr_gpart_set(ivec2 px, int e, int f, float v)

@@ -233,7 +233,7 @@ done:
 /* gauss3d's backward (SPEC 10.10): tiles in batches whose entries' partials
  * fit `batch` (spr_gauss_bwd_desc; 2^21 entries, 128 MiB, by default); in a
  * batch, each tile one walk over its pixels in row-major order from the top
- * row (spr_gauss_pixel_bwd), tiles in parallel (disjoint entries); then each
+ * row (spr_gauss_tile_bwd, in one call), tiles in parallel (disjoint entries); then each
  * Gaussian adds its entries' partials of the batch in order to its sums
  * (spr_gauss_gather), Gaussians in parallel; after the last batch, each
  * Gaussian's chain (spr_gauss_preprocess3d_bwd).  Nothing depends on the
@@ -241,7 +241,6 @@ done:
 spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out)
 {
     sw_context *c = sw_ctx(b);
-    const int W = b->view.width, H = b->view.height;
     const int gx = (int)d->prm[SPR_GPRM_GX], nt = gx * (int)d->prm[SPR_GPRM_GY];
     const size_t cap = d->batch ? d->batch : (size_t)1 << 21, n = d->n;
     memset(sums, 0, n * SPR_GPART_FLOATS * sizeof *sums);
@@ -266,14 +265,10 @@ spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
                 if (failed) continue;
                 if (tile_copy_take(&tc, d->rec, d->range, d->list, t)) { failed = 1; continue; }
                 const uint32_t first = d->range[t];
-                const int i0 = (t % gx) * 16, j0 = (t / gx) * 16;
-                for (int j = j0; j < j0 + 16 && j < H; j++)
-                    for (int i = i0; i < i0 + 16 && i < W; i++) {
-                        const int y = H - 1 - j;
-                        spr_pixel_in px = {.grec = tc.rec, .granges = tc.range, .glist = tc.ids, .gup = d->up, .gpart = part + (size_t)(first - base) * SPR_GPART_FLOATS,
-                                           .gpart_base = 0, .i = (size_t)y * W + (size_t)i, .x = i, .y = y};
-                        spr_gauss_pixel_bwd(&px, d->prm, d->background);
-                    }
+                uint32_t state[SPR_GBS_FLOATS] = {0};
+                spr_pixel_in px = {.grec = tc.rec, .granges = tc.range, .glist = tc.ids, .gup = d->up, .gpart = part + (size_t)(first - base) * SPR_GPART_FLOATS,
+                                   .gpart_base = 0, .gbs = state};
+                spr_gauss_tile_bwd_all(&px, d->prm, d->background, t, 0, 256);
             }
             tile_copy_free(&tc);
 #pragma omp for schedule(static)

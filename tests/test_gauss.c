@@ -951,6 +951,99 @@ START_TEST(gradients_bit_exact_and_batched)
 }
 END_TEST
 
+/* gauss3d's backward on GL resumes each tile's walk draw after draw (spr_gauss_tile_bwd, a budget of steps a draw:
+ * llvmpipe leaves every loop of an invocation, silently, after 65,535 iterations).  First a list longer than that
+ * budget: a 4 × 2 view, 70,000 faint Gaussians in front (opacity 0.003: α ≤ 0.003 < 1/255 at every pixel, so every
+ * pixel visits all of them and blends none) and 64 behind (opacity 0.05, σ 0.5 at depth 5: f·σ/t.z = 8 pixels, every
+ * pixel within 3 of their centres: α = 0.05·e^power ≥ 0.05·e^(−0.5·(9+9)/64) = 0.043 > 1/255, and T ≥ 0.957^64 = 0.06,
+ * above the stop).  By hand each of the 64 is blended at all 8 pixels (counts 8) and the faint ones at none; before the
+ * walk was resumable GL gave the 64 nothing (each pixel's two walks of the list passed the budget); with a budget of a
+ * million steps a draw, past llvmpipe's, gallivm cuts the walk at the end of a step and it resumes.  Then the generated
+ * kinds and a converter capture at a budget of 13 steps a draw (every phase cut at many places) under inria and
+ * opensplat (T recovered by division: the state carries it): the CPU's bits. */
+START_TEST(gradients_resume_across_draws)
+{
+    spr_error err = {0};
+    const size_t faint = 70000, n = faint + 64;
+    spr_cloud c;
+    ck_assert_int_eq(spr_cloud_alloc(&c, n), SPR_OK);
+    c.gauss = malloc(n * SPR_GAUSS_FLOATS * sizeof(float));
+    c.sh_k = 1;
+    c.sh = malloc(n * 3 * sizeof(float));
+    uint64_t s = 4343;
+    for (size_t i = 0; i < n; i++) {
+        float *G = c.gauss + SPR_GAUSS_FLOATS * i;
+        G[0] = 1.0f, G[1] = G[2] = G[3] = 0.0f, G[7] = 1.0f;
+        G[4] = G[5] = G[6] = 0.5f;
+        c.pos[3 * i] = (float)(0.02 * (tu_uniform(&s) - 0.5)), c.pos[3 * i + 1] = (float)(0.02 * (tu_uniform(&s) - 0.5));
+        c.pos[3 * i + 2] = i < faint ? (float)(0.5 * tu_uniform(&s)) : (float)(-1.0 - 0.5 * tu_uniform(&s));
+        c.alpha[i] = i < faint ? 0.003f : 0.05f;
+        for (int k = 0; k < 3; k++) c.sh[3 * i + k] = (float)(tu_uniform(&s) - 0.5), c.color[3 * i + k] = 0.5f;
+        c.radius[i] = 1.5f;
+    }
+    spr_view v;
+    camera_z4(4, 2, 80.0, &v);
+    float *up = upstream_image(v.width, v.height, 99);
+    spr_render_desc d = {.algo = SPR_ALGO_GAUSS3D, .background = {0.1f, 0.2f, 0.3f}};
+    spr_grad_desc gd = {.loss = SPR_LOSS_GIVEN, .dl_dimage = up};
+    spr_gauss_grads a, b;
+    ck_assert_msg(spr_gauss_grad(cpu, &v, &c, &d, &gd, &a, &err) == SPR_OK, "%s", err.msg);
+    ck_assert_msg(spr_gauss_grad(gl, &v, &c, &d, &gd, &b, &err) == SPR_OK, "%s", err.msg);
+    for (size_t G = 0; G < n; G++) {
+        const int32_t want = G < faint ? 0 : 8;
+        ck_assert_msg(a.counts[G] == want && b.counts[G] == want, "Gaussian %zu: counts %d (cpu), %d (gl), by hand %d", G, a.counts[G], b.counts[G], want);
+    }
+    expect_same_grads("70,064 Gaussians in one tile", &a, &b);
+    spr_gauss_grads_free(&b);
+    /* a budget past llvmpipe's (a million steps a draw): gallivm cuts the walk, at the end of a step, and it resumes */
+    spr_gl_desc gld;
+    tu_gl_desc(&gld);
+    gld.bwd_steps = 1000000;
+    spr_backend *past = spr_gl_create(&gld, &err);
+    ck_assert_msg(past, "%s", err.msg);
+    ck_assert_msg(spr_gauss_grad(past, &v, &c, &d, &gd, &b, &err) == SPR_OK, "%s", err.msg);
+    expect_same_grads("70,064 Gaussians in one tile, a million steps a draw", &a, &b);
+    spr_backend_destroy(past);
+    spr_gauss_grads_free(&a), spr_gauss_grads_free(&b);
+    free(up);
+    spr_cloud_free(&c);
+
+    gld.bwd_steps = 13;
+    spr_backend *stepped = spr_gl_create(&gld, &err);
+    ck_assert_msg(stepped, "%s", err.msg);
+    int cases = 0;
+    for (int k = 0; k < 1 + KIND__COUNT; k++) {
+        if (k == 0) converter_capture("2.7.1/sheet.ply", &c, &v);
+        else {
+            gauss_scene(k - 1, 120, 3000 + (uint64_t)k, &c);
+            camera_z4(40, 24, 33.0, &v);
+        }
+        up = upstream_image(v.width, v.height, 55 + (uint64_t)k);
+        for (int p = 0; p < spr_gauss_profile_count(); p++) {
+            const char *name = spr_gauss_profile_at(p)->name;
+            if (strcmp(name, "inria") && strcmp(name, "opensplat")) continue;
+            spr_render_desc dp = {.algo = SPR_ALGO_GAUSS3D, .background = {0.1f, 0.2f, 0.3f}, .gauss_profile = p + 1};
+            spr_grad_desc gp = {.loss = SPR_LOSS_GIVEN, .dl_dimage = up};
+            ck_assert_msg(spr_gauss_grad(cpu, &v, &c, &dp, &gp, &a, &err) == SPR_OK, "%s", err.msg);
+            ck_assert_msg(spr_gauss_grad(stepped, &v, &c, &dp, &gp, &b, &err) == SPR_OK, "%s", err.msg);
+            size_t reached = 0;
+            for (size_t G = 0; G < a.n; G++) reached += a.counts[G] > 0;
+            char label[160];
+            snprintf(label, sizeof label, "scene %d, %s, 13 steps a draw", k, name);
+            ck_assert_msg(reached > 0, "%s: no Gaussian reached a pixel", label);
+            expect_same_grads(label, &a, &b);
+            spr_gauss_grads_free(&a), spr_gauss_grads_free(&b);
+            cases++;
+        }
+        free(up);
+        spr_cloud_free(&c);
+    }
+    spr_backend_destroy(stepped);
+    printf("gauss: a 70,064-entry list and %d scenes x profiles resumed 13 steps a draw, bit-exact between cpu and gl\n", cases);
+    ck_assert_int_eq(cases, 2 * (1 + KIND__COUNT));
+}
+END_TEST
+
 /* Issue 42: how records reach the programs at full size, shown small.  The preprocessing binds its storage a batch of
  * Gaussians at a time (each range within GL_MAX_SHADER_STORAGE_BLOCK_SIZE; 524,288 Gaussians on llvmpipe): batches of 62
  * here, 17 of them, the last partial.  Records and lists are four values a texel, so the records' float index crosses
@@ -1125,6 +1218,7 @@ Suite *make_gauss_gl_suite(void)
     tcase_set_timeout(grads, 900);
     tcase_add_unchecked_fixture(grads, gl_setup, gl_teardown);
     tcase_add_test(grads, gradients_bit_exact_and_batched);
+    tcase_add_test(grads, gradients_resume_across_draws);
     suite_add_tcase(s, grads);
     /* its own case, which CTest gl_zink_gauss_full also runs on zink (CK_RUN_CASE=full_size) */
     TCase *full = tcase_create("full_size");

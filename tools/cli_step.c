@@ -618,7 +618,7 @@ static void backward_pixel(page *pg, const grad_view *gv, size_t Gsel)
     float acc[4] = {0, 0, 0, 0}, behind[5] = {0, 0, 0, 0, 0};
     const float gk[4] = {up[0], up[1], up[2], up[4]};
     float Tb = Tf;
-    for (int k = nb - 1; k >= 0; k--) { /* spr_gauss_pixel_bwd's profile rules, then spr_gauss_blend_bwd, operation by operation */
+    for (int k = nb - 1; k >= 0; k--) { /* spr_gauss_tile_bwd's profile rules, then spr_gauss_blend_bwd, operation by operation */
         bwd_row *w = &rows[k];
         w->ab = w->alpha, w->Tk = w->T;
         if (g[SPR_GPRM_CAP_BWD] > 0.0f && w->ab > g[SPR_GPRM_CAP_BWD]) w->ab = g[SPR_GPRM_CAP_BWD];

@@ -263,8 +263,8 @@ static int tile_of(const uint32_t *range, int tiles, uint32_t e)
 }
 
 /* G's pixels in the backward's order (sw__gauss_backward: a tile's pixels row-major from the top row, each through
- * spr_gauss_pixel_bwd, its terms added to the entry's partial; then the entries' partials in tile order,
- * spr_gauss_gather).  One pixel's terms are what spr_gauss_pixel_bwd adds to a zeroed partial: 0 + v is v (a
+ * spr_gauss_tile_bwd, its terms added to the entry's partial; then the entries' partials in tile order,
+ * spr_gauss_gather).  One pixel's terms are what spr_gauss_tile_bwd adds to a zeroed partial: 0 + v is v (a
  * denormal v flushed as the backend's add flushes it), so the two levels of float additions below are the
  * backend's, bit for bit.  α, T, acc, ∂L/∂α, ∂L/∂o and ∂L/∂power are recomputed beside it with the same operations
  * (spr_gauss_visit, spr_gauss_blend_bwd's recurrence, spr_gauss_alpha_bwd), to be shown. */
@@ -326,7 +326,7 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                 spr_pixel_in px = {.grec = f.rec, .granges = f.range, .glist = f.list, .gup = up, .gpart = tmp, .gpart_base = first,
                                    .i = (size_t)y * W + (size_t)i, .x = i, .y = y};
                 const float fi = (float)i, fj = (float)j;
-                /* the forward's walk (spr_gauss_pixel_bwd's first): the blended entries, their α and T */
+                /* the forward's walk (spr_gauss_tile_bwd's first): the blended entries, their α and T */
                 float T = 1.0f;
                 int nb = 0, rank = -1;
                 for (uint32_t e2 = first; e2 < end; e2++) {
@@ -346,7 +346,7 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                 }
                 if (rank < 0) continue; /* G not blended here: no term */
                 const float Tf = T;
-                /* the profile's backward rules, as spr_gauss_pixel_bwd applies them: its own α cap, T recovered by division */
+                /* the profile's backward rules, as spr_gauss_tile_bwd applies them: its own α cap, T recovered by division */
                 float Tb = Tf;
                 for (int kk = nb - 1; kk >= 0; kk--) {
                     if (g[SPR_GPRM_CAP_BWD] > 0.0f && ba[kk] > g[SPR_GPRM_CAP_BWD]) ba[kk] = g[SPR_GPRM_CAP_BWD];
@@ -357,7 +357,9 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                     }
                 }
                 memset(tmp, 0, (size_t)len * SPR_GPART_FLOATS * sizeof *tmp);
-                spr_gauss_pixel_bwd(&px, g, bg);
+                uint32_t state[SPR_GBS_FLOATS] = {0};
+                px.gbs = state;
+                spr_gauss_tile_bwd_all(&px, g, bg, t, (j - j0) * 16 + (i - i0), (j - j0) * 16 + (i - i0) + 1);
                 if (out->n_terms == cap_terms) {
                     const size_t c2 = cap_terms ? 2 * cap_terms : 256;
                     spr_grad_term *nt2 = realloc(out->terms, c2 * sizeof *nt2);

@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 #include "spr_backend.h"
 #include "spr_kernel.h"
 
@@ -60,6 +61,7 @@ typedef struct spr_pixel_in {
     float *gpart;              /* its list entries' partials, SPR_GPART_FLOATS each, from entry gpart_base */
     size_t gpart_base;
     const uint32_t *gcsr;      /* each Gaussian's list entries, ascending */
+    uint32_t *gbs;             /* gauss3d's backward: a tile's walk state (SPR_GBS_FLOATS, spr_gauss_tile_bwd) */
     size_t i;
     int x, y;                  /* the pixel: i = y·W + x */
     spr_probe *probe;          /* set at the probed pixel only (pixel history) */
@@ -80,7 +82,16 @@ static inline int spr_gtile_first(const spr_pixel_in *px, int tile) { return (in
 static inline int spr_gtile_end(const spr_pixel_in *px, int tile) { return (int)px->granges[tile + 1]; }
 static inline int spr_glist(const spr_pixel_in *px, int e) { return (int)px->glist[e]; }
 static inline float spr_grec(const spr_pixel_in *px, int G, int f) { return px->grec[(size_t)G * SPR_GREC_FLOATS + (size_t)f]; }
-static inline float spr_in_grad(const spr_pixel_in *px, int k) { return px->gup[5 * px->i + (size_t)k]; }
+static inline float spr_in_grad_i(const spr_pixel_in *px, int i, int k) { return px->gup[5 * (size_t)i + (size_t)k]; }
+static inline float spr_gbs(const spr_pixel_in *px, int k)
+{
+    float v;
+    memcpy(&v, &px->gbs[k], sizeof v);
+    return v;
+}
+static inline void spr_gbs_set(const spr_pixel_in *px, int k, float v) { memcpy(&px->gbs[k], &v, sizeof v); }
+static inline int spr_gbs_i(const spr_pixel_in *px, int k) { return (int)px->gbs[k]; }
+static inline void spr_gbs_seti(const spr_pixel_in *px, int k, int v) { px->gbs[k] = (uint32_t)v; }
 static inline float spr_gpart(const spr_pixel_in *px, int e, int f) { return px->gpart[((size_t)e - px->gpart_base) * SPR_GPART_FLOATS + (size_t)f]; }
 static inline void spr_gpart_set(const spr_pixel_in *px, int e, int f, float v) { px->gpart[((size_t)e - px->gpart_base) * SPR_GPART_FLOATS + (size_t)f] = v; }
 static inline int spr_gcsr(const spr_pixel_in *px, int k) { return (int)px->gcsr[k]; }

@@ -494,6 +494,42 @@ enum {
 #undef SPR__GOUT_OFF
     SPR_GOUT_FLOATS
 };
+/* gauss3d's backward over one tile, resumable (spr_gauss_tile_bwd; SPEC 10.10, docs/gradients.md "per pixel"):
+ * the walk's state between calls, 32 bits a value, ints held by their bits.  The CPU runs a tile in one call; a GL
+ * fragment resumes it draw after draw, each within llvmpipe's loop budget, so no list is too long for it. */
+#define SPR_GBS_LIST(X)                                                                                           \
+    X(PIX, 1)        /* the tile's pixel reached (row-major from the top row) */                                \
+    X(PHASE, 1)      /* SPR_GBWD_*: where that pixel's backward stands */                                        \
+    X(E, 1)          /* the walk's next list entry */                                                           \
+    X(T, 1)          /* the transmittance there */                                                              \
+    X(N, 1)          /* Gaussians blended by the first walk */                                                  \
+    X(B, 1)          /* blended so far by a replay */                                                           \
+    X(HI, 1)         /* the segment walked back: blended lo … hi − 1 */                                         \
+    X(LO, 1)                                                                                                    \
+    X(K, 1)          /* the next of them to walk back */                                                        \
+    X(TF, 1)         /* the final transmittance */                                                              \
+    X(TB, 1)         /* T recovered by division (the profile's TDIV) */                                         \
+    X(ACC, 4)        /* spr_gauss_blend_bwd's acc and behind */                                                 \
+    X(BEHIND, 5)                                                                                                \
+    X(CE, 128)       /* checkpoints every 32 blended: the list entry */                                         \
+    X(CT, 128)       /* and T there */                                                                          \
+    X(SE, 32)        /* a replayed segment: its blended entries, α and T */                                     \
+    X(SA, 32)                                                                                                   \
+    X(ST, 32)
+enum {
+#define SPR__GBS_OFF(name, n) SPR_GBS_##name, SPR_GBS__END_##name = SPR_GBS_##name + (n) - 1,
+    SPR_GBS_LIST(SPR__GBS_OFF)
+#undef SPR__GBS_OFF
+    SPR_GBS_FLOATS
+};
+/* A pixel's phases: not begun, the first walk, the next segment, its replay, its walk back. */
+#define SPR_GBWD_LIST(X) X(BEGIN) X(WALK) X(NEXT) X(REPLAY) X(BACK)
+enum {
+#define SPR__GBWD(name) SPR_GBWD_##name,
+    SPR_GBWD_LIST(SPR__GBWD)
+#undef SPR__GBWD
+    SPR_GBWD__COUNT
+};
 
 /* Why a record was culled, and the modes (floats: compared with record and parameter values). */
 #define SPR_GCULL_NONE 0.0f

@@ -966,7 +966,7 @@ SPR_FN void spr_gauss_alpha_bwd(SPR_CARR g[SPR_GPRM_COUNT], float o, float power
  * Tn = T·(1 − α) set), 1 skipped for power > 0, 2 skipped as faint (α below
  * ALPHA_MIN, or the power below POWER_MIN, decided without the exponential:
  * α then 0), 3 the loop stops here (α and Tn set, not blended).  The forward
- * loop (spr_gauss_pixel) and its backward (spr_gauss_pixel_bwd) both visit
+ * loop (spr_gauss_pixel) and its backward (spr_gauss_tile_bwd) both visit
  * through it, so the backward's α and T are the forward's bits. */
 SPR_FN int spr_gauss_visit(SPR_CARR g[SPR_GPRM_COUNT], float og, float power, float T, SPR_OUT alpha_out, SPR_OUT tn_out)
 {
@@ -1250,96 +1250,183 @@ SPR_FN void spr_gauss_blend_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], float 
     behind[4] = alpha;
 }
 
-/* The backward of gauss3d at pixel px (SPEC 10.10; docs/gradients.md "per
- * pixel"): the forward loop's blended Gaussians walked back to front, each
- * through spr_gauss_blend_bwd, with the forward's own α and T.  A first walk
- * (spr_gauss_visit, the forward's operations) gives T_f, the count n of
- * blended Gaussians and, every 32 blended, a checkpoint: the list entry and
- * the T there.  Then, segment by segment from the last, a replay from the
- * segment's checkpoint keeps its entries, α and T, and they are walked back.
- * 128 checkpoints hold 4,096 blended Gaussians, more than any list blends
- * before T falls below the stop (α ≥ 1/255: (254/255)^2,345 < 1e-4); a
- * longer run (a profile without the stop) replays from the last checkpoint.
- * Each pixel costs about two walks of its list: GL runs one pixel a fragment,
- * within llvmpipe's 65,535 loop iterations a fragment (gl_gauss.c).
- * Returns n. */
-SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3])
+/* The forward's visit of list entry e at pixel (fi, fj) with transmittance T, for the backward's walks: 2 (skipped) for
+ * an entry outside its pixel box, else spr_gauss_visit's answer, α and T' set as it sets them. */
+SPR_FN int spr_gauss_bwd_visit(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], float fi, float fj, int e, float T, SPR_OUT alpha_out, SPR_OUT tn_out)
 {
-    int x = spr_px_x(px);
-    int y = spr_px_y(px);
-    int jrow = SPR_INT(g[SPR_GPRM_H]) - 1 - y;
-    float fi = SPR_FLOAT(x);
-    float fj = SPR_FLOAT(jrow);
-    int tile = (jrow / 16) * SPR_INT(g[SPR_GPRM_GX]) + x / 16;
+    SPR_SET(alpha_out) = 0.0f;
+    SPR_SET(tn_out) = T;
+    int G = spr_glist(px, e);
+    if (spr_gauss_outside(px, g, G, fi, fj) != 0) return 2;
+    float power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
+                                  spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
+    return spr_gauss_visit(g, spr_grec(px, G, SPR_GREC_OPACITY), power, T, alpha_out, tn_out);
+}
+
+/* Pixel p of tile `tile` (its pixels row-major from the top row) for the
+ * backward: v = (i, j, the upstream gradient ∂L/∂C, ∂L/∂A, ∂L/∂D,
+ * bt = ⟨bg, ∂L/∂C⟩ − ∂L/∂A); returns 0 for a pixel outside the image. */
+SPR_FN int spr_gauss_bwd_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3], int tile, int p, SPR_OARR v[8])
+{
+    int gx = SPR_INT(g[SPR_GPRM_GX]);
+    int W = SPR_INT(g[SPR_GPRM_W]);
+    int H = SPR_INT(g[SPR_GPRM_H]);
+    int i = (tile % gx) * 16 + p % 16;
+    int j = (tile / gx) * 16 + p / 16;
+    for (int k = 0; k < 8; k++) v[k] = 0.0f;
+    if (i >= W || j >= H) return 0;
+    v[0] = SPR_FLOAT(i);
+    v[1] = SPR_FLOAT(j);
+    int at = (H - 1 - j) * W + i;
+    for (int k = 0; k < 5; k++) v[2 + k] = spr_in_grad_i(px, at, k);
+    float bgg = spr_sum3(bg[0], v[2], bg[1], v[3], bg[2], v[4]);
+    SPR_PRECISE float bt = bgg - v[5];
+    v[7] = bt;
+    return 1;
+}
+
+/* The backward of gauss3d over tile `tile` (SPEC 10.10; docs/gradients.md
+ * "per pixel"): its pixels from the state's SPR_GBS_PIX up to p1 − 1, in
+ * order, each the forward loop's blended Gaussians walked back to front
+ * through spr_gauss_blend_bwd with the forward's own α and T.  Per pixel, a
+ * first walk (spr_gauss_visit, the forward's operations) gives T_f, the
+ * count n of blended Gaussians and, every 32 blended, a checkpoint: the list
+ * entry and the T there.  Then, segment by segment from the last, a replay
+ * from the segment's checkpoint keeps its entries, α and T, and they are
+ * walked back.  128 checkpoints hold 4,096 blended Gaussians, more than any
+ * list blends before T falls below the stop (α ≥ 1/255: (254/255)^2,345 <
+ * 1e-4); a longer run (a profile without the stop) replays from the last.
+ * Resumable: one step a loop iteration (a pixel begun, a list entry visited
+ * by a walk, a segment begun, a Gaussian walked back), at most `budget` of
+ * them a call, everything between two calls in the state (SPR_GBS_*; a fresh
+ * state: the first pixel, SPR_GBWD_BEGIN).  The CPU runs a tile in one call;
+ * a GL fragment resumes it draw after draw, each call within llvmpipe's
+ * 65,535 loop iterations an invocation (gl_gauss.c), whatever the lists'
+ * length: the bits are the same however the steps are split.  Returns 1
+ * when the tile's pixels are done. */
+SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3], int tile, int p1, int budget)
+{
     int first = spr_gtile_first(px, tile);
     int end = spr_gtile_end(px, tile);
-    float up[5];
-    for (int k = 0; k < 5; k++) up[k] = spr_in_grad(px, k);
-    int ce[128];
-    float cT[128];
-    SPR_PRECISE float T = 1.0f;
-    int n = 0;
-    for (int e = first; e < end; e++) {
-        int G = spr_glist(px, e);
-        if (spr_gauss_outside(px, g, G, fi, fj) != 0) continue;
-        float power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
-                                      spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
-        float alpha = 0.0f;
-        float Tn = T;
-        int visit = spr_gauss_visit(g, spr_grec(px, G, SPR_GREC_OPACITY), power, T, SPR_REF(alpha), SPR_REF(Tn));
-        if (visit == 3) break;
-        if (visit == 0) {
-            if (n % 32 == 0 && n / 32 < 128) {
-                ce[n / 32] = e;
-                cT[n / 32] = T;
-            }
-            T = Tn;
-            n = n + 1;
-        }
-    }
-    float Tf = T;
-    float bgg = spr_sum3(bg[0], up[0], bg[1], up[1], bg[2], up[2]);
-    SPR_PRECISE float bt = bgg - up[3];
+    int p = spr_gbs_i(px, SPR_GBS_PIX);
+    int phase = spr_gbs_i(px, SPR_GBS_PHASE);
+    int e = spr_gbs_i(px, SPR_GBS_E);
+    SPR_PRECISE float T = spr_gbs(px, SPR_GBS_T);
+    int n = spr_gbs_i(px, SPR_GBS_N);
+    int b = spr_gbs_i(px, SPR_GBS_B);
+    int hi = spr_gbs_i(px, SPR_GBS_HI);
+    int lo = spr_gbs_i(px, SPR_GBS_LO);
+    int k = spr_gbs_i(px, SPR_GBS_K);
+    float Tf = spr_gbs(px, SPR_GBS_TF);
+    SPR_PRECISE float Tb = spr_gbs(px, SPR_GBS_TB);
     float acc[4];
     float behind[5];
-    for (int k = 0; k < 4; k++) acc[k] = 0.0f;
-    for (int k = 0; k < 5; k++) behind[k] = 0.0f;
-    SPR_PRECISE float Tb = Tf;
-    int hi = n;
-    while (hi > 0) {
-        int lo = ((hi - 1) / 32) * 32;
-        int cp = lo / 32;
-        if (cp > 127) cp = 127;
-        int se[32];
-        float sa[32];
-        float sT[32];
-        T = cT[cp];
-        int b = cp * 32;
-        if (hi - lo > 32) lo = hi - 32;
-        for (int e = ce[cp]; e < end && b < hi; e++) {
-            int G = spr_glist(px, e);
-            if (spr_gauss_outside(px, g, G, fi, fj) != 0) continue;
-            float power = spr_gauss_power(spr_grec(px, G, SPR_GREC_M), spr_grec(px, G, SPR_GREC_M + 1), spr_grec(px, G, SPR_GREC_CONIC),
-                                          spr_grec(px, G, SPR_GREC_CONIC + 1), spr_grec(px, G, SPR_GREC_CONIC + 2), fi, fj);
-            float alpha = 0.0f;
-            float Tn = T;
-            int visit = spr_gauss_visit(g, spr_grec(px, G, SPR_GREC_OPACITY), power, T, SPR_REF(alpha), SPR_REF(Tn));
-            if (visit == 3) break;
-            if (visit == 0) {
-                if (b >= lo) {
-                    se[b - lo] = e;
-                    sa[b - lo] = alpha;
-                    sT[b - lo] = T;
+    for (int c = 0; c < 4; c++) acc[c] = spr_gbs(px, SPR_GBS_ACC + c);
+    for (int c = 0; c < 5; c++) behind[c] = spr_gbs(px, SPR_GBS_BEHIND + c);
+    float v[8];
+    float up[5];
+    for (int c = 0; c < 8; c++) v[c] = 0.0f;
+    if (p < p1 && phase != SPR_GBWD_BEGIN) spr_gauss_bwd_pixel(px, g, bg, tile, p, v);
+    for (int c = 0; c < 5; c++) up[c] = v[2 + c];
+    /* one loop a phase (a lane's steps all count against its budget): GL runs every branch of a loop's body for
+     * all lanes, so a body that held every phase cost each step the walk and the walk back */
+    for (int u = 0; u < budget;) {
+        if (p >= p1) break;
+        if (phase == SPR_GBWD_BEGIN) {
+            int inside = spr_gauss_bwd_pixel(px, g, bg, tile, p, v);
+            for (int c = 0; c < 5; c++) up[c] = v[2 + c];
+            u = u + 1;
+            if (inside == 0) {
+                p = p + 1;
+                continue;
+            }
+            e = first;
+            T = 1.0f;
+            n = 0;
+            phase = SPR_GBWD_WALK;
+        }
+        for (; u < budget && phase == SPR_GBWD_WALK; u++) {
+            /* the forward's walk: n blended, a checkpoint every 32 */
+            int stop = 0;
+            if (e >= end) stop = 1;
+            if (stop == 0) {
+                float alpha = 0.0f;
+                float Tn = T;
+                int visit = spr_gauss_bwd_visit(px, g, v[0], v[1], e, T, SPR_REF(alpha), SPR_REF(Tn));
+                if (visit == 3) stop = 1;
+                if (visit == 0) {
+                    int cp = n / 32;
+                    if (n % 32 == 0 && cp < 128) {
+                        spr_gbs_seti(px, SPR_GBS_CE + cp, e);
+                        spr_gbs_set(px, SPR_GBS_CT + cp, T);
+                    }
+                    n = n + 1;
+                    T = Tn;
                 }
-                T = Tn;
-                b = b + 1;
+                e = e + 1;
+            }
+            if (stop != 0) {
+                Tf = T;
+                Tb = Tf;
+                hi = n;
+                for (int c = 0; c < 4; c++) acc[c] = 0.0f;
+                for (int c = 0; c < 5; c++) behind[c] = 0.0f;
+                phase = SPR_GBWD_NEXT;
             }
         }
-        for (int k = hi - lo - 1; k >= 0; k--) {
+        if (u < budget && phase == SPR_GBWD_NEXT) {
+            /* the next segment back: blended lo … hi − 1, replayed from checkpoint cp; none left, the next pixel */
+            u = u + 1;
+            if (hi == 0) {
+                p = p + 1;
+                phase = SPR_GBWD_BEGIN;
+                continue;
+            }
+            lo = ((hi - 1) / 32) * 32;
+            int cp = lo / 32;
+            if (cp > 127) cp = 127;
+            T = spr_gbs(px, SPR_GBS_CT + cp);
+            e = spr_gbs_i(px, SPR_GBS_CE + cp);
+            b = cp * 32;
+            if (hi - lo > 32) lo = hi - 32;
+            phase = SPR_GBWD_REPLAY;
+        }
+        for (; u < budget && phase == SPR_GBWD_REPLAY; u++) {
+            /* the replay: the segment's entries, α and T kept */
+            int stop = 0;
+            if (e >= end || b >= hi) stop = 1;
+            if (stop == 0) {
+                float alpha = 0.0f;
+                float Tn = T;
+                int visit = spr_gauss_bwd_visit(px, g, v[0], v[1], e, T, SPR_REF(alpha), SPR_REF(Tn));
+                if (visit == 3) stop = 1;
+                if (visit == 0) {
+                    if (b >= lo) {
+                        spr_gbs_seti(px, SPR_GBS_SE + b - lo, e);
+                        spr_gbs_set(px, SPR_GBS_SA + b - lo, alpha);
+                        spr_gbs_set(px, SPR_GBS_ST + b - lo, T);
+                    }
+                    b = b + 1;
+                    T = Tn;
+                }
+                e = e + 1;
+            }
+            if (stop != 0) {
+                k = hi - lo - 1;
+                phase = SPR_GBWD_BACK;
+            }
+        }
+        for (; u < budget && phase == SPR_GBWD_BACK; u++) {
+            /* the segment's Gaussian k walked back; past the first, the next segment */
+            if (k < 0) {
+                hi = lo;
+                phase = SPR_GBWD_NEXT;
+                continue;
+            }
             /* the profile's backward rules: its own α cap, and T recovered by division (OpenSplat) */
-            float ab = sa[k];
+            float ab = spr_gbs(px, SPR_GBS_SA + k);
             if (g[SPR_GPRM_CAP_BWD] > 0.0f && ab > g[SPR_GPRM_CAP_BWD]) ab = g[SPR_GPRM_CAP_BWD];
-            float Tk = sT[k];
+            float Tk = spr_gbs(px, SPR_GBS_ST + k);
             if (g[SPR_GPRM_TDIV] != 0.0f) {
                 SPR_PRECISE float om = 1.0f - ab;
                 SPR_PRECISE float ra = 1.0f / om;
@@ -1347,11 +1434,33 @@ SPR_FN int spr_gauss_pixel_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
                 Tb = tn;
                 Tk = tn;
             }
-            spr_gauss_blend_bwd(px, g, fi, fj, se[k], ab, Tk, Tf, up, bt, acc, behind);
+            spr_gauss_blend_bwd(px, g, v[0], v[1], spr_gbs_i(px, SPR_GBS_SE + k), ab, Tk, Tf, up, v[7], acc, behind);
+            k = k - 1;
         }
-        hi = lo;
     }
-    return n;
+    spr_gbs_seti(px, SPR_GBS_PIX, p);
+    spr_gbs_seti(px, SPR_GBS_PHASE, phase);
+    spr_gbs_seti(px, SPR_GBS_E, e);
+    spr_gbs_set(px, SPR_GBS_T, T);
+    spr_gbs_seti(px, SPR_GBS_N, n);
+    spr_gbs_seti(px, SPR_GBS_B, b);
+    spr_gbs_seti(px, SPR_GBS_HI, hi);
+    spr_gbs_seti(px, SPR_GBS_LO, lo);
+    spr_gbs_seti(px, SPR_GBS_K, k);
+    spr_gbs_set(px, SPR_GBS_TF, Tf);
+    spr_gbs_set(px, SPR_GBS_TB, Tb);
+    for (int c = 0; c < 4; c++) spr_gbs_set(px, SPR_GBS_ACC + c, acc[c]);
+    for (int c = 0; c < 5; c++) spr_gbs_set(px, SPR_GBS_BEHIND + c, behind[c]);
+    if (p >= p1) return 1;
+    return 0;
+}
+
+/* Pixels p0 … p1 − 1 of tile `tile` in one call (the CPU; a pixel's terms for explain): a fresh state, no budget. */
+SPR_FN void spr_gauss_tile_bwd_all(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3], int tile, int p0, int p1)
+{
+    spr_gbs_seti(px, SPR_GBS_PIX, p0);
+    spr_gbs_seti(px, SPR_GBS_PHASE, SPR_GBWD_BEGIN);
+    spr_gauss_tile_bwd(px, g, bg, tile, p1, 2147483647);
 }
 
 /* A Gaussian's gradient sums (SPEC 10.10 item 4): the partials of its list
@@ -1362,7 +1471,7 @@ SPR_FN void spr_gauss_gather(SPR_PIXEL px, int k0, int k1, int base, int end, SP
     for (int k = k0; k < k1; k++) {
         int e = spr_gcsr(px, k);
         if (e >= base && e < end)
-            for (int f = 0; f < SPR_GPART_FLOATS; f += 4) { /* four a pass: GL's loop iterations (spr_gauss_pixel_bwd) */
+            for (int f = 0; f < SPR_GPART_FLOATS; f += 4) { /* four a pass: GL's loop iterations (spr_gauss_tile_bwd) */
                 SPR_PRECISE float v0 = sum[f] + spr_gpart(px, e, f);
                 SPR_PRECISE float v1 = sum[f + 1] + spr_gpart(px, e, f + 1);
                 SPR_PRECISE float v2 = sum[f + 2] + spr_gpart(px, e, f + 2);
