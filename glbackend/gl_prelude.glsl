@@ -10,6 +10,7 @@
  * before this text by gl_shaders.c from their C definitions.
  */
 #define SPR_FN
+#define SPR_FN_INLINE
 #define SPR_PRECISE precise
 #define SPR_CARR float
 #define SPR_OARR out float

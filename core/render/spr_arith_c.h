@@ -16,6 +16,7 @@
 #include "spr_kernel.h"
 
 #define SPR_FN static inline
+#define SPR_FN_INLINE static inline __attribute__((always_inline)) /* a step of a hot loop, called from more than one place */
 #define SPR_PRECISE
 #define SPR_CARR const float
 #define SPR_OARR float

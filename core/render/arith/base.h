@@ -29,6 +29,7 @@
  *
  *   macro          C (spr_arith_c.h)           GLSL (gl_prelude.glsl)
  *   SPR_FN         static inline               (nothing)
+ *   SPR_FN_INLINE  static inline, always_inline (nothing)   a step of a hot loop called from two places
  *   SPR_PRECISE    (nothing)                   precise
  *   SPR_CARR       const float                 float       read-only array parameter
  *   SPR_OARR       float                       out float   array the function fills

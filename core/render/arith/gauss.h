@@ -1252,7 +1252,7 @@ SPR_FN void spr_gauss_blend_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], float 
 
 /* The forward's visit of list entry e at pixel (fi, fj) with transmittance T, for the backward's walks: 2 (skipped) for
  * an entry outside its pixel box, else spr_gauss_visit's answer, α and T' set as it sets them. */
-SPR_FN int spr_gauss_bwd_visit(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], float fi, float fj, int e, float T, SPR_OUT alpha_out, SPR_OUT tn_out)
+SPR_FN_INLINE int spr_gauss_bwd_visit(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], float fi, float fj, int e, float T, SPR_OUT alpha_out, SPR_OUT tn_out)
 {
     SPR_SET(alpha_out) = 0.0f;
     SPR_SET(tn_out) = T;
