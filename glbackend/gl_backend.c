@@ -559,7 +559,7 @@ spr_backend *spr_gl_create(const spr_gl_desc *d, spr_error *err)
     c->probe_programs = d->probe;
     c->gauss_batch = d->gauss_batch;
     c->max_texels = d->max_texels;
-    c->bwd_steps = d->bwd_steps;
+    c->gauss_steps = d->gauss_steps;
     spr_backend *b = &c->base;
     b->name = "gl";
     b->set_view = gl_set_view;

@@ -39,6 +39,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The forward's list entries a pixel a draw (spr_gauss_pixel_run, one loop iteration each) for a frame whose longest list
+ * is longer: then the loop is resumed draw after draw, its state in an image; shorter lists are drawn in one draw. */
+#define GL_FWD_STEPS 32768
+
 /* `bytes` of data into buffer *buf (made or grown as needed, to whole 16-byte texels); the shaders only read it. */
 static void upload(GLuint *buf, size_t *cap, size_t bytes, const void *data)
 {
@@ -177,10 +181,27 @@ spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
     upload(&c->gbuf[GL_GBUF_RECTEX], &c->gcap[GL_GBUF_RECTEX], d->n * SPR_GREC_FLOATS * sizeof(float), d->rec);
     upload(&c->gbuf[GL_GBUF_RANGE], &c->gcap[GL_GBUF_RANGE], (tiles + 1) * sizeof(uint32_t), d->range);
     upload(&c->gbuf[GL_GBUF_LIST], &c->gcap[GL_GBUF_LIST], entries * sizeof(uint32_t), d->list);
-    uint32_t *counts = malloc(2 * tiles * sizeof *counts);
+    uint32_t *counts = malloc((2 * tiles + 1) * sizeof *counts);
     if (!counts) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %zu tiles", tiles);
-    gl__buffer_reserve(&c->gbuf[GL_GBUF_COUNT], &c->gcap[GL_GBUF_COUNT], 2 * tiles * sizeof *counts, GL_DYNAMIC_DRAW);
-    gl__buffer_fill(c->gbuf[GL_GBUF_COUNT], 0, 2 * tiles * sizeof *counts, 0);
+    /* a list longer than a fragment may walk in one draw: the loop resumed, its state kept between draws */
+    uint32_t L = 0;
+    for (size_t t = 0; t < tiles; t++)
+        if (d->range[t + 1] - d->range[t] > L) L = d->range[t + 1] - d->range[t];
+    const int steps = c->gauss_steps > 0 ? c->gauss_steps : GL_FWD_STEPS;
+    const int resume = L > (uint32_t)(steps < GL_FWD_STEPS ? steps : GL_FWD_STEPS); /* a list past the budget: never one draw */
+    const int W = (int)d->prm[SPR_GPRM_W], H = (int)d->prm[SPR_GPRM_H];
+    if (resume) {
+        const size_t bytes = (size_t)W * H * SPR_GFS_FLOATS * sizeof(float);
+        gl__buffer_reserve(&c->gbuf[GL_GBUF_GFS], &c->gcap[GL_GBUF_GFS], bytes, GL_DYNAMIC_DRAW);
+        if ((r = texture_of(c, &c->gtex[9], GL_RGBA32F, 4, c->gbuf[GL_GBUF_GFS], (size_t)W * H * SPR_GFS_FLOATS, 19, "the pixels' loop state"))) {
+            free(counts);
+            return r;
+        }
+        glBindImageTexture(6, c->gtex[9], 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    }
+    /* per tile the Gaussians visited and blended, then the pixels not done (a draw of a resumed loop) */
+    gl__buffer_reserve(&c->gbuf[GL_GBUF_COUNT], &c->gcap[GL_GBUF_COUNT], (2 * tiles + 1) * sizeof *counts, GL_DYNAMIC_DRAW);
+    gl__buffer_fill(c->gbuf[GL_GBUF_COUNT], 0, (2 * tiles + 1) * sizeof *counts, 0);
     if ((r = texture_of(c, &c->gtex[0], GL_RGBA32F, 4, c->gbuf[GL_GBUF_RECTEX], d->n * SPR_GREC_FLOATS, 10, "Gaussian records")) ||
         (r = texture_of(c, &c->gtex[1], GL_R32UI, 1, c->gbuf[GL_GBUF_RANGE], tiles + 1, 11, "tile ranges")) ||
         (r = texture_of(c, &c->gtex[2], GL_RGBA32UI, 4, c->gbuf[GL_GBUF_LIST], entries, 12, "tile lists"))) {
@@ -207,10 +228,24 @@ spr_result gl__gauss_raster(spr_backend *b, int target, const spr_gauss_raster_d
     glUniform1i(glGetUniformLocation(p, "u_has"), has);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c->gbuf[GL_GBUF_COUNT]);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    glUniform1i(glGetUniformLocation(p, "u_steps"), resume ? steps : 0);
     gl__probe_begin(c);
-    draw_bare(c, (int)d->prm[SPR_GPRM_W], (int)d->prm[SPR_GPRM_H]);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                    GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    for (int round = 0;; round++) {
+        glUniform1i(glGetUniformLocation(p, "u_round"), round);
+        draw_bare(c, W, H);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                        GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        if (resume) glFinish(); /* zink: stores read back through their buffer need it (gl__gauss_backward) */
+        uint32_t left = 0;
+        gl__buffer_read(c->gbuf[GL_GBUF_COUNT], 2 * tiles * sizeof *counts, sizeof left, &left);
+        if (!left) break;
+        if (!resume) { /* cannot be: every list fits a draw; said rather than drawn wrong */
+            free(counts);
+            return spr__fail(&b->err, SPR_E_BACKEND, "gl: gauss raster: %u pixels' loops did not finish in one draw (lists up to %u entries)", left, L);
+        }
+        gl__buffer_fill(c->gbuf[GL_GBUF_COUNT], 2 * tiles * sizeof *counts, sizeof left, 0);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    }
     if (b->probe && (r = gl__probe_end(c, b->probe->n_frags))) {
         free(counts);
         return r;
@@ -310,7 +345,7 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
     glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &maxw);
     const size_t width = maxw < 4096 ? (size_t)maxw : 4096;
     const GLuint pt = c->gprog[GL_GPROG_BWD_TILE], pg = c->gprog[GL_GPROG_BWD_GAUSS];
-    const int steps = c->bwd_steps > 0 ? c->bwd_steps : GL_BWD_STEPS;
+    const int steps = c->gauss_steps > 0 ? c->gauss_steps : GL_BWD_STEPS;
     uint32_t *done = malloc(((size_t)nt + 1) * sizeof *done);
     if (!done) return spr__fail(&b->err, SPR_E_NOMEM, "gl: out of memory for %d tiles", nt);
     glUseProgram(pt);
@@ -412,7 +447,7 @@ void gl__gauss_free(gl_context *c)
     free(c->gpre);
     free(c->gpre_cap);
     c->gpre = NULL, c->gpre_cap = NULL, c->n_gpre = 0;
-    glDeleteTextures(9, c->gtex);
+    glDeleteTextures(10, c->gtex);
     if (c->gfbo) glDeleteFramebuffers(1, &c->gfbo);
     c->gfbo = 0;
     for (int k = 0; k < GL_GPROG__COUNT; k++)

@@ -51,7 +51,7 @@ enum {
 /* The Gaussian programs (gl_gauss.c), linked on first use, and their buffers. */
 enum { GL_GPROG_PRE = 0, GL_GPROG_RASTER, GL_GPROG_BLEND, GL_GPROG_BWD_TILE, GL_GPROG_BWD_GAUSS, GL_GPROG__COUNT };
 enum { GL_GBUF_RECTEX = 0, GL_GBUF_RANGE, GL_GBUF_LIST, GL_GBUF_COUNT, GL_GBUF_UP, GL_GBUF_CSR, GL_GBUF_CSR_START, GL_GBUF_PART, GL_GBUF_SUMS,
-       GL_GBUF_GIN, GL_GBUF_GOUT, GL_GBUF_GBS, GL_GBUF_DONE, GL_GBUF__COUNT };
+       GL_GBUF_GIN, GL_GBUF_GOUT, GL_GBUF_GBS, GL_GBUF_DONE, GL_GBUF_GFS, GL_GBUF__COUNT };
 /* Shader-storage binding of the draws' fragment counter (SPR_SSBO_COUNTER in
  * GLSL: gl_prelude.glsl's spr_count_fragment); 0-7 are the rectangles',
  * the lists', the Gaussian passes' and the probe's. */
@@ -90,13 +90,13 @@ typedef struct gl_context {
     size_t gcap[GL_GBUF__COUNT];
     GLuint *gpre;   /* the preprocessing's buffers, two a batch (input, records: gl_gauss.c), n_gpre of them */
     size_t *gpre_cap, n_gpre;
-    GLuint gtex[9];     /* records, tile ranges, tile lists as buffer textures (units 10, 11, 12); the backward's upstream
+    GLuint gtex[10];     /* records, tile ranges, tile lists as buffer textures (units 10, 11, 12); the backward's upstream
                            gradient, entries, entries' starts (units 13, 14, 15), partials and sums (image units 5, 6),
-                           the tiles' walk state (image unit 7) */
+                           the tiles' walk state (image unit 7); the forward's pixel state (image unit 6) */
     GLuint gfbo;        /* the Gaussian programs' attachment-less framebuffer (its size set per draw) */
     int probe_programs; /* programs built with SPR_PROBE (spr_gl_desc.probe) */
     size_t gauss_batch, max_texels; /* spr_gl_desc's */
-    int bwd_steps;
+    int gauss_steps;
     GLuint probe_buf;   /* their records (gl_prelude.glsl) */
 } gl_context;
 

@@ -101,13 +101,17 @@ static void add_constants(strbuf *b)
 #define GL__GOUT(name, n) sb_add(b, "#define SPR_GOUT_%s %d\n", #name, SPR_GOUT_##name);
     SPR_GOUT_LIST(GL__GOUT)
 #undef GL__GOUT
+#define GL__GFS(name, n) sb_add(b, "#define SPR_GFS_%s %d\n", #name, SPR_GFS_##name);
+    SPR_GFS_LIST(GL__GFS)
+#undef GL__GFS
 #define GL__GBS(name, n) sb_add(b, "#define SPR_GBS_%s %d\n", #name, SPR_GBS_##name);
     SPR_GBS_LIST(GL__GBS)
 #undef GL__GBS
 #define GL__GBWD(name) sb_add(b, "#define SPR_GBWD_%s %d\n", #name, SPR_GBWD_##name);
     SPR_GBWD_LIST(GL__GBWD)
 #undef GL__GBWD
-    sb_add(b, "#define SPR_GPART_FLOATS %d\n#define SPR_GOUT_FLOATS %d\n#define SPR_GBS_FLOATS %d\n", SPR_GPART_FLOATS, SPR_GOUT_FLOATS, SPR_GBS_FLOATS);
+    sb_add(b, "#define SPR_GPART_FLOATS %d\n#define SPR_GOUT_FLOATS %d\n#define SPR_GBS_FLOATS %d\n#define SPR_GFS_FLOATS %d\n", SPR_GPART_FLOATS, SPR_GOUT_FLOATS, SPR_GBS_FLOATS,
+           SPR_GFS_FLOATS);
     sb_add(b, "const float spr_exp_coef[%d] = float[](", SPR_EXP_COEFS);
     for (int i = 0; i < SPR_EXP_COEFS; i++) {
         uint32_t u;
@@ -256,7 +260,7 @@ spr_result gl__gauss_program(gl_context *c, int which, spr_error *err)
 {
     if (c->gprog[which]) return SPR_OK;
     static const char *const names[GL_GPROG__COUNT] = {"gauss preprocess", "gauss raster", "gauss blend", "gauss backward tiles", "gauss backward Gaussians"};
-    static const char *const need[GL_GPROG__COUNT][10] = {{"u_g", "u_n", "u_base", "u_width", NULL}, {"u_g", "u_bg", "u_layer", "u_has", NULL},
+    static const char *const need[GL_GPROG__COUNT][10] = {{"u_g", "u_n", "u_base", "u_width", NULL}, {"u_g", "u_bg", "u_layer", "u_has", "u_steps", "u_round", NULL},
                                                           {"u_g", "u_size", NULL}, {"u_g", "u_bg", "u_t0", "u_t1", "u_width", "u_budget", "u_gpart_base", NULL},
                                                           {"u_g", "u_n", "u_base", "u_width", "u_stage", "u_ebase", "u_eend", NULL}};
     /* fragment programs all: llvmpipe flushes denormals in fragments, not in compute invocations (PARITY.md rule 6) */

@@ -44,8 +44,9 @@ typedef struct spr_gl_desc {
     size_t gauss_batch; /* Gaussians preprocessed a draw, with buffers of their own (0: as many as GL_MAX_SHADER_STORAGE_BLOCK_SIZE
                            takes, 524,288 on llvmpipe and zink); tests give a few to cross many batches */
     size_t max_texels;  /* 0: the driver's GL_MAX_TEXTURE_BUFFER_SIZE; smaller: that limit instead (tests of the refusal) */
-    int bwd_steps;      /* the backward's steps a tile a draw (spr_gauss_tile_bwd; 0: as many as llvmpipe's loop budget
-                           allows); tests give a few to resume every tile across many draws */
+    int gauss_steps;    /* the Gaussian loops' steps a draw: list entries a pixel (spr_gauss_pixel_run), steps a tile of the
+                           backward (spr_gauss_tile_bwd); 0: within llvmpipe's loop budget.  Tests give a few to resume
+                           every loop across many draws */
 } spr_gl_desc;
 void spr_gl_defaults(spr_gl_desc *d);
 /* SPR_OK, or SPR_E_ARG with one line: a driver out of the list, or a driver

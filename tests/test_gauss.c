@@ -951,17 +951,20 @@ START_TEST(gradients_bit_exact_and_batched)
 }
 END_TEST
 
-/* gauss3d's backward on GL resumes each tile's walk draw after draw (spr_gauss_tile_bwd, a budget of steps a draw:
- * llvmpipe leaves every loop of an invocation, silently, after 65,535 iterations).  First a list longer than that
+/* The Gaussian loops on GL resume draw after draw: the forward's pixel loop (spr_gauss_pixel_run) and the backward's
+ * tile walk (spr_gauss_tile_bwd), each within a budget of steps a draw (llvmpipe leaves every loop of an invocation,
+ * silently, after 65,535 iterations).  First a list longer than that
  * budget: a 4 × 2 view, 70,000 faint Gaussians in front (opacity 0.003: α ≤ 0.003 < 1/255 at every pixel, so every
  * pixel visits all of them and blends none) and 64 behind (opacity 0.05, σ 0.5 at depth 5: f·σ/t.z = 8 pixels, every
  * pixel within 3 of their centres: α = 0.05·e^power ≥ 0.05·e^(−0.5·(9+9)/64) = 0.043 > 1/255, and T ≥ 0.957^64 = 0.06,
  * above the stop).  By hand each of the 64 is blended at all 8 pixels (counts 8) and the faint ones at none; before the
  * walk was resumable GL gave the 64 nothing (each pixel's two walks of the list passed the budget); with a budget of a
- * million steps a draw, past llvmpipe's, gallivm cuts the walk at the end of a step and it resumes.  Then the generated
+ * million steps a draw, past llvmpipe's, gallivm cuts the walk at the end of a step and it resumes.  The forward's
+ * planes and counts of the same frame (gauss3d and gauss2d) are the CPU's bits too; before the forward loop was
+ * resumable GL's lacked the 64 (each pixel's one walk passed the budget).  Then the generated
  * kinds and a converter capture at a budget of 13 steps a draw (every phase cut at many places) under inria and
- * opensplat (T recovered by division: the state carries it): the CPU's bits. */
-START_TEST(gradients_resume_across_draws)
+ * opensplat (T recovered by division: the state carries it), forward and backward: the CPU's bits. */
+START_TEST(loops_resume_across_draws)
 {
     spr_error err = {0};
     const size_t faint = 70000, n = faint + 64;
@@ -995,10 +998,14 @@ START_TEST(gradients_resume_across_draws)
     }
     expect_same_grads("70,064 Gaussians in one tile", &a, &b);
     spr_gauss_grads_free(&b);
+    expect_exact("70,064 Gaussians in one tile, gauss3d", &v, &c, &d);
+    spr_render_desc d2 = d;
+    d2.algo = SPR_ALGO_GAUSS2D;
+    expect_exact("70,064 Gaussians in one tile, gauss2d", &v, &c, &d2);
     /* a budget past llvmpipe's (a million steps a draw): gallivm cuts the walk, at the end of a step, and it resumes */
     spr_gl_desc gld;
     tu_gl_desc(&gld);
-    gld.bwd_steps = 1000000;
+    gld.gauss_steps = 1000000;
     spr_backend *past = spr_gl_create(&gld, &err);
     ck_assert_msg(past, "%s", err.msg);
     ck_assert_msg(spr_gauss_grad(past, &v, &c, &d, &gd, &b, &err) == SPR_OK, "%s", err.msg);
@@ -1008,7 +1015,7 @@ START_TEST(gradients_resume_across_draws)
     free(up);
     spr_cloud_free(&c);
 
-    gld.bwd_steps = 13;
+    gld.gauss_steps = 13;
     spr_backend *stepped = spr_gl_create(&gld, &err);
     ck_assert_msg(stepped, "%s", err.msg);
     int cases = 0;
@@ -1032,14 +1039,19 @@ START_TEST(gradients_resume_across_draws)
             snprintf(label, sizeof label, "scene %d, %s, 13 steps a draw", k, name);
             ck_assert_msg(reached > 0, "%s: no Gaussian reached a pixel", label);
             expect_same_grads(label, &a, &b);
+            expect_exact_on(stepped, label, &v, &c, &dp);
             spr_gauss_grads_free(&a), spr_gauss_grads_free(&b);
             cases++;
         }
+        spr_render_desc d2s = {.algo = SPR_ALGO_GAUSS2D, .background = {0.1f, 0.2f, 0.3f}};
+        char label2[64];
+        snprintf(label2, sizeof label2, "scene %d, gauss2d, 13 steps a draw", k);
+        expect_exact_on(stepped, label2, &v, &c, &d2s);
         free(up);
         spr_cloud_free(&c);
     }
     spr_backend_destroy(stepped);
-    printf("gauss: a 70,064-entry list and %d scenes x profiles resumed 13 steps a draw, bit-exact between cpu and gl\n", cases);
+    printf("gauss: a 70,064-entry list and %d scenes x profiles resumed 13 steps a draw, forward and backward bit-exact between cpu and gl\n", cases);
     ck_assert_int_eq(cases, 2 * (1 + KIND__COUNT));
 }
 END_TEST
@@ -1218,7 +1230,7 @@ Suite *make_gauss_gl_suite(void)
     tcase_set_timeout(grads, 900);
     tcase_add_unchecked_fixture(grads, gl_setup, gl_teardown);
     tcase_add_test(grads, gradients_bit_exact_and_batched);
-    tcase_add_test(grads, gradients_resume_across_draws);
+    tcase_add_test(grads, loops_resume_across_draws);
     suite_add_tcase(s, grads);
     /* its own case, which CTest gl_zink_gauss_full also runs on zink (CK_RUN_CASE=full_size) */
     TCase *full = tcase_create("full_size");

@@ -494,6 +494,24 @@ enum {
 #undef SPR__GOUT_OFF
     SPR_GOUT_FLOATS
 };
+/* The forward loop of one pixel between calls (spr_gauss_pixel_run; SPEC 10.4, 10.5): the CPU runs a pixel in one
+ * call, a GL fragment resumes it draw after draw when a list is longer than llvmpipe's loop budget lets it walk. */
+#define SPR_GFS_LIST(X)                                                                                           \
+    X(K, 1)          /* list entries visited */                                                                 \
+    X(T, 1)          /* the transmittance */                                                                    \
+    X(C, 3)          /* the colour, Σ c·α·T */                                                                  \
+    X(N, 3)          /* 2D: the normal, Σ n·α·T */                                                              \
+    X(D, 1)          /* the depth sum */                                                                        \
+    X(LAST, 1)       /* the last contributor (its rank) */                                                      \
+    X(BLENDED, 1)    /* Gaussians blended */                                                                    \
+    X(DONE, 1)       /* 1: the list's end or the stop reached */                                                \
+    X(PAD, 4)
+enum {
+#define SPR__GFS_OFF(name, n) SPR_GFS_##name, SPR_GFS__END_##name = SPR_GFS_##name + (n) - 1,
+    SPR_GFS_LIST(SPR__GFS_OFF)
+#undef SPR__GFS_OFF
+    SPR_GFS_FLOATS
+};
 /* gauss3d's backward over one tile, resumable (spr_gauss_tile_bwd; SPEC 10.10, docs/gradients.md "per pixel"):
  * the walk's state between calls, 32 bits a value, ints held by their bits.  The CPU runs a tile in one call; a GL
  * fragment resumes it draw after draw, each within llvmpipe's loop budget, so no list is too long for it. */

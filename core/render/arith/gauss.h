@@ -1055,15 +1055,22 @@ SPR_FN int spr_gauss_outside(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], int G, fl
     return 0;
 }
 
+/* The forward loop's state between calls of spr_gauss_pixel_run (SPR_GFS_*): the entries visited (a whole number, exact
+ * as a float below 2^24, as aux's counts), T, C, N, D, the last contributor, the blended, and 1 once the pixel is done. */
+SPR_FN void spr_gauss_pixel_begin(SPR_OARR st[SPR_GFS_FLOATS])
+{
+    for (int k = 0; k < SPR_GFS_FLOATS; k++) st[k] = 0.0f;
+    st[SPR_GFS_T] = 1.0f;
+}
+
 /* SPEC §10.4 (mode 3D) and §10.5 (mode 2D): pixel px's tile list, front to
- * back; returns the Gaussians visited.  Gives o = (C + T·bg, 1 − T),
- * aux = (T, last contributor k, D, Gaussians blended) with
- * D = Σ (1/t.z)·α·T (3D: the inverse depth) or Σ depth·α·T (2D: the surface
- * depth), and nrm = (Σ n·α·T, 1 − T) (2D; zero in 3D).  Each Gaussian of the
- * list makes a note (SPR_NOTE_GAUSS_*: blended, or why it was skipped, or
- * where the loop stopped) with its power, α, T before and after. */
-SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3], SPR_OARR o[4], SPR_OARR aux[4],
-                           SPR_OARR nrm[4])
+ * back, from the state st on, at most `budget` list entries a call (a GL
+ * fragment resumes it draw after draw, within llvmpipe's 65,535 loop
+ * iterations an invocation: gl_gauss.c); returns 1 once the list is done
+ * (its end, or the stop).  Each Gaussian of the list makes a note
+ * (SPR_NOTE_GAUSS_*: blended, or why it was skipped, or where the loop
+ * stopped) with its power, α, T before and after. */
+SPR_FN int spr_gauss_pixel_run(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_IOARR st[SPR_GFS_FLOATS], int budget)
 {
     int x = spr_px_x(px);
     int y = spr_px_y(px);
@@ -1075,20 +1082,28 @@ SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg
     int end = spr_gtile_end(px, tile);
     int two = 0;
     if (g[SPR_GPRM_MODE] == SPR_GMODE_2D) two = 1;
-    SPR_NOTE(px, SPR_NOTE_GAUSS_TILE, tile, fi, fj, SPR_FLOAT(first), SPR_FLOAT(end - first));
-    SPR_PRECISE float T = 1.0f;
+    if (st[SPR_GFS_DONE] != 0.0f) return 1;
+    int k = SPR_INT(st[SPR_GFS_K]);
+    if (k == 0) SPR_NOTE(px, SPR_NOTE_GAUSS_TILE, tile, fi, fj, SPR_FLOAT(first), SPR_FLOAT(end - first));
+    SPR_PRECISE float T = st[SPR_GFS_T];
     SPR_PRECISE float C[3];
     SPR_PRECISE float N[3];
     for (int ch = 0; ch < 3; ch++) {
-        C[ch] = 0.0f;
-        N[ch] = 0.0f;
+        C[ch] = st[SPR_GFS_C + ch];
+        N[ch] = st[SPR_GFS_N + ch];
     }
-    SPR_PRECISE float D = 0.0f;
-    int k = 0;
-    int last = 0;
-    int blended = 0;
-    for (int e = first; e < end; e++) {
+    SPR_PRECISE float D = st[SPR_GFS_D];
+    int last = SPR_INT(st[SPR_GFS_LAST]);
+    int blended = SPR_INT(st[SPR_GFS_BLENDED]);
+    int done = 0;
+    int e = first + k;
+    for (int u = 0; u < budget; u++) {
+        if (e >= end) {
+            done = 1;
+            break;
+        }
         int G = spr_glist(px, e);
+        e = e + 1;
         k = k + 1;
         if (spr_gauss_outside(px, g, G, fi, fj) != 0) {
             SPR_NOTE(px, SPR_NOTE_GAUSS_OUTSIDE, G, 0.0f, 0.0f, T, T);
@@ -1124,6 +1139,7 @@ SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg
         }
         if (visit == 3) {
             SPR_NOTE(px, SPR_NOTE_GAUSS_STOP, G, power, alpha, T, Tn);
+            done = 1;
             break;
         }
         if (two != 0) {
@@ -1151,22 +1167,53 @@ SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg
         last = k;
         blended = blended + 1;
     }
+    st[SPR_GFS_K] = SPR_FLOAT(k);
+    st[SPR_GFS_T] = T;
+    for (int ch = 0; ch < 3; ch++) {
+        st[SPR_GFS_C + ch] = C[ch];
+        st[SPR_GFS_N + ch] = N[ch];
+    }
+    st[SPR_GFS_D] = D;
+    st[SPR_GFS_LAST] = SPR_FLOAT(last);
+    st[SPR_GFS_BLENDED] = SPR_FLOAT(blended);
+    if (done != 0) st[SPR_GFS_DONE] = 1.0f;
+    return done;
+}
+
+/* A done pixel's values from its state (SPEC §10.4, §10.5): o = (C + T·bg, 1 − T), aux = (T, last contributor k, D,
+ * Gaussians blended) with D = Σ (1/t.z)·α·T (3D: the inverse depth) or Σ depth·α·T (2D: the surface depth), and
+ * nrm = (Σ n·α·T, 1 − T) (2D; zero in 3D).  Returns the Gaussians visited. */
+SPR_FN int spr_gauss_pixel_end(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3], SPR_CARR st[SPR_GFS_FLOATS], SPR_OARR o[4],
+                               SPR_OARR aux[4], SPR_OARR nrm[4])
+{
+    float T = st[SPR_GFS_T];
     for (int ch = 0; ch < 3; ch++) {
         SPR_PRECISE float tb = T * bg[ch];
-        SPR_PRECISE float v = C[ch] + tb;
+        SPR_PRECISE float v = st[SPR_GFS_C + ch] + tb;
         o[ch] = v;
-        nrm[ch] = N[ch];
+        nrm[ch] = st[SPR_GFS_N + ch];
     }
     SPR_PRECISE float cov = 1.0f - T;
     o[3] = cov;
     nrm[3] = cov;
-    if (two == 0) nrm[3] = 0.0f;
+    if (g[SPR_GPRM_MODE] != SPR_GMODE_2D) nrm[3] = 0.0f;
     aux[0] = T;
-    aux[1] = SPR_FLOAT(last);
-    aux[2] = D;
-    aux[3] = SPR_FLOAT(blended);
-    SPR_NOTE(px, SPR_NOTE_GAUSS_END, last, T, D, SPR_FLOAT(k), SPR_FLOAT(blended));
-    return k;
+    aux[1] = st[SPR_GFS_LAST];
+    aux[2] = st[SPR_GFS_D];
+    aux[3] = st[SPR_GFS_BLENDED];
+    SPR_NOTE(px, SPR_NOTE_GAUSS_END, SPR_INT(st[SPR_GFS_LAST]), T, st[SPR_GFS_D], st[SPR_GFS_K], st[SPR_GFS_BLENDED]);
+    return SPR_INT(st[SPR_GFS_K]);
+}
+
+/* The forward loop at pixel px in one call (the CPU): spr_gauss_pixel_run from a fresh state, then
+ * spr_gauss_pixel_end.  Returns the Gaussians visited. */
+SPR_FN int spr_gauss_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3], SPR_OARR o[4], SPR_OARR aux[4],
+                           SPR_OARR nrm[4])
+{
+    float st[SPR_GFS_FLOATS];
+    spr_gauss_pixel_begin(st);
+    spr_gauss_pixel_run(px, g, st, 2147483647);
+    return spr_gauss_pixel_end(px, g, bg, st, o, aux, nrm);
 }
 
 /* A gradient term v added to partial f of list entry e (SPR_GPART_*): one
