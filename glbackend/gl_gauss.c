@@ -297,10 +297,10 @@ spr_result gl__gauss_draw(spr_backend *b, int target, const spr_gauss_draw_desc 
 
 /* The backward's steps a tile a draw (spr_gauss_tile_bwd, one loop iteration each: its inner loops have constant trip
  * counts, unrolled): half of llvmpipe's 65,535 loop iterations an invocation, the rest left to the loops around them.
- * The biker capture (a 48,716-entry list, CTest capture_gl) gives the CPU's bits with 4,096, 60,000 and even 100,000 (a
- * walk stopped by the budget resumes from its state; only a loop after the walk, cut, would lose values), and takes the
- * same time with each: the draws cost little beside the walks. */
+ * A walk that gallivm cuts anyway resumes from its state (test loops_resume_across_draws: a million steps a draw). */
 #define GL_BWD_STEPS 32768
+/* The backward's tiles a batch at most: their walks' state, SPR_GBS_FLOATS values (30 KB) a tile, 31 MB */
+#define GL_BWD_TILES 1024
 
 /* gauss3d's backward (SPEC 10.10; sw__gauss_backward is the same on the CPU): the tiles in batches whose list
  * entries' partials fit one buffer texture and spr_gauss_bwd_desc.batch; per batch the partials zeroed, draws of one
@@ -359,6 +359,7 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
     glUniform1i(glGetUniformLocation(pg, "u_stage"), 0);
     for (int t0 = 0, t1; t0 < nt && n; t0 = t1) {
         t1 = spr_gauss_bwd_batch_end(d->range, nt, t0, cap);
+        if (t1 - t0 > GL_BWD_TILES) t1 = t0 + GL_BWD_TILES; /* the walks' state: SPR_GBS_FLOATS values a tile */
         const uint32_t base = d->range[t0], end = d->range[t1];
         if (end == base) continue;
         gl__buffer_fill(c->gbuf[GL_GBUF_PART], 0, (size_t)(end - base) * SPR_GPART_FLOATS * sizeof(float), 0);
@@ -393,7 +394,13 @@ spr_result gl__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
             glFinish(); /* zink: stores read back through their buffer need it (below) */
             gl__buffer_read(c->gbuf[GL_GBUF_DONE], 0, m * sizeof(uint32_t), done);
             more = 0;
-            for (size_t k = 0; k < m && !more; k++) more = !done[k];
+            for (size_t k = 0; k < m; k++) {
+                if (done[k] >> 1) { /* bit 0 done, the rest SPR_GBS_OVER */
+                    free(done);
+                    return spr_gauss_bwd_over(&b->err, "gl", gx, t0 + (int)k, (int)(done[k] >> 1) - 1);
+                }
+                if (!(done[k] & 1)) more = 1;
+            }
         }
         glUseProgram(pg);
         glUniform1i(glGetUniformLocation(pg, "u_gpart_base"), (GLint)base);

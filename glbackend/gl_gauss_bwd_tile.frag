@@ -3,7 +3,8 @@
  * of an attachment-less framebuffer, gl_gauss.c) resumes the tile's walk,
  * spr_gauss_tile_bwd of the shared arithmetic, for at most u_budget steps,
  * its state in u_gbs (SPR_GBS_FLOATS values a tile of the batch), and says
- * in spr_bwd_done whether the tile is done.  The host draws again until every
+ * in spr_bwd_done whether the tile is done (bit 0) and which pixel blended
+ * more than the state holds (SPR_GBS_OVER, the bits above).  The host draws again until every
  * tile is, a barrier between draws: each tile's pixels add their terms to its
  * list entries' partials (gl_prelude.glsl's spr_gpart) in the CPU's order,
  * and no fragment spends more than llvmpipe's 65,535 loop iterations, however
@@ -24,5 +25,5 @@ void main()
     if (t >= u_t1) return;
     spr__gbs_at = (t - u_t0) * SPR_GBS_FLOATS;
     int done = spr_gauss_tile_bwd(xy, u_g, u_bg, t, 256, u_budget);
-    spr_bwd_done[t - u_t0] = uint(done);
+    spr_bwd_done[t - u_t0] = uint(done) | (uint(spr_gbs_i(xy, SPR_GBS_OVER)) << 1u);
 }

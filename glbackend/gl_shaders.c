@@ -107,6 +107,7 @@ static void add_constants(strbuf *b)
 #define GL__GBS(name, n) sb_add(b, "#define SPR_GBS_%s %d\n", #name, SPR_GBS_##name);
     SPR_GBS_LIST(GL__GBS)
 #undef GL__GBS
+sb_add(b, "#define SPR_GBWD_HOLD %d\n", SPR_GBWD_HOLD);
 #define GL__GBWD(name) sb_add(b, "#define SPR_GBWD_%s %d\n", #name, SPR_GBWD_##name);
     SPR_GBWD_LIST(GL__GBWD)
 #undef GL__GBWD

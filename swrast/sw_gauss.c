@@ -245,7 +245,7 @@ spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
     const size_t cap = d->batch ? d->batch : (size_t)1 << 21, n = d->n;
     memset(sums, 0, n * SPR_GPART_FLOATS * sizeof *sums);
     const size_t most = spr_gauss_bwd_batch_most(d->range, nt, cap);
-    int failed_any = 0;
+    int failed_any = 0, over_tile = -1, over_pix = 0;
     float *part = spr__big_alloc((most ? most : 1) * SPR_GPART_FLOATS * sizeof *part);
     if (!part) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for the partials of %zu list entries", most);
     for (int t0 = 0, t1; t0 < nt; t0 = t1) {
@@ -260,16 +260,22 @@ spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
              * tile's entry range[t] + k, so its partials are those from part + (range[t] − base) */
             tile_copy tc;
             failed |= tile_copy_init(&tc, nt);
+            uint32_t *state = malloc(SPR_GBS_FLOATS * sizeof *state); /* a tile's walk, its blended Gaussians held */
+            if (!state) failed = 1;
 #pragma omp for schedule(dynamic, 1)
             for (int t = t0; t < t1; t++) {
                 if (failed) continue;
                 if (tile_copy_take(&tc, d->rec, d->range, d->list, t)) { failed = 1; continue; }
                 const uint32_t first = d->range[t];
-                uint32_t state[SPR_GBS_FLOATS] = {0};
+                memset(state, 0, SPR_GBS_SE * sizeof *state); /* the rest is written before it is read */
                 spr_pixel_in px = {.grec = tc.rec, .granges = tc.range, .glist = tc.ids, .gup = d->up, .gpart = part + (size_t)(first - base) * SPR_GPART_FLOATS,
                                    .gpart_base = 0, .gbs = state};
                 spr_gauss_tile_bwd_all(&px, d->prm, d->background, t, 0, 256);
+                const int over = (int)state[SPR_GBS_OVER];
+#pragma omp critical(sw_gauss_over)
+                if (over && (over_tile < 0 || t < over_tile)) over_tile = t, over_pix = over - 1;
             }
+            free(state);
             tile_copy_free(&tc);
 #pragma omp for schedule(static)
             for (long G = 0; G < (long)n; G++) {
@@ -278,10 +284,11 @@ spr_result sw__gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float
             }
             sw_fp_leave(fp);
         }
-        if ((failed_any = failed)) break;
+        if ((failed_any = failed) || over_tile >= 0) break;
     }
     free(part);
     if (failed_any) return spr__fail(&b->err, SPR_E_NOMEM, "cpu: out of memory for a tile's Gaussians");
+    if (over_tile >= 0) return spr_gauss_bwd_over(&b->err, "cpu", gx, over_tile, over_pix);
 #pragma omp parallel num_threads(c->threads)
     {
         unsigned fp = sw_fp_enter();

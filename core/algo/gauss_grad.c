@@ -357,9 +357,14 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                     }
                 }
                 memset(tmp, 0, (size_t)len * SPR_GPART_FLOATS * sizeof *tmp);
-                uint32_t state[SPR_GBS_FLOATS] = {0};
+                static _Thread_local uint32_t state[SPR_GBS_FLOATS];
+                memset(state, 0, SPR_GBS_SE * sizeof *state);
                 px.gbs = state;
                 spr_gauss_tile_bwd_all(&px, g, bg, t, (j - j0) * 16 + (i - i0), (j - j0) * 16 + (i - i0) + 1);
+                if (state[SPR_GBS_OVER]) {
+                    r = spr_gauss_bwd_over(run->err, "grad", gx, t, (int)state[SPR_GBS_OVER] - 1);
+                    break;
+                }
                 if (out->n_terms == cap_terms) {
                     const size_t c2 = cap_terms ? 2 * cap_terms : 256;
                     spr_grad_term *nt2 = realloc(out->terms, c2 * sizeof *nt2);

@@ -372,6 +372,15 @@ size_t spr_gauss_bwd_batch_most(const uint32_t *range, int nt, size_t cap)
     return most;
 }
 
+spr_result spr_gauss_bwd_over(spr_error *err, const char *who, int gx, int tile, int p)
+{
+    const int i = (tile % gx) * 16 + p % 16, j = (tile / gx) * 16 + p / 16;
+    return spr__fail(err, SPR_E_TOO_LARGE,
+                     "%s: gauss backward: pixel (%d, %d) from the top left blends more than %d Gaussians, more than the backward holds "
+                     "(a profile that skips alpha below 1/255 and stops below T = 1e-4 blends at most 2,345)",
+                     who, i, j, SPR_GBWD_HOLD);
+}
+
 spr_result spr_backend_gauss_backward(spr_backend *b, const spr_gauss_bwd_desc *d, float *sums, float *out)
 {
     if (!b->gauss_backward) return spr__fail(&b->err, SPR_E_BACKEND, "gauss: backend %s has no backward pass", b->name);

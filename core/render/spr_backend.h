@@ -514,34 +514,34 @@ enum {
 };
 /* gauss3d's backward over one tile, resumable (spr_gauss_tile_bwd; SPEC 10.10, docs/gradients.md "per pixel"):
  * the walk's state between calls, 32 bits a value, ints held by their bits.  The CPU runs a tile in one call; a GL
- * fragment resumes it draw after draw, each within llvmpipe's loop budget, so no list is too long for it. */
+ * fragment resumes it draw after draw, each within llvmpipe's loop budget, so no list is too long for it.  A pixel's
+ * blended Gaussians are held, SPR_GBWD_HOLD at most: every profile that trains skips α < 1/255 and stops below
+ * T = 1e-4, so a pixel blends at most 2,345 ((254/255)^2,345 < 1e-4). */
+#define SPR_GBWD_HOLD 2560
 #define SPR_GBS_LIST(X)                                                                                           \
     X(PIX, 1)        /* the tile's pixel reached (row-major from the top row) */                                \
     X(PHASE, 1)      /* SPR_GBWD_*: where that pixel's backward stands */                                        \
     X(E, 1)          /* the walk's next list entry */                                                           \
     X(T, 1)          /* the transmittance there */                                                              \
-    X(N, 1)          /* Gaussians blended by the first walk */                                                  \
-    X(B, 1)          /* blended so far by a replay */                                                           \
-    X(HI, 1)         /* the segment walked back: blended lo … hi − 1 */                                         \
-    X(LO, 1)                                                                                                    \
+    X(N, 1)          /* Gaussians blended by the walk */                                                        \
     X(K, 1)          /* the next of them to walk back */                                                        \
     X(TF, 1)         /* the final transmittance */                                                              \
     X(TB, 1)         /* T recovered by division (the profile's TDIV) */                                         \
+    X(OVER, 1)       /* 0, or 1 + the first pixel that blended more than SPR_GBWD_HOLD (it is skipped) */         \
     X(ACC, 4)        /* spr_gauss_blend_bwd's acc and behind */                                                 \
     X(BEHIND, 5)                                                                                                \
-    X(CE, 128)       /* checkpoints every 32 blended: the list entry */                                         \
-    X(CT, 128)       /* and T there */                                                                          \
-    X(SE, 32)        /* a replayed segment: its blended entries, α and T */                                     \
-    X(SA, 32)                                                                                                   \
-    X(ST, 32)
+    X(PAD, 1)                                                                                                   \
+    X(SE, SPR_GBWD_HOLD) /* the blended Gaussians: their list entries, α and T */                                \
+    X(SA, SPR_GBWD_HOLD)                                                                                        \
+    X(ST, SPR_GBWD_HOLD)
 enum {
 #define SPR__GBS_OFF(name, n) SPR_GBS_##name, SPR_GBS__END_##name = SPR_GBS_##name + (n) - 1,
     SPR_GBS_LIST(SPR__GBS_OFF)
 #undef SPR__GBS_OFF
     SPR_GBS_FLOATS
 };
-/* A pixel's phases: not begun, the first walk, the next segment, its replay, its walk back. */
-#define SPR_GBWD_LIST(X) X(BEGIN) X(WALK) X(NEXT) X(REPLAY) X(BACK)
+/* A pixel's phases: not begun, the walk, the walk back. */
+#define SPR_GBWD_LIST(X) X(BEGIN) X(WALK) X(BACK)
 enum {
 #define SPR__GBWD(name) SPR_GBWD_##name,
     SPR_GBWD_LIST(SPR__GBWD)
@@ -624,6 +624,9 @@ typedef struct spr_gauss_bwd_desc {
  * batch of the frame holds (the partials a backend allocates). */
 int spr_gauss_bwd_batch_end(const uint32_t *range, int nt, int t0, size_t cap);
 size_t spr_gauss_bwd_batch_most(const uint32_t *range, int nt, size_t cap);
+/* The refusal of a frame with a pixel that blends more than SPR_GBWD_HOLD Gaussians (SPR_GBS_OVER: pixel p of tile
+ * `tile`, gx tiles a row), one line naming the pixel; SPR_E_TOO_LARGE. */
+spr_result spr_gauss_bwd_over(spr_error *err, const char *who, int gx, int tile, int p);
 
 /* The tiles [r0, r2) × [r1, r3) item k touches (empty: r2 ≤ r0 or r3 ≤ r1). */
 typedef void (*spr__gauss_rect_fn)(const void *user, size_t k, int r[4]);

@@ -1336,21 +1336,17 @@ SPR_FN int spr_gauss_bwd_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
  * "per pixel"): its pixels from the state's SPR_GBS_PIX up to p1 − 1, in
  * order, each the forward loop's blended Gaussians walked back to front
  * through spr_gauss_blend_bwd with the forward's own α and T.  Per pixel, a
- * first walk (spr_gauss_visit, the forward's operations) gives T_f, the
- * count n of blended Gaussians and, every 32 blended, a checkpoint: the list
- * entry and the T there.  Then, segment by segment from the last, a replay
- * from the segment's checkpoint keeps its entries, α and T, and they are
- * walked back.  128 checkpoints hold 4,096 blended Gaussians, more than any
- * list blends before T falls below the stop (α ≥ 1/255: (254/255)^2,345 <
- * 1e-4); a longer run (a profile without the stop) replays from the last.
- * Resumable: one step a loop iteration (a pixel begun, a list entry visited
- * by a walk, a segment begun, a Gaussian walked back), at most `budget` of
- * them a call, everything between two calls in the state (SPR_GBS_*; a fresh
- * state: the first pixel, SPR_GBWD_BEGIN).  The CPU runs a tile in one call;
- * a GL fragment resumes it draw after draw, each call within llvmpipe's
- * 65,535 loop iterations an invocation (gl_gauss.c), whatever the lists'
- * length: the bits are the same however the steps are split.  Returns 1
- * when the tile's pixels are done. */
+ * walk (spr_gauss_visit, the forward's operations) holds each blended
+ * Gaussian's list entry, α and T (SPR_GBWD_HOLD of them; a pixel that blends
+ * more is skipped and named in SPR_GBS_OVER) and gives T_f; then they are
+ * walked back.  Resumable: one step a loop iteration (a pixel begun, a list
+ * entry visited, a Gaussian walked back), at most `budget` of them a call,
+ * everything between two calls in the state (SPR_GBS_*; a fresh state: the
+ * first pixel, SPR_GBWD_BEGIN).  The CPU runs a tile in one call; a GL
+ * fragment resumes it draw after draw, each call within llvmpipe's 65,535
+ * loop iterations an invocation (gl_gauss.c), whatever the lists' length:
+ * the bits are the same however the steps are split.  Returns 1 when the
+ * tile's pixels are done. */
 SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR bg[3], int tile, int p1, int budget)
 {
     int first = spr_gtile_first(px, tile);
@@ -1360,12 +1356,10 @@ SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR
     int e = spr_gbs_i(px, SPR_GBS_E);
     SPR_PRECISE float T = spr_gbs(px, SPR_GBS_T);
     int n = spr_gbs_i(px, SPR_GBS_N);
-    int b = spr_gbs_i(px, SPR_GBS_B);
-    int hi = spr_gbs_i(px, SPR_GBS_HI);
-    int lo = spr_gbs_i(px, SPR_GBS_LO);
     int k = spr_gbs_i(px, SPR_GBS_K);
     float Tf = spr_gbs(px, SPR_GBS_TF);
     SPR_PRECISE float Tb = spr_gbs(px, SPR_GBS_TB);
+    int over = spr_gbs_i(px, SPR_GBS_OVER);
     float acc[4];
     float behind[5];
     for (int c = 0; c < 4; c++) acc[c] = spr_gbs(px, SPR_GBS_ACC + c);
@@ -1376,7 +1370,7 @@ SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR
     if (p < p1 && phase != SPR_GBWD_BEGIN) spr_gauss_bwd_pixel(px, g, bg, tile, p, v);
     for (int c = 0; c < 5; c++) up[c] = v[2 + c];
     /* one loop a phase (a lane's steps all count against its budget): GL runs every branch of a loop's body for
-     * all lanes, so a body that held every phase cost each step the walk and the walk back */
+     * all lanes, so a body that held both phases cost each step the walk and the walk back */
     for (int u = 0; u < budget;) {
         if (p >= p1) break;
         if (phase == SPR_GBWD_BEGIN) {
@@ -1393,7 +1387,7 @@ SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR
             phase = SPR_GBWD_WALK;
         }
         for (; u < budget && phase == SPR_GBWD_WALK; u++) {
-            /* the forward's walk: n blended, a checkpoint every 32 */
+            /* the forward's walk, its blended Gaussians held */
             int stop = 0;
             if (e >= end) stop = 1;
             if (stop == 0) {
@@ -1402,10 +1396,10 @@ SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR
                 int visit = spr_gauss_bwd_visit(px, g, v[0], v[1], e, T, SPR_REF(alpha), SPR_REF(Tn));
                 if (visit == 3) stop = 1;
                 if (visit == 0) {
-                    int cp = n / 32;
-                    if (n % 32 == 0 && cp < 128) {
-                        spr_gbs_seti(px, SPR_GBS_CE + cp, e);
-                        spr_gbs_set(px, SPR_GBS_CT + cp, T);
+                    if (n < SPR_GBWD_HOLD) {
+                        spr_gbs_seti(px, SPR_GBS_SE + n, e);
+                        spr_gbs_set(px, SPR_GBS_SA + n, alpha);
+                        spr_gbs_set(px, SPR_GBS_ST + n, T);
                     }
                     n = n + 1;
                     T = Tn;
@@ -1415,60 +1409,22 @@ SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR
             if (stop != 0) {
                 Tf = T;
                 Tb = Tf;
-                hi = n;
+                k = n - 1;
                 for (int c = 0; c < 4; c++) acc[c] = 0.0f;
                 for (int c = 0; c < 5; c++) behind[c] = 0.0f;
-                phase = SPR_GBWD_NEXT;
-            }
-        }
-        if (u < budget && phase == SPR_GBWD_NEXT) {
-            /* the next segment back: blended lo … hi − 1, replayed from checkpoint cp; none left, the next pixel */
-            u = u + 1;
-            if (hi == 0) {
-                p = p + 1;
-                phase = SPR_GBWD_BEGIN;
-                continue;
-            }
-            lo = ((hi - 1) / 32) * 32;
-            int cp = lo / 32;
-            if (cp > 127) cp = 127;
-            T = spr_gbs(px, SPR_GBS_CT + cp);
-            e = spr_gbs_i(px, SPR_GBS_CE + cp);
-            b = cp * 32;
-            if (hi - lo > 32) lo = hi - 32;
-            phase = SPR_GBWD_REPLAY;
-        }
-        for (; u < budget && phase == SPR_GBWD_REPLAY; u++) {
-            /* the replay: the segment's entries, α and T kept */
-            int stop = 0;
-            if (e >= end || b >= hi) stop = 1;
-            if (stop == 0) {
-                float alpha = 0.0f;
-                float Tn = T;
-                int visit = spr_gauss_bwd_visit(px, g, v[0], v[1], e, T, SPR_REF(alpha), SPR_REF(Tn));
-                if (visit == 3) stop = 1;
-                if (visit == 0) {
-                    if (b >= lo) {
-                        spr_gbs_seti(px, SPR_GBS_SE + b - lo, e);
-                        spr_gbs_set(px, SPR_GBS_SA + b - lo, alpha);
-                        spr_gbs_set(px, SPR_GBS_ST + b - lo, T);
-                    }
-                    b = b + 1;
-                    T = Tn;
-                }
-                e = e + 1;
-            }
-            if (stop != 0) {
-                k = hi - lo - 1;
                 phase = SPR_GBWD_BACK;
+                if (n > SPR_GBWD_HOLD) { /* more than held: the pixel skipped, the first such named */
+                    if (over == 0) over = p + 1;
+                    k = -1;
+                }
             }
         }
         for (; u < budget && phase == SPR_GBWD_BACK; u++) {
-            /* the segment's Gaussian k walked back; past the first, the next segment */
+            /* Gaussian k walked back; past the first, the next pixel */
             if (k < 0) {
-                hi = lo;
-                phase = SPR_GBWD_NEXT;
-                continue;
+                p = p + 1;
+                phase = SPR_GBWD_BEGIN;
+                break;
             }
             /* the profile's backward rules: its own α cap, and T recovered by division (OpenSplat) */
             float ab = spr_gbs(px, SPR_GBS_SA + k);
@@ -1490,12 +1446,10 @@ SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR
     spr_gbs_seti(px, SPR_GBS_E, e);
     spr_gbs_set(px, SPR_GBS_T, T);
     spr_gbs_seti(px, SPR_GBS_N, n);
-    spr_gbs_seti(px, SPR_GBS_B, b);
-    spr_gbs_seti(px, SPR_GBS_HI, hi);
-    spr_gbs_seti(px, SPR_GBS_LO, lo);
     spr_gbs_seti(px, SPR_GBS_K, k);
     spr_gbs_set(px, SPR_GBS_TF, Tf);
     spr_gbs_set(px, SPR_GBS_TB, Tb);
+    spr_gbs_seti(px, SPR_GBS_OVER, over);
     for (int c = 0; c < 4; c++) spr_gbs_set(px, SPR_GBS_ACC + c, acc[c]);
     for (int c = 0; c < 5; c++) spr_gbs_set(px, SPR_GBS_BEHIND + c, behind[c]);
     if (p >= p1) return 1;
