@@ -956,12 +956,36 @@ START_TEST(step_backward_section)
 }
 END_TEST
 
+/* Issue 44: `splatref --help` names every algorithm of the registry on render's line (it said "pbr2p1 or deferred
+ * blending" long after fourteen more were added); the line is made from the registry, so it cannot go stale. */
+START_TEST(help_names_every_algorithm)
+{
+    char out[16384];
+    char *argv[] = {"splatref", "--help", NULL};
+    ck_assert_int_eq(tu_run(NULL, NULL, 1, argv, out, sizeof out), 0);
+    const char *line = strstr(out, "\n  render ");
+    ck_assert_msg(line, "no render line in: %s", out);
+    char render[4096];
+    const char *eol = strchr(line + 1, '\n');
+    const size_t len = eol ? (size_t)(eol - line) : strlen(line);
+    ck_assert_uint_lt(len, sizeof render);
+    memcpy(render, line, len);
+    render[len] = '\0';
+    for (int a = 0; a < SPR_ALGO__COUNT; a++) {
+        char name[64];
+        snprintf(name, sizeof name, "%s%s", spr_algo_name((spr_algo)a), a + 1 < SPR_ALGO__COUNT ? "," : ";");
+        ck_assert_msg(strstr(render, name), "render's help line lacks %s: %s", spr_algo_name((spr_algo)a), render);
+    }
+}
+END_TEST
+
 Suite *make_cli_suite(void)
 {
     Suite *s = suite_create("cli");
     TCase *tc = tcase_create("cli");
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, bad_inputs);
+    tcase_add_test(tc, help_names_every_algorithm);
     tcase_add_test(tc, render_writes_outputs);
     tcase_add_test(tc, sample_then_info);
     tcase_add_test(tc, no_gl_context);

@@ -1,12 +1,13 @@
 /* splatref.c — entry point of the `splatref` command: subcommand dispatch. */
 #include "cli.h"
 #include "cli_grad.h"
+#include "spr_algo.h"
 
 #include <stdio.h>
 #include <string.h>
 
 static const struct { const char *name; int (*fn)(int, char **); const char *help; } commands[] = {
-    {"render", cmd_render, "render a model with pbr2p1 or deferred blending (cpu or gl backend)"},
+    {"render", cmd_render, NULL}, /* its line is the algorithm registry's (usage) */
     {"group", cmd_group, "group splats (mgc, wgc, hash, extended) and report the statistics of [ZP] Tables 1-3"},
     {"info", cmd_info, "counts, bounds, radius statistics and attribute sources of a model"},
     {"sample", cmd_sample, "resample a mesh to N uniformly distributed points (PLY out)"},
@@ -26,7 +27,9 @@ static const struct { const char *name; int (*fn)(int, char **); const char *hel
 static void usage(FILE *f)
 {
     fprintf(f, "usage: splatref COMMAND [options]   (splatref COMMAND --help for its options)\n\ncommands:\n");
-    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].help);
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (commands[i].help) fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].help);
+        else fprintf(f, "  %-10s render a model with one of the %d algorithms (%s; cpu or gl backend)\n", commands[i].name, (int)SPR_ALGO__COUNT, spr_algo_names(", "));
 }
 
 int main(int argc, char **argv)
