@@ -528,6 +528,40 @@ START_TEST(check_every_view_of_a_cameras_json)
     rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", test, "--views", "0..2", "--out",
              in_dir("report-test"), "--quiet", NULL);
     ck_assert_msg(rc == 0 && strstr(out, "check: 3 views (entries 0..2) of ") && strstr(out, "verdict: PASS (all 3 views)"), "rc %d: %s", rc, out);
+    /* a trainer's 8-bit renders checked at Tier B (issue 44): every option check reads for one image works for every
+     * view.  A copy of the test views, view 1's image with one channel of one pixel 1 LSB up, view 2's 2 LSB up:
+     * Tier A fails both, --tier B --lsb 1 passes view 1 alone, --lsb 2 passes all three */
+    {
+        char lsb[128];
+        snprintf(lsb, sizeof lsb, "%s", in_dir("lsb"));
+        ck_assert_int_eq(mkdir(lsb, 0777), 0);
+        for (int k = 0; k < 3; k++) {
+            float *im = NULL;
+            int w, h, ch;
+            spr_error err = {0};
+            char from[256], to[256];
+            snprintf(from, sizeof from, "%s/%05d.png", test, k);
+            snprintf(to, sizeof to, "%s/%05d.png", lsb, k);
+            ck_assert_int_eq(spr_read_image(from, &im, &w, &h, &ch, &err), SPR_OK);
+            size_t at = 0; /* the first pixel whose red lies in [10, 250] of 255: room to go up */
+            while (at < (size_t)w * h && !(im[at * ch] >= 10.0f / 255.0f && im[at * ch] <= 250.0f / 255.0f)) at++;
+            ck_assert_uint_lt(at, (size_t)w * h);
+            const long r8 = lrintf(im[at * ch] * 255.0f);
+            im[at * ch] = (float)(r8 + k) / 255.0f;
+            ck_assert_int_eq(spr_write_png(to, im, w, h, ch, &err), SPR_OK);
+            free(im);
+        }
+        static const struct { const char *tier, *lsb, *want; int rc; } tiers[] = {
+            {"A", NULL, ": 1 pass, 2 fail, 0 without", 1}, {"B", "1", ": 2 pass, 1 fail, 0 without", 1}, {"B", "2", ": 3 pass, 0 fail, 0 without", 0}};
+        for (int t = 0; t < 3; t++) {
+            rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", lsb, "--views", "0..2", "--tier",
+                     tiers[t].tier, tiers[t].lsb ? "--lsb" : "--out", tiers[t].lsb ? tiers[t].lsb : in_dir("report-lsb"), "--out", in_dir("report-lsb"),
+                     "--quiet", NULL);
+            ck_assert_msg(rc == tiers[t].rc && strstr(out, tiers[t].want) && !strstr(out, "is not used here"), "--tier %s --lsb %s: rc %d: %s",
+                          tiers[t].tier, tiers[t].lsb ? tiers[t].lsb : "-", rc, out);
+        }
+        ck_assert_msg(strstr(out, "00002.png: PASS, 0 of 3072 pixels fail, max 2 LSB"), "%s", out);
+    }
     /* the training folder checked against every entry: every view fails, and the hint names both selections */
     rc = cli("check", "--model", model, "--algo", "gauss3d", "--cameras", cams, "--camera", "all", "--images", train, "--out", in_dir("report-all"),
              "--quiet", NULL);

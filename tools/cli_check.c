@@ -74,6 +74,19 @@ static int tier_opts(spr__args *a, int bits, spr_check_desc *d)
     return spr__check_tier(a, spr__get(a, "tier"), u, lsb, pos, bits, d);
 }
 
+/* The tier options claimed and their numbers checked before any image is read (--camera all: each view reads them
+ * with its own image's bits, after the options no view reads are refused).  0 or −1. */
+static int tier_claim(spr__args *a)
+{
+    int lsb = -1, pos = 0;
+    double u = -1.0;
+    (void)spr__get(a, "tier");
+    return spr__get_double(a, "ulp", &u, 0.0, 4294967296.0) < 0 || spr__get_int(a, "lsb", &lsb, 0, 65535) < 0 ||
+                   spr__get_int(a, "position-tolerance", &pos, 0, 1) < 0
+               ? -1
+               : 0;
+}
+
 typedef struct check_io {
     const char *ref_label, *test_label, *what;
     const char *explain;   /* command explaining a pixel, "%d,%d" for it (NULL: none) */
@@ -348,7 +361,7 @@ static int check_views(spr__args *a, const char *dir, const char *pname, int pas
     char tmp[1200] = "", failed[400] = "";
     cli_junit *ju = junit ? cli_junit_new("splatref check") : NULL;
     cJSON *rep = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(rep, "views");
-    if (spr__scene_setup(a, &s, &rd, 0) || spr__reject_unused(a)) goto done; /* --scene's values are read here */
+    if (tier_claim(a) || spr__scene_setup(a, &s, &rd, 0) || spr__reject_unused(a)) goto done; /* --scene's values are read here */
     rd.progress = (spr_progress){NULL, NULL}; /* the terminal line is the views' (below), not each frame's passes */
     file = spr__get(a, "cameras");
     if (spr_cameras_json_all(file, &v, &n, &err)) { spr__error(a, "--cameras: %s", err.msg); goto done; }
