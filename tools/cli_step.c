@@ -669,7 +669,7 @@ static void backward_pixel(page *pg, const grad_view *gv, size_t Gsel)
             gv->gd->loss == SPR_LOSS_L2 ? " (2(C &minus; target)/(3WH))" : gv->gd->loss == SPR_LOSS_L1 ? " (sign(C &minus; target)/(3WH))" : " (given)",
             up[3], up[4], bt, gv->pf->name, g[SPR_GPRM_CAP], g[SPR_GPRM_GATE] != 0.0f ? "on" : "off (&part;&alpha;/&part;o = G even when capped)");
     if (g[SPR_GPRM_CAP_BWD] > 0.0f || g[SPR_GPRM_TDIV] != 0.0f || g[SPR_GPRM_HALF_B] != 0.0f) {
-        fprintf(f, "<p>The profile's backward rules (rule 10):");
+        fprintf(f, "<p>The profile's backward rules (SPEC 10.10 item 3):");
         if (g[SPR_GPRM_CAP_BWD] > 0.0f) fprintf(f, " its own &alpha; cap %.9g;", g[SPR_GPRM_CAP_BWD]);
         if (g[SPR_GPRM_TDIV] != 0.0f) fprintf(f, " T recovered by division from T<sub>f</sub>, T<sub>k</sub> = T<sub>k+1</sub>/(1 &minus; &alpha;<sub>k</sub>);");
         if (g[SPR_GPRM_HALF_B] != 0.0f) fprintf(f, " &part;L/&part;B halved;");

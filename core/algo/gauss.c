@@ -90,7 +90,7 @@ void spr__gauss_frame(const spr_view *v, int mode, const spr_render_desc *desc, 
     g[SPR_GPRM_T_MIN] = pf->stop.t_min; /* rule 6 */
     g[SPR_GPRM_STOP_LE] = (float)pf->stop.le;
     g[SPR_GPRM_MODE] = mode == 1 ? SPR_GMODE_2D : SPR_GMODE_3D;
-    g[SPR_GPRM_GATE] = (float)pf->grad.gate; /* rule 10: the backward's */
+    g[SPR_GPRM_GATE] = (float)pf->grad.gate; /* the backward rules (SPEC 10.10 item 3) */
     g[SPR_GPRM_TCLAMP_BWD] = (float)pf->grad.tclamp;
     g[SPR_GPRM_CAP_BWD] = pf->grad.cap;
     g[SPR_GPRM_TDIV] = (float)pf->grad.tdiv;

@@ -160,7 +160,7 @@ static spr_result grad_frame(spr__run *run, const spr_grad_desc *gd, spr_gauss_g
         double vsh[48], vmu[3];
         spr_cloud_gauss_colors_bwd(c, eye, pf->colour.sh_max, G, S + SPR_GPART_COLOR, vsh, vmu);
         for (int a = 0; a < 3; a++) {
-            /* rule 10: a renderer that detaches the view direction gives μ no gradient through the colour */
+            /* a backward rule (SPEC 10.10 item 3): a renderer that detaches the view direction gives μ no gradient through the colour */
             const float v = pf->grad.detach_dirs ? O[SPR_GOUT_MEANS + a] : O[SPR_GOUT_MEANS + a] + (float)vmu[a];
             out->means[3 * G + a] = v;
             out->scales[3 * G + a] = O[SPR_GOUT_SCALES + a];
