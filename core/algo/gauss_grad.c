@@ -326,36 +326,8 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                 spr_pixel_in px = {.grec = f.rec, .granges = f.range, .glist = f.list, .gup = up, .gpart = tmp, .gpart_base = first,
                                    .i = (size_t)y * W + (size_t)i, .x = i, .y = y};
                 const float fi = (float)i, fj = (float)j;
-                /* the forward's walk (spr_gauss_tile_bwd's first): the blended entries, their α and T */
-                float T = 1.0f;
-                int nb = 0, rank = -1;
-                for (uint32_t e2 = first; e2 < end; e2++) {
-                    const int G2 = (int)f.list[e2];
-                    if (spr_gauss_outside(&px, g, G2, fi, fj)) continue; /* outside its pixel box (SPR_GEXT_BOX) */
-                    const float power = spr_gauss_power(spr_grec(&px, G2, SPR_GREC_M), spr_grec(&px, G2, SPR_GREC_M + 1), spr_grec(&px, G2, SPR_GREC_CONIC),
-                                                        spr_grec(&px, G2, SPR_GREC_CONIC + 1), spr_grec(&px, G2, SPR_GREC_CONIC + 2), fi, fj);
-                    float alpha = 0.0f, Tn = T;
-                    const int visit = spr_gauss_visit(g, spr_grec(&px, G2, SPR_GREC_OPACITY), power, T, &alpha, &Tn);
-                    if (visit == 3) break;
-                    if (visit == 0) {
-                        if (e2 == e) rank = nb;
-                        be[nb] = (int)e2, ba[nb] = alpha, bT[nb] = T;
-                        T = Tn;
-                        nb++;
-                    }
-                }
-                if (rank < 0) continue; /* G not blended here: no term */
-                const float Tf = T;
-                /* the profile's backward rules, as spr_gauss_tile_bwd applies them: its own α cap, T recovered by division */
-                float Tb = Tf;
-                for (int kk = nb - 1; kk >= 0; kk--) {
-                    if (g[SPR_GPRM_CAP_BWD] > 0.0f && ba[kk] > g[SPR_GPRM_CAP_BWD]) ba[kk] = g[SPR_GPRM_CAP_BWD];
-                    if (g[SPR_GPRM_TDIV] != 0.0f) {
-                        const float om = 1.0f - ba[kk], ra = 1.0f / om;
-                        Tb = Tb * ra;
-                        bT[kk] = Tb;
-                    }
-                }
+                /* the pixel through the backend's own walk (spr_gauss_tile_bwd, a zeroed partial each entry): its terms,
+                 * and in its state the blended entries with the α and T each was walked back with */
                 memset(tmp, 0, (size_t)len * SPR_GPART_FLOATS * sizeof *tmp);
                 static _Thread_local uint32_t state[SPR_GBS_FLOATS];
                 memset(state, 0, SPR_GBS_SE * sizeof *state);
@@ -365,6 +337,14 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                     r = spr_gauss_bwd_over(run->err, "grad", gx, t, (int)state[SPR_GBS_OVER] - 1);
                     break;
                 }
+                const int nb = spr_gbs_i(&px, SPR_GBS_N);
+                int rank = -1;
+                for (int h = 0; h < nb; h++) {
+                    be[h] = spr_gbs_i(&px, SPR_GBS_SE + h), ba[h] = spr_gbs(&px, SPR_GBS_SA + h), bT[h] = spr_gbs(&px, SPR_GBS_ST + h);
+                    if (be[h] == (int)e) rank = h;
+                }
+                if (rank < 0) continue; /* G not blended here: no term */
+                const float Tf = spr_gbs(&px, SPR_GBS_TF);
                 if (out->n_terms == cap_terms) {
                     const size_t c2 = cap_terms ? 2 * cap_terms : 256;
                     spr_grad_term *nt2 = realloc(out->terms, c2 * sizeof *nt2);

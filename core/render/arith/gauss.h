@@ -1339,7 +1339,8 @@ SPR_FN int spr_gauss_bwd_pixel(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CAR
  * walk (spr_gauss_visit, the forward's operations) holds each blended
  * Gaussian's list entry, α and T (SPR_GBWD_HOLD of them; a pixel that blends
  * more is skipped and named in SPR_GBS_OVER) and gives T_f; then they are
- * walked back.  Resumable: one step a loop iteration (a pixel begun, a list
+ * walked back, and each one's α and T become those it was walked back with
+ * (the profile's cap, T by division), which the host shows (explain --grad).  Resumable: one step a loop iteration (a pixel begun, a list
  * entry visited, a Gaussian walked back), at most `budget` of them a call,
  * everything between two calls in the state (SPR_GBS_*; a fresh state: the
  * first pixel, SPR_GBWD_BEGIN).  The CPU runs a tile in one call; a GL
@@ -1438,6 +1439,8 @@ SPR_FN int spr_gauss_tile_bwd(SPR_PIXEL px, SPR_CARR g[SPR_GPRM_COUNT], SPR_CARR
                 Tk = tn;
             }
             spr_gauss_blend_bwd(px, g, v[0], v[1], spr_gbs_i(px, SPR_GBS_SE + k), ab, Tk, Tf, up, v[7], acc, behind);
+            spr_gbs_set(px, SPR_GBS_SA + k, ab); /* held as walked back with: explain --grad shows them */
+            spr_gbs_set(px, SPR_GBS_ST + k, Tk);
             k = k - 1;
         }
     }
