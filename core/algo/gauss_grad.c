@@ -266,8 +266,9 @@ static int tile_of(const uint32_t *range, int tiles, uint32_t e)
  * spr_gauss_tile_bwd, its terms added to the entry's partial; then the entries' partials in tile order,
  * spr_gauss_gather).  One pixel's terms are what spr_gauss_tile_bwd adds to a zeroed partial: 0 + v is v (a
  * denormal v flushed as the backend's add flushes it), so the two levels of float additions below are the
- * backend's, bit for bit.  α, T, acc, ∂L/∂α, ∂L/∂o and ∂L/∂power are recomputed beside it with the same operations
- * (spr_gauss_visit, spr_gauss_blend_bwd's recurrence, spr_gauss_alpha_bwd), to be shown. */
+ * backend's, bit for bit.  α and T are read from the walk's state (those the Gaussian was walked back with); acc,
+ * ∂L/∂α, ∂L/∂o and ∂L/∂power are recomputed beside it with the same operations (spr_gauss_blend_bwd's recurrence,
+ * spr_gauss_alpha_bwd), to be shown, and ∂L/∂o held to the backend's term (consistent). */
 static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G, spr_grad_explain *out)
 {
     spr_backend *b = run->b;
@@ -277,8 +278,7 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
     spr_result r = spr__gauss_prepare(run, 0, &f);
     if (r) return r;
     int target = -1;
-    float *image = NULL, *up = NULL, *tmp = NULL, *ba = NULL, *bT = NULL;
-    int *be = NULL;
+    float *image = NULL, *up = NULL, *tmp = NULL;
     uint32_t *start = NULL, *csr = NULL;
     size_t cap_terms = 0;
     double loss = 0.0;
@@ -308,14 +308,8 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
         const int t = tile_of(f.range, tiles, e);
         const uint32_t first = f.range[t], end = f.range[t + 1], len = end - first;
         float *nt = realloc(tmp, (size_t)len * SPR_GPART_FLOATS * sizeof *tmp);
-        int *ne = nt ? realloc(be, len * sizeof *be) : NULL;
         if (nt) tmp = nt;
-        if (ne) be = ne;
-        float *na = ne ? realloc(ba, len * sizeof *ba) : NULL;
-        if (na) ba = na;
-        float *nT = na ? realloc(bT, len * sizeof *bT) : NULL;
-        if (nT) bT = nT;
-        if (!nT) { r = spr__fail(run->err, SPR_E_NOMEM, "grad: out of memory for a tile of %u entries", len); break; }
+        if (!nt) { r = spr__fail(run->err, SPR_E_NOMEM, "grad: out of memory for a tile of %u entries", len); break; }
         spr_grad_tile *tl = &out->tiles[out->n_tiles++];
         tl->tile = t, tl->entry = e, tl->first = out->n_terms;
         float part[SPR_GPART_FLOATS] = {0};
@@ -339,10 +333,8 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                 }
                 const int nb = spr_gbs_i(&px, SPR_GBS_N);
                 int rank = -1;
-                for (int h = 0; h < nb; h++) {
-                    be[h] = spr_gbs_i(&px, SPR_GBS_SE + h), ba[h] = spr_gbs(&px, SPR_GBS_SA + h), bT[h] = spr_gbs(&px, SPR_GBS_ST + h);
-                    if (be[h] == (int)e) rank = h;
-                }
+                for (int h = 0; h < nb && rank < 0; h++)
+                    if (spr_gbs_i(&px, SPR_GBS_SE + h) == (int)e) rank = h;
                 if (rank < 0) continue; /* G not blended here: no term */
                 const float Tf = spr_gbs(&px, SPR_GBS_TF);
                 if (out->n_terms == cap_terms) {
@@ -368,15 +360,15 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
                         acc[ch] = xx + yy;
                     }
                     if (kk == rank) break;
-                    const int Gb = (int)f.list[be[kk]];
+                    const int Gb = (int)f.list[spr_gbs_i(&px, SPR_GBS_SE + kk)];
                     for (int ch = 0; ch < 3; ch++) behind[ch] = spr_grec(&px, Gb, SPR_GREC_COLOR + ch);
                     behind[3] = spr_grec(&px, Gb, SPR_GREC_INVZ);
-                    behind[4] = ba[kk];
+                    behind[4] = spr_gbs(&px, SPR_GBS_SA + kk);
                 }
                 float c[4], gk[4] = {u[0], u[1], u[2], u[4]};
                 for (int ch = 0; ch < 3; ch++) c[ch] = spr_grec(&px, (int)G, SPR_GREC_COLOR + ch);
                 c[3] = spr_grec(&px, (int)G, SPR_GREC_INVZ);
-                const float alpha = ba[rank], TG = bT[rank];
+                const float alpha = spr_gbs(&px, SPR_GBS_SA + rank), TG = spr_gbs(&px, SPR_GBS_ST + rank);
                 float d = 0.0f;
                 for (int ch = 0; ch < 4; ch++) {
                     const float df = c[ch] - acc[ch];
@@ -409,7 +401,7 @@ static spr_result explain_frame(spr__run *run, const spr_grad_desc *gd, size_t G
     }
     spr__grad_fp_leave(fp);
 done:
-    free(image), free(up), free(tmp), free(be), free(ba), free(bT), free(start), free(csr);
+    free(image), free(up), free(tmp), free(start), free(csr);
     spr__gauss_frame_free(&f);
     return r;
 }
