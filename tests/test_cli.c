@@ -766,6 +766,25 @@ static void grad_npz(const char *name)
     ck_assert_msg(rc == 0, "grad: exit %d: %s", rc, err);
 }
 
+/* The upstream gradient written, `splatref grad` of the scene into g.npz, and its arrays read: *a (spr_npz_free it), their count. */
+static int grad_arrays(spr_npy **a)
+{
+    grad_upstream();
+    grad_npz("g.npz");
+    int n = 0;
+    spr_error e = {0};
+    ck_assert_msg(spr_npz_read(path_in("g.npz"), a, &n, &e) == SPR_OK, "%s", e.msg);
+    return n;
+}
+
+/* How many times what occurs in s. */
+static int count_of(const char *s, const char *what)
+{
+    int n = 0;
+    for (const char *p = s; (p = strstr(p, what)); p++) n++;
+    return n;
+}
+
 /* The end of a long output, for a failure's message (Check's messages are short). */
 static const char *tail(const char *s)
 {
@@ -797,15 +816,12 @@ static int check_grads(const char *theirs, const char *extra, const char *value,
 START_TEST(check_grads_verdicts)
 {
     static char out[1 << 16];
-    grad_upstream();
-    grad_npz("g.npz");
+    spr_npy *a = NULL;
+    const int n = grad_arrays(&a);
+    spr_error e = {0};
     int rc = check_grads(path_in("g.npz"), "--junit", path_in("ok.xml"), out, sizeof out);
     ck_assert_msg(rc == 0 && strstr(out, "verdict: PASS (11 arrays"), "own gradients: exit %d: %s", rc, tail(out));
     ck_assert_msg(strstr(out, "check: means: 256 Gaussians, 0 fail, max |diff| 0") && strstr(out, "check: counts: 256 Gaussians, 0 fail"), "%s", tail(out));
-    spr_npy *a = NULL;
-    int n = 0;
-    spr_error e = {0};
-    ck_assert_msg(spr_npz_read(path_in("g.npz"), &a, &n, &e) == SPR_OK, "%s", e.msg);
     ck_assert_int_eq(n, 11);
     /* (b) opacities of Gaussian 37, 1% off (far beyond rtol 2^-10 of the value itself) */
     spr_npy *op = npz_member(a, n, "opacities");
@@ -855,18 +871,12 @@ END_TEST
 START_TEST(explain_grad_sums_to_the_bit)
 {
     static char out[1 << 20];
-    grad_upstream();
-    grad_npz("g.npz");
     spr_npy *a = NULL;
-    int n = 0;
-    spr_error e = {0};
-    ck_assert_msg(spr_npz_read(path_in("g.npz"), &a, &n, &e) == SPR_OK, "%s", e.msg);
+    const int n = grad_arrays(&a);
     const size_t G = 58; /* 54 pixels in 4 tiles of this scene */
     char *argv[] = {"splatref", "explain", "--model", (char *)grad_model(), GRAD_SCENE, "--gaussian", "58", "--grad", "--quiet", NULL};
     const int rc = tu_run(NULL, NULL, 1, argv, out, sizeof out);
-    int tiles = 0, pixels = 0;
-    for (const char *p = out; (p = strstr(p, "\ntile ")); p++) tiles++;
-    for (const char *p = out; (p = strstr(p, "\n  pixel x ")); p++) pixels++;
+    const int tiles = count_of(out, "\ntile "), pixels = count_of(out, "\n  pixel x ");
     ck_assert_msg(tiles >= 2 && pixels >= 2, "%d tiles, %d pixels: %s", tiles, pixels, tail(out));
     const int32_t *counts = npz_member(a, n, "counts")->data;
     ck_assert_int_eq(pixels, counts[G]);
@@ -911,21 +921,10 @@ static char *step_page(const char *G, const char *name)
     return html;
 }
 
-static int count_of(const char *s, const char *what)
-{
-    int n = 0;
-    for (const char *p = s; (p = strstr(p, what)); p++) n++;
-    return n;
-}
-
 START_TEST(step_backward_section)
 {
-    grad_upstream();
-    grad_npz("g.npz");
     spr_npy *a = NULL;
-    int n = 0;
-    spr_error e = {0};
-    ck_assert_msg(spr_npz_read(path_in("g.npz"), &a, &n, &e) == SPR_OK, "%s", e.msg);
+    const int n = grad_arrays(&a);
     const int32_t *counts = npz_member(a, n, "counts")->data;
     char *html = step_page("58", "walk");
     ck_assert_msg(strstr(html, "<section id=\"backward\"><h2>Backward pass"), "no backward section");

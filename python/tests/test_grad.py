@@ -19,13 +19,7 @@ NAMES = ("means", "quats", "scales", "opacities", "sh0", "shN", "means2d", "coni
 
 def scene_small(rng):
     """16 anisotropic Gaussians of SH degree 3 at 48x32, o <= 0.92 (no cap), centres inside the tangent clamp."""
-    n = 16
-    mu = rng.uniform(-0.6, 0.6, size=(n, 3))
-    log_s = np.log(rng.uniform(0.04, 0.25, size=(n, 3)))
-    sh = np.zeros((n, 16, 3))
-    sh[:, 0] = rng.uniform(-1.5, 1.5, size=(n, 3))
-    sh[:, 1:] = rng.uniform(-0.3, 0.3, size=(n, 15, 3))
-    return mu, log_s, gro.random_quats(rng, n), rng.uniform(-2.0, 2.4, size=n), sh, gro.camera((1.1, 0.7, -3.3), 48, 32)
+    return gro.scene_mixed(rng, n=16, half=0.6, s_min=0.04, size=(48, 32))[:6]
 
 
 def options(args):

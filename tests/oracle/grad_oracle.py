@@ -423,15 +423,15 @@ def random_quats(rng, n):
     return q / np.linalg.norm(q, axis=1, keepdims=True) * rng.uniform(0.5, 2.0, size=(n, 1))  # not unit: the projection
 
 
-def scene_mixed(rng):
-    """40 anisotropic Gaussians of every size, SH degree 3, o ≤ 0.92 (no cap), every centre inside the clamp."""
-    n = 40
-    mu = rng.uniform(-0.7, 0.7, size=(n, 3))
-    log_s = np.log(rng.uniform(0.02, 0.25, size=(n, 3)))
+def scene_mixed(rng, n=40, half=0.7, s_min=0.02, size=(64, 48)):
+    """n anisotropic Gaussians of every size (σ from s_min to 0.25, centres in a box of half-width half), SH degree 3,
+    o ≤ 0.92 (no cap), every centre inside the clamp; 40 at 64x48 here, python/tests/test_grad.py's 16 at 48x32."""
+    mu = rng.uniform(-half, half, size=(n, 3))
+    log_s = np.log(rng.uniform(s_min, 0.25, size=(n, 3)))
     sh = np.zeros((n, 16, 3))
     sh[:, 0] = rng.uniform(-1.5, 1.5, size=(n, 3))
     sh[:, 1:] = rng.uniform(-0.3, 0.3, size=(n, 15, 3))
-    return mu, log_s, random_quats(rng, n), rng.uniform(-2.0, 2.4, size=n), sh, camera((1.1, 0.7, -3.3), 64, 48), None, {}
+    return mu, log_s, random_quats(rng, n), rng.uniform(-2.0, 2.4, size=n), sh, camera((1.1, 0.7, -3.3), *size), None, {}
 
 
 def scene_stack(rng):
